@@ -1,0 +1,15 @@
+"""gearbox: crossed beveloid gear pairs from geometry to drivetrain vibration.
+
+Public API (stage by stage, see docs/pipeline.md):
+
+- scene files: :func:`load_scene`, :class:`Scene`
+- geometry design (paper section 2): see :mod:`gearbox.geometry`
+
+exudyn, jax and FMU building are not imported by ``import gearbox``.
+"""
+
+__version__ = "0.1.0"
+
+from .errors import InputError as InputError
+from .scene import Scene as Scene
+from .scene import load_scene as load_scene

@@ -1,0 +1,75 @@
+"""The ``gearbox`` console script: one command, verbs as sub-commands.
+
+Each verb lives in ``gearbox/commands/<verb>.py`` with ``HELP``, ``EXAMPLES``,
+``add_arguments(parser)`` and ``run(args) -> int``. Verb modules import nothing heavy
+at module level, so ``gearbox --help`` stays fast.
+
+Exit status: 0 success, 2 invalid input (message on stderr, no traceback), 1 other
+failure.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from . import __version__
+from .errors import InputError
+
+#: verb -> module; the order is the order of ``--help``.
+VERBS = {
+    "design": "gearbox.commands.design",
+    "sweep": "gearbox.commands.sweep",
+    "scene-doc": "gearbox.commands.scene_doc",
+}
+
+EPILOG = """examples:
+  gearbox design models/case03.toml            readable design table and checks
+  gearbox design models/case03.toml --json     the same as one JSON object
+  gearbox sweep models/case03.toml --out out/  parameter studies (paper Figs. 6-9)
+  gearbox <verb> --help                        options of one verb
+"""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="gearbox",
+        description="Crossed beveloid gear pairs: design, contact analysis, mesh tables, drivetrain vibration.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--version", action="version", version=f"gearbox {__version__}")
+    sub = parser.add_subparsers(dest="verb", metavar="VERB")
+    for verb, modname in VERBS.items():
+        mod = importlib.import_module(modname)
+        p = sub.add_parser(
+            verb,
+            help=mod.HELP,
+            description=mod.HELP,
+            epilog="examples:\n" + mod.EXAMPLES,
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
+        mod.add_arguments(p)
+        p.set_defaults(_module=mod)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.verb is None:
+        parser.print_help()
+        return 2
+    try:
+        return int(args._module.run(args) or 0)
+    except InputError as exc:
+        print(f"gearbox {args.verb}: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"gearbox {args.verb}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""One module per ``gearbox`` verb (see :mod:`gearbox.cli`)."""

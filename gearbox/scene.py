@@ -1,0 +1,366 @@
+"""Scene files: one TOML file describes a whole job, from gear pair to report.
+
+A scene is validated against :data:`SCHEMA` as a whole: every problem (unknown key,
+wrong type, value out of range) is collected with its TOML key path and raised once
+as :class:`gearbox.errors.InputError`. Degrees, mm, rpm, kW and so on appear only here,
+with the unit in the key name; each stage converts its section to SI in its own
+``*Spec.from_scene``.
+
+The schema is versioned (``schema = 1``); the documentation of every key is generated
+from :data:`SCHEMA` (``gearbox scene-doc`` / ``docs/scene.md``).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+from .errors import InputError, Problems
+
+__all__ = ["SCHEMA", "SCHEMA_VERSION", "Field", "Scene", "load_scene", "scene_from_dict"]
+
+SCHEMA_VERSION = 1
+
+_REQUIRED = object()
+
+
+@dataclass(frozen=True)
+class Field:
+    """One scene key: its kind, default, valid range and meaning.
+
+    ``kind`` is one of ``float``, ``int``, ``bool``, ``str``, ``floats`` (list of
+    float), ``strs`` (list of str). ``lo``/``hi`` bound numbers (and every element of
+    a list); ``lo_open``/``hi_open`` make the bound strict. ``choices`` restricts
+    strings. ``default`` of ``None`` means optional with no value; the module-level
+    ``_REQUIRED`` makes the key mandatory.
+    """
+
+    kind: str
+    default: Any = None
+    doc: str = ""
+    lo: float | None = None
+    hi: float | None = None
+    lo_open: bool = False
+    hi_open: bool = False
+    choices: tuple[str, ...] | None = None
+    min_len: int = 0
+
+    @property
+    def required(self) -> bool:
+        return self.default is _REQUIRED
+
+
+def _f(default=None, doc="", lo=None, hi=None, lo_open=False, hi_open=False):
+    return Field("float", default, doc, lo, hi, lo_open, hi_open)
+
+
+def _i(default=None, doc="", lo=None, hi=None):
+    return Field("int", default, doc, lo, hi)
+
+
+def _s(default=None, doc="", choices=None):
+    return Field("str", default, doc, choices=choices)
+
+
+def _fl(default=None, doc="", lo=None, hi=None, lo_open=False, min_len=1):
+    return Field("floats", default, doc, lo, hi, lo_open, min_len=min_len)
+
+
+R = _REQUIRED
+
+#: The whole scene schema: section -> key -> Field. Sub-sections use dotted names.
+SCHEMA: dict[str, dict[str, Field]] = {
+    "": {
+        "schema": _i(R, "Scene schema version; must be 1.", 1, 1),
+        "name": _s("", "Short name of the scene, used in reports and file names."),
+        "description": _s("", "Free text."),
+    },
+    "pair": {
+        "normal_module_mm": _f(R, "Normal module m_n of the tool (mm).", 0, None, lo_open=True),
+        "normal_pressure_angle_deg": _f(
+            R, "Normal pressure angle alpha_n of the tool (deg).", 0, 45, True, True
+        ),
+        "shaft_angle_deg": _f(R, "Shaft angle delta between the gear axes (deg).", 0, 90, False, True),
+        "offset_mm": _f(
+            R,
+            "Offset E: shortest distance between the axes (mm). For shaft angle 0 it is "
+            "the centre distance.",
+            0,
+            None,
+            True,
+        ),
+        "design_mode": _s(
+            "cone_angles",
+            "'cone_angles': both cone angles given, solve xi_n and beta_2 (paper Fig. 5). "
+            "'target_fpd': pinion cone angle solved so that the FPD angle of "
+            "target_flank equals target_fpd_angle_deg (line contact, paper eq. (10)).",
+            ("cone_angles", "target_fpd"),
+        ),
+        "target_fpd_angle_deg": _f(0.0, "Target FPD angle for design_mode 'target_fpd' (deg).", -45, 45),
+        "target_flank": _s("right", "Flank whose FPD angle is targeted.", ("right", "left")),
+        "backlash_free": Field(
+            "bool", True, "Gear profile shift from the backlash-free condition, paper eq. (20)."
+        ),
+    },
+    "pinion": {
+        "teeth": _i(R, "Number of teeth N_1.", 5, 1000),
+        "helix_angle_deg": _f(R, "Tool (rack) helix angle beta_1 (deg); sign gives the hand.", -60, 60),
+        "cone_angle_deg": _f(R, "Cone angle gamma_1 (deg); ignored in design_mode 'target_fpd'.", 0, 30),
+        "profile_shift_xt": _f(R, "Transverse profile-shift coefficient x_t1 at the reference section.", -1.5, 2.5),
+        "face_width_mm": _f(40.0, "Face width along the axis (mm).", 0, None, True),
+        "reference_section_mm": _f(
+            0.0,
+            "Axial position of the reference transverse section (where x_t applies), "
+            "measured from the middle of the face width towards the heel (mm).",
+        ),
+    },
+    "gear": {
+        "teeth": _i(R, "Number of teeth N_2.", 5, 1000),
+        "cone_angle_deg": _f(R, "Cone angle gamma_2 (deg).", 0, 30),
+        "helix_angle_deg": _f(
+            None, "Gear helix angle beta_2 (deg). Solved by the design (paper eqs (18)-(19)); if given, it is checked against the solution.", -60, 60
+        ),
+        "profile_shift_xt": _f(
+            None,
+            "Gear profile shift x_t2. Solved from the backlash-free condition (paper eq. (20)) "
+            "unless pair.backlash_free = false.",
+            -1.5,
+            2.5,
+        ),
+        "face_width_mm": _f(40.0, "Face width along the axis (mm).", 0, None, True),
+        "reference_section_mm": _f(0.0, "As for the pinion (mm)."),
+    },
+    "tool": {
+        "addendum_coefficient": _f(1.25, "Tool addendum h_a0/m_n (cuts the gear dedendum).", 0.5, 2.0),
+        "tip_radius_coefficient": _f(0.25, "Tool tip radius rho_a0/m_n.", 0.0, 0.6),
+        "gear_addendum_coefficient": _f(1.0, "Gear addendum h_a/m_n from the reference line of the rack.", 0.5, 1.5),
+    },
+    "material": {
+        "youngs_modulus_GPa": _f(206.0, "Young's modulus, both gears (GPa).", 0, None, True),
+        "poisson_ratio": _f(0.3, "Poisson's ratio, both gears.", 0.0, 0.5, False, True),
+        "density_kg_per_m3": _f(7850.0, "Density (kg/m^3).", 0, None, True),
+    },
+    "load": {
+        "torques_Nm": _fl([150.0, 300.0, 450.0], "Pinion torque levels of the mesh tables (N m).", 0, None, True),
+        "operating_torque_Nm": _f(300.0, "Pinion torque at the operating point (N m).", 0, None, True),
+    },
+    "assembly": {
+        "offset_error_mm": _f(0.0, "Error of the offset E (mm).", -5, 5),
+        "shaft_angle_error_deg": _f(0.0, "Error of the shaft angle (deg).", -2, 2),
+        "pinion_axial_error_mm": _f(0.0, "Axial displacement of the pinion (mm).", -10, 10),
+        "gear_axial_error_mm": _f(0.0, "Axial displacement of the gear (mm).", -10, 10),
+    },
+    "tca": {
+        "positions": _i(61, "Pinion positions of the unloaded TCA sweep.", 4, 100000),
+        "mesh_cycles": _f(1.5, "Pinion angle range in mesh cycles (2 pi / N_1 each).", 0, 20, True),
+        "marking_compound_mm": _f(0.00635, "Separation that defines the instantaneous contact ellipse (mm).", 0, 1, True),
+    },
+    "ltca": {
+        "fidelity": _s("fast", "Compliance level: 'fast' (semi-analytical) or 'fe' (finite elements).", ("fast", "fe")),
+        "positions": _i(24, "Pinion positions per mesh cycle in the mesh tables.", 4, 10000),
+        "grid_profile": _i(20, "Contact grid points along the profile.", 3, 2000),
+        "grid_face": _i(40, "Contact grid points along the face width.", 3, 4000),
+        "flanks": Field("strs", ["drive", "coast"], "Flanks to analyse.", choices=("drive", "coast"), min_len=1),
+    },
+    "drivetrain": {
+        "engine_inertia_kgm2": _f(2.0, "Engine inertia incl. flywheel (kg m^2).", 0, None, True),
+        "engine_cylinders": _i(8, "Cylinders of the 4-stroke engine.", 1, 24),
+        "engine_power_kW": _f(300.0, "Engine power at the operating speed (kW).", 0, None, True),
+        "engine_speed_rpm": _f(2000.0, "Operating engine (= pinion) speed (rpm).", 0, None, True),
+        "firing_torque_ripple": _f(0.1, "Firing-order torque amplitude over mean engine torque.", 0, 10),
+        "half_order_ripple": _f(0.0, "Half-order torque amplitudes over mean (cylinder imbalance).", 0, 10),
+        "governor": Field("bool", False, "Hold the set speed with a PI speed governor instead of a torque curve."),
+        "input_shaft_stiffness_Nm_per_rad": _f(2.0e5, "Torsional stiffness engine - pinion (N m/rad).", 0, None, True),
+        "input_shaft_damping_ratio": _f(0.02, "Modal damping ratio of the input shaft.", 0, 1),
+        "pinion_inertia_kgm2": _f(0.05, "Pinion inertia incl. shaft share (kg m^2).", 0, None, True),
+        "gear_inertia_kgm2": _f(0.12, "Gear inertia incl. shaft share (kg m^2).", 0, None, True),
+        "output_shaft_stiffness_Nm_per_rad": _f(4.0e5, "Torsional stiffness gear - propeller (N m/rad).", 0, None, True),
+        "output_shaft_damping_ratio": _f(0.02, "Modal damping ratio of the output shaft.", 0, 1),
+        "bearing_dofs": Field("bool", False, "Add pinion and gear bearing translations along the line of action."),
+        "pinion_bearing_stiffness_N_per_m": _f(1.0e9, "Pinion bearing stiffness along the line of action (N/m).", 0, None, True),
+        "gear_bearing_stiffness_N_per_m": _f(1.0e9, "Gear bearing stiffness along the line of action (N/m).", 0, None, True),
+        "pinion_mass_kg": _f(8.0, "Pinion mass for the bearing translation (kg).", 0, None, True),
+        "gear_mass_kg": _f(15.0, "Gear mass for the bearing translation (kg).", 0, None, True),
+        "mesh_damping_ratio": _f(0.05, "Mesh damping ratio (of the mesh mode).", 0, 1),
+        "backlash_mm": _f(0.1, "Circumferential backlash along the line of action (mm).", 0, 10),
+        "propeller_inertia_kgm2": _f(5.0, "Propeller inertia in air (kg m^2).", 0, None, True),
+        "propeller_added_inertia_fraction": _f(0.25, "Added water inertia over propeller inertia.", 0, 10),
+        "propeller_blades": _i(3, "Number of propeller blades.", 1, 12),
+        "blade_pass_ripple": _f(0.05, "Blade-pass torque amplitude over mean propeller torque.", 0, 10),
+    },
+    "simulation": {
+        "solver": _s("diffrax", "Dynamics solver: 'diffrax', 'exudyn' or 'scipy'.", ("diffrax", "exudyn", "scipy")),
+        "rtol": _f(1e-6, "Relative tolerance of adaptive solvers.", 0, 1, True, True),
+        "settled_mesh_cycles": _i(200, "Mesh cycles of settled response used for spectra.", 1, 10**7),
+        "speed_sweep_rpm": _fl([500.0, 3000.0], "Engine speed range of sweeps [min, max] (rpm).", 0, None, True, min_len=2),
+        "sweep_speeds": _i(40, "Speeds in a sweep.", 2, 100000),
+    },
+    "outputs": {
+        "requested": Field(
+            "strs",
+            ["design"],
+            "Results to produce; the stages they need are computed, the rest skipped.",
+            choices=(
+                "design", "sweep", "tca", "ltca", "tables", "dynamics", "spectra",
+                "waterfall", "campbell", "report", "fmu",
+            ),
+        ),
+    },
+}
+
+
+def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
+    """Check one value against its field; return it normalised (int -> float etc.)."""
+    kind = f.kind
+    if kind == "bool":
+        if not isinstance(v, bool):
+            probs.add(path, v, "must be true or false")
+        return v
+    if kind in ("float", "int"):
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            probs.add(path, v, f"must be a number ({kind})")
+            return v
+        if kind == "int" and not isinstance(v, int):
+            probs.add(path, v, "must be an integer")
+            return v
+        if isinstance(v, float) and not math.isfinite(v):
+            probs.add(path, v, "must be finite")
+            return v
+        probs.in_range(path, v, f.lo, f.hi, lo_open=f.lo_open, hi_open=f.hi_open)
+        return float(v) if kind == "float" else v
+    if kind == "str":
+        if not isinstance(v, str):
+            probs.add(path, v, "must be a string")
+        elif f.choices and v not in f.choices:
+            probs.add(path, v, f"must be one of {', '.join(f.choices)}")
+        return v
+    if kind in ("floats", "strs"):
+        if not isinstance(v, list):
+            probs.add(path, v, "must be a list")
+            return v
+        if len(v) < f.min_len:
+            probs.add(path, v, f"must have at least {f.min_len} entries")
+        sub = Field(
+            "float" if kind == "floats" else "str", None, "", f.lo, f.hi, f.lo_open, f.hi_open, f.choices
+        )
+        return [_check_value(sub, f"{path}[{i}]", x, probs) for i, x in enumerate(v)]
+    raise AssertionError(kind)  # pragma: no cover - schema defect
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: every section with defaults filled in (scene units).
+
+    ``scene["pair"]["offset_mm"]`` reads a value; ``scene.path`` is the file it came
+    from (``None`` for scenes built from a dict).
+    """
+
+    data: Mapping[str, Mapping[str, Any]]
+    path: Path | None = None
+
+    def __getitem__(self, section: str) -> Mapping[str, Any]:
+        return self.data[section]
+
+    @property
+    def name(self) -> str:
+        name = self.data[""]["name"]
+        if name:
+            return name
+        return self.path.stem if self.path else "scene"
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain nested dict in TOML layout (top-level keys first)."""
+        out: dict[str, Any] = dict(self.data[""])
+        for sec, values in self.data.items():
+            if sec:
+                out[sec] = dict(values)
+        return out
+
+    def replaced(self, **sections: Mapping[str, Any]) -> Scene:
+        """A new, re-validated scene with keys of the named sections replaced.
+
+        ``scene.replaced(drivetrain={"propeller_inertia_kgm2": 6.0})``
+        """
+        d = self.to_dict()
+        for sec, values in sections.items():
+            if sec not in SCHEMA:
+                raise InputError([], f"unknown section {sec!r}")
+            d.setdefault(sec, {}).update(values)
+        return scene_from_dict(d, path=self.path)
+
+
+def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:
+    """Validate a nested dict (TOML layout) and fill defaults; raise on any problem."""
+    probs = Problems()
+    data: dict[str, dict[str, Any]] = {}
+    for sec, fields in SCHEMA.items():
+        if sec == "":
+            given = {k: v for k, v in raw.items() if not isinstance(v, dict)}
+        else:
+            given = raw.get(sec, {})
+            if not isinstance(given, dict):
+                probs.add(sec, given, "must be a table [" + sec + "]")
+                given = {}
+        out = {}
+        for key, f in fields.items():
+            path_ = f"{sec}.{key}" if sec else key
+            if key in given:
+                out[key] = _check_value(f, path_, given[key], probs)
+            elif f.required:
+                probs.add(path_, "<missing>", f"is required ({f.doc})")
+            else:
+                out[key] = f.default
+        for key in given:
+            if key not in fields:
+                path_ = f"{sec}.{key}" if sec else key
+                probs.add(path_, given[key], f"unknown key; valid keys: {', '.join(fields)}")
+        data[sec] = MappingProxyType(out)
+    for sec, v in raw.items():
+        if isinstance(v, dict) and sec not in SCHEMA:
+            probs.add(sec, "{...}", f"unknown section; valid sections: {', '.join(s for s in SCHEMA if s)}")
+    where = f"scene {path}" if path else "scene"
+    probs.raise_if_any(f"invalid {where}")
+    return Scene(MappingProxyType(data), path)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene TOML file."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError([], f"cannot read scene {p}: {exc.strerror or exc}") from None
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError([], f"scene {p} is not valid TOML: {exc}") from None
+    return scene_from_dict(raw, path=p)
+
+
+def schema_markdown() -> str:
+    """The scene schema as a Markdown reference (``docs/scene.md``)."""
+    lines = [
+        "# Scene file reference (schema 1)",
+        "",
+        "Generated from `gearbox.scene.SCHEMA` by `gearbox scene-doc`; do not edit by hand.",
+        "Units are in the key names. `required` keys have no default.",
+        "",
+    ]
+    for sec, fields in SCHEMA.items():
+        lines += [f"## `[{sec}]`" if sec else "## top level", "", "| key | kind | default | range | meaning |", "|---|---|---|---|---|"]
+        for key, f in fields.items():
+            default = "required" if f.required else ("-" if f.default is None else repr(f.default))
+            if f.choices:
+                rng = " / ".join(f.choices)
+            elif f.lo is not None or f.hi is not None:
+                rng = f"{'(' if f.lo_open else '['}{'-inf' if f.lo is None else f'{f.lo:g}'}, {'inf' if f.hi is None else f'{f.hi:g}'}{')' if f.hi_open else ']'}"
+            else:
+                rng = ""
+            lines.append(f"| `{key}` | {f.kind} | {default} | {rng} | {f.doc} |")
+        lines.append("")
+    return "\n".join(lines)
