@@ -1,0 +1,237 @@
+"""Figures of order spectra, waterfalls and Campbell diagrams (matplotlib).
+
+Every function takes an optional ``ax`` and returns the axes it drew on; none calls
+``show()``. With no ``ax`` a new figure is made with the Agg backend's canvas (no
+display needed).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from .campbell import CampbellDiagram, ExcitationOrder
+from .orders import OrderSpectrum
+from .waterfall import Waterfall
+
+__all__ = ["plot_campbell", "plot_order_spectrum", "plot_waterfall"]
+
+_SOURCE_STYLE = {
+    "mesh": {"color": "tab:blue", "linestyle": "-"},
+    "engine": {"color": "tab:orange", "linestyle": "--"},
+    "engine-half": {"color": "tab:gray", "linestyle": ":"},
+    "propeller": {"color": "tab:green", "linestyle": "-."},
+}
+
+
+def _new_ax():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.0, 4.0), layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig.add_subplot()
+
+
+def _label(name: str, unit: str) -> str:
+    text = name or "amplitude"
+    return f"{text} ({unit})" if unit else text
+
+
+def plot_order_spectrum(
+    spectrum: OrderSpectrum,
+    ax=None,
+    *,
+    max_order: float | None = None,
+    style: str = "stem",
+    excitations: Sequence[ExcitationOrder] = (),
+    include_mean: bool = False,
+    log: bool = False,
+):
+    """Stem (or bar) plot of peak amplitude against order.
+
+    ``excitations`` are marked by vertical lines with their labels;
+    ``include_mean`` keeps the order-0 bin; ``log`` uses a log amplitude axis.
+    """
+    ax = ax if ax is not None else _new_ax()
+    o, a = spectrum.orders, spectrum.amplitudes
+    keep = np.ones(o.shape, bool) if include_mean else o > 0
+    if max_order is not None:
+        keep &= o <= max_order
+    o, a = o[keep], a[keep]
+    if style == "bar":
+        ax.bar(o, a, width=0.8 * spectrum.resolution, color="tab:blue")
+    else:
+        markers, stems, base = ax.stem(o, a, basefmt=" ")
+        markers.set_markersize(2.5)
+        stems.set_linewidth(0.8)
+    for e in excitations:
+        if o.size and e.order <= o[-1]:
+            ax.axvline(e.order, lw=0.7, alpha=0.6, **_SOURCE_STYLE.get(e.source, {}))
+            ax.annotate(
+                e.label,
+                (e.order, 1.0),
+                xycoords=("data", "axes fraction"),
+                rotation=90,
+                va="top",
+                ha="right",
+                fontsize=7,
+            )
+    if log:
+        ax.set_yscale("log")
+    ax.set_xlabel("order (cycles per pinion revolution)")
+    ax.set_ylabel(f"peak {_label(spectrum.name, spectrum.unit)}")
+    ax.set_title(
+        f"{spectrum.name or 'signal'}: {spectrum.revs:g} rev at {spectrum.mean_speed_rpm:.0f} rpm, "
+        f"{spectrum.window} window",
+        fontsize=9,
+    )
+    return ax
+
+
+def plot_waterfall(
+    wf: Waterfall,
+    ax=None,
+    *,
+    kind: str = "map",
+    axis: str | None = None,
+    max_bin: float | None = None,
+    db: bool = False,
+    excitations: Sequence[ExcitationOrder] = (),
+    offset: float | None = None,
+):
+    """Waterfall as a colour map (``kind='map'``) or stacked lines (``'lines'``).
+
+    ``axis``: ``order`` or ``frequency`` (default: the waterfall's own axis; an
+    order waterfall is shown against frequency by mapping each speed's orders to
+    Hz). ``max_bin`` limits the horizontal axis (orders or Hz); ``db`` plots
+    20 log10(amplitude / max); ``excitations`` are drawn as order lines;
+    ``offset`` is the vertical step between lines (default: the largest amplitude).
+    """
+    ax = ax if ax is not None else _new_ax()
+    axis = axis or wf.axis
+    amps = wf.amplitudes
+    if db:
+        ref = float(np.nanmax(amps)) or 1.0
+        amps = 20.0 * np.log10(np.maximum(amps / ref, 1e-12))
+    xs = wf.orders() if axis == "order" else wf.frequencies_hz()
+    order_idx = np.argsort(wf.speeds_rpm)
+    speeds = wf.speeds_rpm[order_idx]
+    xs, amps = xs[order_idx], amps[order_idx]
+    if max_bin is not None:
+        amps = np.where(xs <= max_bin, amps, np.nan)
+    if kind == "lines":
+        step = offset if offset is not None else float(np.nanmax(np.abs(amps))) or 1.0
+        for i in range(speeds.size):
+            ax.plot(xs[i], amps[i] + i * step, lw=0.7, color="k")
+        ax.set_yticks(np.arange(speeds.size) * step, [f"{s:.0f}" for s in speeds], fontsize=7)
+        ax.set_ylabel("speed (rpm), lines offset")
+    else:
+        # Cell edges along speed: midpoints between speeds.
+        if speeds.size > 1:
+            mid = 0.5 * (speeds[1:] + speeds[:-1])
+            edges = np.r_[
+                speeds[0] - (mid[0] - speeds[0]), mid, speeds[-1] + (speeds[-1] - mid[-1])
+            ]
+        else:
+            edges = np.array([speeds[0] - 0.5, speeds[0] + 0.5])
+        xe = _bin_edges(xs)
+        vmin, vmax = float(np.nanmin(amps)), float(np.nanmax(amps))
+        # One strip per speed: an order waterfall seen against frequency has
+        # different bin positions in every row.
+        for i in range(speeds.size):
+            mesh = ax.pcolormesh(
+                np.vstack([xe[i], xe[i]]),
+                np.array([[edges[i]] * xe.shape[1], [edges[i + 1]] * xe.shape[1]]),
+                np.ma.masked_invalid(amps[i : i + 1]),
+                shading="flat",
+                cmap="viridis",
+                vmin=vmin,
+                vmax=vmax,
+            )
+        ax.figure.colorbar(
+            mesh, ax=ax, label=("level (dB re max)" if db else f"peak {wf.unit}".strip())
+        )
+        ax.set_ylabel("speed (rpm)")
+    if max_bin is not None:
+        ax.set_xlim(0.0, max_bin)
+    for e in excitations:
+        if kind != "lines":
+            line_x = np.full(speeds.shape, e.order) if axis == "order" else e.order * speeds / 60.0
+            ax.plot(line_x, speeds, lw=0.8, **_SOURCE_STYLE.get(e.source, {"color": "w"}))
+    ax.set_xlabel("order (cycles per pinion revolution)" if axis == "order" else "frequency (Hz)")
+    ax.set_title(f"{wf.name or 'signal'} waterfall, {wf.window} window", fontsize=9)
+    return ax
+
+
+def _bin_edges(xs: np.ndarray) -> np.ndarray:
+    """Cell edges along the bins for each row, shape (n_rows, n_bins + 1)."""
+    d = np.diff(xs, axis=1)
+    first = xs[:, :1] - 0.5 * d[:, :1]
+    last = xs[:, -1:] + 0.5 * d[:, -1:]
+    return np.hstack([first, xs[:, :-1] + 0.5 * d, last])
+
+
+def plot_campbell(
+    cd: CampbellDiagram,
+    ax=None,
+    *,
+    max_frequency_hz: float | None = None,
+    label_orders: bool = True,
+):
+    """Campbell diagram: mode frequencies and order lines against speed.
+
+    Crossings are marked with circles, those inside the operating range (the
+    shaded band) filled red; the order lines are labelled at their right end.
+    """
+    ax = ax if ax is not None else _new_ax()
+    n = cd.speeds_rpm
+    top = (
+        max_frequency_hz
+        if max_frequency_hz is not None
+        else 1.15 * float(cd.mode_frequencies_hz.max())
+    )
+    if cd.operating_range_rpm is not None:
+        ax.axvspan(
+            *cd.operating_range_rpm, color="tab:red", alpha=0.08, lw=0, label="operating range"
+        )
+    for e in cd.excitations:
+        f = e.frequency_hz(n)
+        ax.plot(n, f, lw=0.8, **_SOURCE_STYLE.get(e.source, {"color": "k"}))
+        if label_orders:
+            inside = np.flatnonzero(f <= top)
+            if inside.size:
+                i = inside[-1]
+                ax.annotate(e.label, (n[i], f[i]), fontsize=6, ha="right", va="bottom")
+    for j, name in enumerate(cd.mode_names):
+        ax.plot(n, cd.mode_frequencies_hz[j], lw=1.6, color="k")
+        ax.annotate(name, (n[0], cd.mode_frequencies_hz[j, 0]), fontsize=7, va="bottom")
+    shown = [c for c in cd.crossings if c.frequency_hz <= top]
+    safe = [c for c in shown if not c.in_operating_range]
+    risk = [c for c in shown if c.in_operating_range]
+    if safe:
+        ax.plot(
+            [c.speed_rpm for c in safe],
+            [c.frequency_hz for c in safe],
+            "o",
+            mfc="none",
+            mec="k",
+            ms=5,
+            label="crossing",
+        )
+    if risk:
+        ax.plot(
+            [c.speed_rpm for c in risk],
+            [c.frequency_hz for c in risk],
+            "o",
+            color="tab:red",
+            ms=5,
+            label="crossing in operating range",
+        )
+    ax.set_xlim(n[0], n[-1])
+    ax.set_ylim(0.0, top)
+    ax.set_xlabel("pinion (engine) speed (rpm)")
+    ax.set_ylabel("frequency (Hz)")
+    ax.legend(loc="upper left", fontsize=7)
+    return ax

@@ -1,0 +1,255 @@
+"""Waterfall: spectra against speed, in orders or in frequency.
+
+Two ways to build one:
+
+- :func:`waterfall` stacks order spectra of a speed sweep (one steady-state run per
+  speed, each analysed by :func:`gearbox.spectrum.order_spectrum`);
+- :func:`runup_waterfall` cuts one run-up record into blocks, each block's
+  spectrum at the block's mean speed: blocks of equal *revolutions* after angle
+  resampling for an order axis (order tracking), blocks of equal *time* for a
+  frequency axis. Windowed (flat top by default: the block holds no whole period).
+
+Amplitudes are single-sided peak amplitudes (see :mod:`gearbox.spectrum.orders`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import Problems
+from ._arrays import WINDOWS, real_1d, strictly_increasing
+from ._arrays import window as make_window
+from .orders import OrderSpectrum, revolutions
+
+__all__ = ["Waterfall", "runup_waterfall", "waterfall"]
+
+AXES = ("order", "frequency")
+
+
+@dataclass(frozen=True, eq=False)
+class Waterfall:
+    """Spectra against speed.
+
+    Attributes
+    ----------
+    speeds_rpm : ndarray, shape (n_speeds,)
+        Reference (pinion) speed of each spectrum (rpm).
+    axis : str
+        ``order`` (``bins`` in cycles per revolution) or ``frequency`` (Hz).
+    bins : ndarray, shape (n_bins,)
+        Orders or frequencies (Hz), shared by all spectra.
+    amplitudes : ndarray, shape (n_speeds, n_bins)
+        Single-sided peak amplitudes, in ``unit``.
+    unit, name, window : str
+    """
+
+    speeds_rpm: np.ndarray
+    axis: str
+    bins: np.ndarray
+    amplitudes: np.ndarray
+    unit: str
+    name: str
+    window: str
+
+    def frequencies_hz(self) -> np.ndarray:
+        """Frequency (Hz) of every cell, shape (n_speeds, n_bins)."""
+        if self.axis == "frequency":
+            return np.broadcast_to(self.bins, self.amplitudes.shape).copy()
+        return np.outer(self.speeds_rpm / 60.0, self.bins)
+
+    def orders(self) -> np.ndarray:
+        """Order of every cell, shape (n_speeds, n_bins)."""
+        if self.axis == "order":
+            return np.broadcast_to(self.bins, self.amplitudes.shape).copy()
+        return np.outer(60.0 / self.speeds_rpm, self.bins)
+
+    def order_cut(self, order: float) -> np.ndarray:
+        """Amplitude of one order against speed, shape (n_speeds,).
+
+        Per speed, the largest amplitude among the bins within one bin spacing of
+        the order (the order's own bin on an order axis with whole periods; the
+        flat-top maximum otherwise).
+        """
+        if self.axis == "order":
+            target = np.full(self.speeds_rpm.shape, float(order))
+        else:
+            target = float(order) * self.speeds_rpm / 60.0
+        step = float(self.bins[1] - self.bins[0])
+        out = np.empty(self.speeds_rpm.shape)
+        for i, c in enumerate(target):
+            k = int(round((c - self.bins[0]) / step))
+            lo, hi = max(k - 1, 0), min(k + 2, self.bins.size)
+            out[i] = self.amplitudes[i, lo:hi].max() if lo < hi else np.nan
+        return out
+
+    def to_dict(self) -> dict:
+        """Plain-JSON form."""
+        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
+        for k in ("speeds_rpm", "bins", "amplitudes"):
+            d[k] = d[k].tolist()
+        return d
+
+    @classmethod
+    def from_dict(cls, data: Mapping) -> Waterfall:
+        """Inverse of :meth:`to_dict`."""
+        d = dict(data)
+        for k in ("speeds_rpm", "bins", "amplitudes"):
+            d[k] = np.asarray(d[k], dtype=float)
+        return cls(**d)
+
+
+def waterfall(
+    spectra: Sequence[OrderSpectrum], speeds_rpm=None, *, max_order: float | None = None
+) -> Waterfall:
+    """Stack order spectra of a speed sweep into an order waterfall.
+
+    Parameters
+    ----------
+    spectra : sequence of OrderSpectrum
+        One per speed, all with the same order resolution (same ``revs``).
+    speeds_rpm : array, shape (n_speeds,), optional
+        Speed of each spectrum (rpm); default: each spectrum's ``mean_speed_rpm``.
+    max_order : float, optional
+        Keep orders up to this; default: the highest order all spectra share.
+    """
+    p = Problems()
+    if len(spectra) < 1:
+        p.add("spectra", [], "must hold at least one OrderSpectrum")
+        p.raise_if_any("waterfall")
+    for i, s in enumerate(spectra):
+        if not isinstance(s, OrderSpectrum):
+            p.add(f"spectra[{i}]", type(s).__name__, "must be an OrderSpectrum")
+        elif not math.isclose(s.revs, spectra[0].revs, rel_tol=1e-9):
+            p.add(
+                f"spectra[{i}].revs",
+                s.revs,
+                f"must equal spectra[0].revs = {spectra[0].revs:g} (same order resolution)",
+            )
+    if speeds_rpm is None:
+        speeds = np.array([getattr(s, "mean_speed_rpm", np.nan) for s in spectra], dtype=float)
+    else:
+        speeds = real_1d(p, "speeds_rpm", speeds_rpm, min_len=1)
+        if speeds is not None and speeds.size != len(spectra):
+            p.add(
+                "speeds_rpm",
+                f"{speeds.size} speeds",
+                f"must have one speed per spectrum ({len(spectra)})",
+            )
+    p.raise_if_any("waterfall")
+    n = min(s.orders.size for s in spectra)
+    if max_order is not None:
+        n = min(n, int(np.searchsorted(spectra[0].orders, max_order, side="right")))
+    amps = np.stack([s.amplitudes[:n] for s in spectra])
+    first = spectra[0]
+    return Waterfall(
+        speeds_rpm=np.asarray(speeds, dtype=float),
+        axis="order",
+        bins=first.orders[:n].copy(),
+        amplitudes=amps,
+        unit=first.unit,
+        name=first.name,
+        window=first.window,
+    )
+
+
+def runup_waterfall(
+    t,
+    x,
+    *,
+    speed_rpm,
+    axis: str = "order",
+    block: float,
+    overlap: float = 0.5,
+    window: str = "flattop",
+    samples_per_rev: float | None = None,
+    name: str = "",
+    unit: str = "",
+) -> Waterfall:
+    """Waterfall of one run-up (or run-down) record cut into blocks.
+
+    Parameters
+    ----------
+    t : array, shape (n,)
+        Time (s), strictly increasing (uniform for ``axis='frequency'``).
+    x : array, shape (n,)
+        Signal, in ``unit``.
+    speed_rpm : array, shape (n,)
+        Reference (pinion) speed (rpm), > 0.
+    axis : str
+        ``order``: blocks of ``block`` revolutions after angle resampling (computed
+        order tracking; bins in orders, spacing 1 / block). ``frequency``: blocks of
+        ``block`` seconds (bins in Hz, spacing 1 / block).
+    block : float
+        Block length: revolutions (order axis) or seconds (frequency axis).
+    overlap : float
+        Fraction of a block shared with the next, in [0, 1).
+    window : str
+        ``flattop`` (default), ``hann`` or ``rectangular``.
+    samples_per_rev : float, optional
+        Angle resampling density (order axis); default: the finest input spacing.
+    """
+    p = Problems()
+    t = real_1d(p, "t", t)
+    x = real_1d(p, "x", x)
+    s = real_1d(p, "speed_rpm", speed_rpm)
+    strictly_increasing(p, "t", t)
+    if t is not None and x is not None and x.shape != t.shape:
+        p.add("x", f"shape {x.shape}", f"must have the shape of t, {t.shape}")
+    if t is not None and s is not None and s.shape != t.shape:
+        p.add("speed_rpm", f"shape {s.shape}", f"must have the shape of t, {t.shape}")
+    elif s is not None and np.any(s <= 0):
+        p.add("speed_rpm", f"min {s.min():g}", "must be > 0 everywhere")
+    p.check(axis in AXES, "axis", axis, f"must be one of {AXES}")
+    p.in_range("block", block, 0, None, lo_open=True)
+    p.in_range("overlap", overlap, 0, 1, hi_open=True)
+    p.check(window in WINDOWS, "window", window, f"must be one of {WINDOWS}")
+    p.raise_if_any("run-up waterfall")
+
+    revs = revolutions(t, speed_rpm=s)
+    if axis == "order":
+        spr = samples_per_rev if samples_per_rev is not None else 1.0 / float(np.diff(revs).min())
+        per_block = int(math.ceil(spr * block - 1e-9))
+        from scipy.interpolate import CubicSpline
+
+        n_total = int(math.floor(revs[-1] * per_block / block + 1e-9))
+        coord = np.arange(n_total) * (block / per_block)
+        y = CubicSpline(revs, x)(coord)
+        times = np.interp(coord, revs, t)
+        span = block
+    else:
+        h = float(np.diff(t).mean())
+        if float(np.ptp(np.diff(t))) > 1e-9 * h:
+            p.add("t", "non-uniform", "must be uniformly sampled for axis='frequency'")
+            p.raise_if_any("run-up waterfall")
+        per_block = int(round(block / h))
+        y = x
+        span = per_block * h
+    hop = max(1, int(round(per_block * (1.0 - overlap))))
+    starts = np.arange(0, y.size - per_block + 1, hop)
+    if starts.size == 0:
+        p.add(
+            "block", block, f"is longer than the record ({y.size} samples, {per_block} per block)"
+        )
+        p.raise_if_any("run-up waterfall")
+    w = make_window(window, per_block)
+    cg = float(w.mean())
+    idx = starts[:, None] + np.arange(per_block)[None, :]
+    spec = np.fft.rfft(y[idx] * w, axis=1) / (per_block * cg)
+    amps = 2.0 * np.abs(spec)
+    amps[:, 0] *= 0.5
+    if per_block % 2 == 0:
+        amps[:, -1] *= 0.5
+    # Mean speed of a block: revolutions over duration (order axis), mean of the
+    # sampled speed over the block's samples (frequency axis).
+    if axis == "order":
+        t0 = times[starts]
+        t_end = np.interp(coord[starts] + block, revs, t)
+        speeds = block / (t_end - t0) * 60.0
+    else:
+        speeds = s[idx].mean(axis=1)
+    bins = np.arange(spec.shape[1]) / span
+    return Waterfall(speeds, axis, bins, amps, unit, name, window)
