@@ -19,12 +19,14 @@ from .errors import InputError
 
 #: verb -> module; the order is the order of ``--help``.
 VERBS = {
+    "run": "gearbox.commands.run",
     "design": "gearbox.commands.design",
     "sweep": "gearbox.commands.sweep",
     "scene-doc": "gearbox.commands.scene_doc",
 }
 
 EPILOG = """examples:
+  gearbox run models/marine_drive.toml         the whole job: report in out/marine_drive/
   gearbox design models/case03.toml            readable design table and checks
   gearbox design models/case03.toml --json     the same as one JSON object
   gearbox sweep models/case03.toml --out out/  parameter studies (paper Figs. 6-9)

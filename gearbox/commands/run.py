@@ -1,0 +1,79 @@
+"""``gearbox run SCENE``: the whole job, stage by stage, cached, with a report."""
+
+HELP = (
+    "Run a scene: compute (or load from the cache) every stage its outputs.requested "
+    "needs, write the report and a run summary."
+)
+EXAMPLES = """\
+  gearbox run models/marine_drive.toml                  report in out/marine_drive/
+  gearbox run models/marine_drive.toml --out results/   another output folder
+  gearbox run models/case03.toml --only design report   other outputs than the scene's
+  gearbox run models/marine_drive.toml --cache /tmp/gb  cache elsewhere (default ~/.cache/gearbox)
+  gearbox run models/marine_drive.toml --no-cache --jobs 2 --json
+"""
+
+
+def add_arguments(parser):
+    from ._common import add_scene_argument
+
+    add_scene_argument(parser)
+    parser.add_argument("--out", metavar="DIR", help="output folder (default out/<scene name>)")
+    g = parser.add_mutually_exclusive_group()
+    g.add_argument(
+        "--cache",
+        metavar="DIR",
+        help="cache folder (default $GEARBOX_CACHE, else ~/.cache/gearbox)",
+    )
+    g.add_argument("--no-cache", action="store_true", help="compute everything, store nothing")
+    parser.add_argument(
+        "--only",
+        nargs="+",
+        metavar="OUTPUT",
+        help="outputs to produce instead of the scene's outputs.requested",
+    )
+    parser.add_argument(
+        "--jobs", type=int, metavar="N", help="worker processes for sweeps (default: all cores)"
+    )
+    parser.add_argument("--no-progress", action="store_true", help="no progress bars")
+    parser.add_argument("--json", action="store_true", help="print the run summary as JSON")
+    parser.add_argument(
+        "--strict",
+        action="store_true",
+        help="exit 1 when a requested output could not be produced (stage unavailable)",
+    )
+
+
+def run(args) -> int:
+    import sys
+    from pathlib import Path
+
+    from ..errors import InputError, Problem
+    from ..pipeline import run_pipeline
+    from ..pipeline.outputs import write_outputs
+    from ..scene import load_scene
+    from ._common import dumps_json
+
+    if args.jobs is not None and args.jobs < 1:
+        raise InputError([Problem("--jobs", args.jobs, "must be >= 1")], "invalid options")
+    scene = load_scene(args.scene)
+    out = Path(args.out) if args.out else Path("out") / scene.name
+    cache = False if args.no_cache else (args.cache or True)
+    progress = not args.no_progress and sys.stderr.isatty()
+    result = run_pipeline(scene, args.only, cache=cache, jobs=args.jobs, progress=progress)
+    files = write_outputs(result, out)
+    s = result.summary
+    if args.json:
+        print(dumps_json({"summary": s.to_dict(), "files": [str(f) for f in files]}))
+    else:
+        print(s.table())
+        for f in files:
+            print(f"wrote {f}")
+    if not s.ok:
+        return 1
+    if args.strict and any(
+        s.record(n).status != "computed" and s.record(n).status != "cached"
+        for n in s.requested
+        if n != "report"
+    ):
+        return 1
+    return 0

@@ -1,0 +1,226 @@
+"""Walk the stage graph for one scene: plan, validate, load or compute, summarise."""
+
+from __future__ import annotations
+
+import functools
+import sys
+import time
+from collections.abc import Iterable, Mapping
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+from ..errors import InputError, Problem
+from ..scene import Scene
+from .cache import Cache, CacheMiss, stage_key
+from .stage import Stage, StageContext, StageUnavailable, read_values, restricted_scene
+from .summary import RunSummary, StageRecord
+from .sweep import map_items
+
+__all__ = ["PipelineRun", "plan", "run_pipeline"]
+
+#: Outputs that are not stages: made from whatever the stages produced.
+FINAL_OUTPUTS = ("report",)
+
+
+@dataclass(frozen=True)
+class PipelineRun:
+    """The outcome of :func:`run_pipeline`.
+
+    ``results`` maps each stage that produced a result to it; ``keys`` maps every
+    planned stage to its cache key; ``summary`` says what was computed or cached.
+    """
+
+    scene: Scene
+    results: Mapping[str, Any]
+    keys: Mapping[str, str]
+    summary: RunSummary
+
+    def __getitem__(self, stage: str) -> Any:
+        return self.results[stage]
+
+
+def plan(requested: Iterable[str], stages: Mapping[str, Stage]) -> list[str]:
+    """The stages needed for ``requested``, upstream first (stable topological order).
+
+    Unknown names raise :class:`InputError`; ``report`` needs no stage of its own.
+    """
+    requested = list(requested)
+    unknown = [r for r in requested if r not in stages and r not in FINAL_OUTPUTS]
+    if unknown:
+        valid = ", ".join([*stages, *FINAL_OUTPUTS])
+        raise InputError(
+            [Problem("outputs.requested", u, f"unknown output; valid: {valid}") for u in unknown],
+            "invalid requested outputs",
+        )
+    order: list[str] = []
+    visiting: set[str] = set()
+
+    def visit(name: str) -> None:
+        if name in order:
+            return
+        if name in visiting:
+            raise ValueError(f"stage graph has a cycle through {name!r}")
+        visiting.add(name)
+        for dep in stages[name].depends:
+            visit(dep)
+        visiting.discard(name)
+        order.append(name)
+
+    for name in stages:  # graph order, so the plan does not depend on request order
+        if name in requested:
+            visit(name)
+    return order
+
+
+def validate(scene: Scene, names: Iterable[str], stages: Mapping[str, Stage]) -> None:
+    """Run every planned stage's ``validate``; raise one InputError with all problems."""
+    problems: list[Problem] = []
+    for name in names:
+        check = stages[name].validate
+        if check is None:
+            continue
+        try:
+            check(restricted_scene(scene, stages[name].reads))
+        except InputError as exc:
+            problems += [p for p in exc.problems if p not in problems]
+        except StageUnavailable:
+            pass  # reported when the stage runs
+    if problems:
+        where = f"scene {scene.path}" if scene.path else "scene"
+        raise InputError(problems, f"invalid {where}")
+
+
+def _as_cache(cache: Cache | str | Path | bool | None) -> Cache | None:
+    if cache is None or cache is False:
+        return None
+    if cache is True:
+        from .cache import default_cache_dir
+
+        return Cache(default_cache_dir())
+    if isinstance(cache, Cache):
+        return cache
+    return Cache(Path(cache))
+
+
+def run_pipeline(
+    scene: Scene,
+    requested: Iterable[str] | None = None,
+    *,
+    stages: Mapping[str, Stage] | None = None,
+    cache: Cache | str | Path | bool | None = True,
+    executor: Executor | None = None,
+    jobs: int | None = None,
+    progress: bool = False,
+) -> PipelineRun:
+    """Compute, or load from the cache, every stage that ``requested`` needs.
+
+    Parameters
+    ----------
+    scene : Scene
+        A validated scene (:func:`gearbox.load_scene`).
+    requested : iterable of str, optional
+        Outputs to produce; default ``scene["outputs"]["requested"]``.
+    stages : mapping, optional
+        The stage graph; default :data:`gearbox.pipeline.STAGES`.
+    cache : Cache, path, bool or None
+        ``True``: the default cache directory; a path or :class:`Cache`: that one;
+        ``False`` / ``None``: no cache.
+    executor : concurrent.futures.Executor, optional
+        Runs the sweeps (see :mod:`gearbox.pipeline.sweep`); not shut down here.
+    jobs : int, optional
+        Workers of the default process pool when no executor is given.
+    progress : bool
+        tqdm progress bars on stderr.
+
+    A stage that raises is recorded as ``failed`` (its message in the summary) and
+    the stages downstream of it as ``skipped``; :class:`InputError` from validation
+    is raised before anything is computed, with every problem of every stage.
+    """
+    if stages is None:
+        from .stages import STAGES as stages
+    requested = tuple(scene["outputs"]["requested"] if requested is None else requested)
+    names = plan(requested, stages)
+    validate(scene, names, stages)
+    store = _as_cache(cache)
+    started = datetime.now(UTC).isoformat(timespec="seconds")
+    t_run = time.perf_counter()
+    keys: dict[str, str] = {}
+    results: dict[str, Any] = {}
+    records: list[StageRecord] = []
+    from tqdm.auto import tqdm
+
+    bar = tqdm(names, desc="gearbox run", disable=not progress, leave=False, file=sys.stderr)
+    for name in bar:
+        st = stages[name]
+        bar.set_postfix_str(name)
+        keys[name] = stage_key(
+            name,
+            read_values(scene, st.reads),
+            {d: keys[d] for d in st.depends},
+            st.code,
+        )
+        missing = [d for d in st.depends if d not in results]
+        if missing:
+            records.append(
+                StageRecord(name, "skipped", key=keys[name], detail=f"needs {', '.join(missing)}")
+            )
+            continue
+        t0 = time.perf_counter()
+        detail = ""
+        if store is not None and st.cacheable:
+            try:
+                results[name], meta = store.load(name, keys[name])
+            except CacheMiss as miss:
+                if miss.corrupt:
+                    detail = miss.reason
+            else:
+                dt = time.perf_counter() - t0
+                records.append(
+                    StageRecord(name, "cached", dt, keys[name], "", meta.get("seconds", 0.0))
+                )
+                continue
+        ctx = StageContext(
+            name=name,
+            scene=restricted_scene(scene, st.reads),
+            inputs=MappingProxyType({d: results[d] for d in st.depends}),
+            map=functools.partial(
+                map_items, executor=executor, jobs=jobs, progress=progress, desc=name
+            ),
+            progress=progress,
+        )
+        try:
+            result = st.compute(ctx)
+        except StageUnavailable as exc:
+            records.append(
+                StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc))
+            )
+            continue
+        except (KeyboardInterrupt, InputError):
+            raise
+        except Exception as exc:
+            msg = f"{type(exc).__name__}: {exc}"
+            records.append(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
+            continue
+        dt = time.perf_counter() - t0
+        results[name] = result
+        if store is not None and st.cacheable:
+            try:
+                store.store(name, keys[name], result, dt)
+            except Exception as exc:  # a full disk or an unpicklable result: run on
+                detail = (
+                    detail + "; " if detail else ""
+                ) + f"not cached ({type(exc).__name__}: {exc})"
+        records.append(StageRecord(name, "computed", time.perf_counter() - t0, keys[name], detail))
+    bar.close()
+    summary = RunSummary(
+        records=tuple(records),
+        requested=requested,
+        seconds=time.perf_counter() - t_run,
+        cache_dir=str(store.root) if store is not None else "",
+        started=started,
+    )
+    return PipelineRun(scene, MappingProxyType(results), MappingProxyType(keys), summary)

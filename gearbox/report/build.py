@@ -1,0 +1,147 @@
+"""Assemble the HTML report of a pipeline run and write it atomically."""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Callable
+from datetime import UTC, datetime
+from pathlib import Path
+
+from .. import __version__
+from ..commands._common import write_atomic
+from ..pipeline.summary import STATUSES
+from .html import CSS, ReportWarning, Section, esc, table
+from .provenance import package_versions, provenance_rows
+
+__all__ = ["RENDERERS", "build_report", "scene_toml", "write_report"]
+
+
+def _renderers() -> dict[str, Callable]:
+    from . import design
+
+    return {"design": design.render}
+
+
+#: stage name -> ``render(result, run) -> Section | list[Section]``, in report order.
+RENDERERS: dict[str, Callable] = {}
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return repr(v)
+
+
+def scene_toml(scene) -> str:
+    """The validated scene, defaults filled in, as TOML text (unset keys commented)."""
+    lines = []
+    for sec, values in scene.data.items():
+        if sec:
+            lines += ["", f"[{sec}]"]
+        for k, v in values.items():
+            lines.append(f"# {k} = (not set)" if v is None else f"{k} = {_toml_value(v)}")
+    return "\n".join(lines).strip() + "\n"
+
+
+def _status_warnings(run) -> list[ReportWarning]:
+    out = []
+    requested = set(run.summary.requested)
+    for r in run.summary.records:
+        if r.status == "failed":
+            out.append(ReportWarning(r.name, f"stage failed: {r.detail}"))
+        elif r.status in ("unavailable", "skipped") and r.name in requested:
+            out.append(ReportWarning(r.name, f"requested but {STATUSES[r.status]}: {r.detail}"))
+    return out
+
+
+def _stage_table(run) -> str:
+    rows = []
+    for r in run.summary.records:
+        klass = {"failed": "bad", "cached": "ok", "computed": ""}.get(r.status, "note")
+        saved = f"{r.saved_seconds:.2f}" if r.status == "cached" else "-"
+        rows.append((r.name, (r.status, klass), f"{r.seconds:.2f}", saved, r.key[:12], r.detail))
+    return table(
+        ["stage", "status", "seconds", "compute time saved (s)", "cache key", "detail"], rows
+    )
+
+
+def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
+    """The whole report of ``run`` (a :class:`gearbox.pipeline.PipelineRun`) as HTML.
+
+    Every stage with a result and a renderer gets its section(s); a renderer that
+    raises is named in the warnings instead of stopping the report.
+    """
+    if renderers is None:
+        renderers = RENDERERS or _renderers()
+    sections: list[Section] = []
+    warnings = _status_warnings(run)
+    for name, render in renderers.items():
+        if name not in run.results:
+            continue
+        try:
+            got = render(run.results[name], run)
+        except Exception as exc:
+            print(f"gearbox report: section {name!r} failed: {exc!r}", file=sys.stderr)
+            warnings.append(
+                ReportWarning(
+                    name, f"report section could not be drawn: {type(exc).__name__}: {exc}"
+                )
+            )
+            continue
+        for sec in got if isinstance(got, list) else [got]:
+            sections.append(sec)
+            warnings += sec.warnings
+    name = run.scene.name
+    desc = run.scene[""].get("description", "")
+    now = datetime.now(UTC).isoformat(timespec="seconds")
+    parts = [
+        "<!DOCTYPE html>",
+        '<html lang="en"><head><meta charset="utf-8">',
+        '<meta name="viewport" content="width=device-width, initial-scale=1">',
+        f"<title>gearbox report: {esc(name)}</title><style>{CSS}</style></head><body>",
+        f"<h1>gearbox report: {esc(name)}</h1>",
+        f'<p class="muted">{esc(desc)}</p>' if desc else "",
+        f'<p class="muted">gearbox {esc(__version__)}, written {esc(now)} UTC</p>',
+    ]
+    anchors = [("warnings", "Warnings")]
+    for i, sec in enumerate(sections):
+        anchors.append((sec.anchor or f"s{i}", sec.title))
+    anchors.append(("provenance", "Provenance"))
+    parts.append(
+        "<nav>" + "".join(f'<a href="#{esc(a)}">{esc(t)}</a>' for a, t in anchors) + "</nav>"
+    )
+    parts.append('<h2 id="warnings">Warnings</h2>')
+    if warnings:
+        items = "".join(f"<li><b>{esc(w.source)}</b>: {esc(w.text)}</li>" for w in warnings)
+        parts.append(f'<ul class="warnings" id="warning-list">{items}</ul>')
+    else:
+        parts.append('<p id="warning-list">None.</p>')
+    for i, sec in enumerate(sections):
+        anchor = esc(sec.anchor or f"s{i}")
+        parts.append(f'<section id="{anchor}"><h2>{esc(sec.title)}</h2>{sec.body}</section>')
+    versions = package_versions()
+    parts += [
+        '<section id="provenance"><h2>Provenance</h2>',
+        table(["item", "value"], provenance_rows(run)),
+        "<h3>Stages</h3>",
+        _stage_table(run),
+        '<p class="muted">'
+        + "; ".join(f"{esc(k)}: {esc(v)}" for k, v in STATUSES.items())
+        + "</p>",
+        "<h3>Versions</h3>",
+        table(["package", "version"], sorted(versions.items())),
+        "<h3>Scene as run (defaults filled in)</h3>",
+        f"<pre>{esc(scene_toml(run.scene))}</pre>",
+        "</section></body></html>",
+    ]
+    return "\n".join(p for p in parts if p)
+
+
+def write_report(run, path: str | Path, **kwargs) -> Path:
+    """Build the report and write it atomically: the file is complete or absent."""
+    return write_atomic(path, build_report(run, **kwargs))
