@@ -86,7 +86,7 @@ def render(des, run) -> Section:
             (
                 name,
                 ("pass" if chk.ok else "FAIL", "ok" if chk.ok else "bad"),
-                chk.margin,
+                f"{fmt(chk.margin)} {chk.unit}".strip(),
                 chk.detail,
             )
         )
