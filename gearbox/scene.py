@@ -169,12 +169,24 @@ SCHEMA: dict[str, dict[str, Field]] = {
     },
     "drivetrain": {
         "engine_inertia_kgm2": _f(2.0, "Engine inertia incl. flywheel (kg m^2).", 0, None, True),
-        "engine_cylinders": _i(8, "Cylinders of the 4-stroke engine.", 1, 24),
-        "engine_power_kW": _f(300.0, "Engine power at the operating speed (kW).", 0, None, True),
+        "engine_cylinders": _i(8, "Cylinders of the 4-stroke engine (firing order = cylinders/2).", 1, 24),
+        "engine_power_kW": _f(
+            None,
+            "Engine power at the operating speed (kW); mean torque = power/speed. "
+            "If absent, the mean torque is load.operating_torque_Nm.",
+            0,
+            None,
+            True,
+        ),
         "engine_speed_rpm": _f(2000.0, "Operating engine (= pinion) speed (rpm).", 0, None, True),
         "firing_torque_ripple": _f(0.1, "Firing-order torque amplitude over mean engine torque.", 0, 10),
-        "half_order_ripple": _f(0.0, "Half-order torque amplitudes over mean (cylinder imbalance).", 0, 10),
-        "governor": Field("bool", False, "Hold the set speed with a PI speed governor instead of a torque curve."),
+        "engine_harmonics": _i(1, "Harmonics of the firing order (amplitude ripple/h).", 1, 50),
+        "half_order_ripple": _f(
+            0.0, "Torque amplitude at orders 0.5, 1, 1.5 (divided by 1, 2, 3) over mean (cylinder imbalance).", 0, 10
+        ),
+        "governor": Field("bool", False, "Hold the set speed with a PI speed governor on top of the mean torque."),
+        "governor_kp_Nms_per_rad": _f(50.0, "Governor proportional gain (N m s/rad).", 0, None),
+        "governor_ki_Nm_per_rad": _f(500.0, "Governor integral gain (N m/rad).", 0, None),
         "input_shaft_stiffness_Nm_per_rad": _f(2.0e5, "Torsional stiffness engine - pinion (N m/rad).", 0, None, True),
         "input_shaft_damping_ratio": _f(0.02, "Modal damping ratio of the input shaft.", 0, 1),
         "pinion_inertia_kgm2": _f(0.05, "Pinion inertia incl. shaft share (kg m^2).", 0, None, True),
@@ -186,17 +198,24 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "gear_bearing_stiffness_N_per_m": _f(1.0e9, "Gear bearing stiffness along the line of action (N/m).", 0, None, True),
         "pinion_mass_kg": _f(8.0, "Pinion mass for the bearing translation (kg).", 0, None, True),
         "gear_mass_kg": _f(15.0, "Gear mass for the bearing translation (kg).", 0, None, True),
+        "bearing_damping_ratio": _f(0.02, "Damping ratio of each bearing translation.", 0, 1),
         "mesh_damping_ratio": _f(0.05, "Mesh damping ratio (of the mesh mode).", 0, 1),
+        "mesh_harmonics": _i(0, "Mesh-order harmonics kept in the Fourier series of the tables (0 = all).", 0, 10000),
         "backlash_mm": _f(0.1, "Circumferential backlash along the line of action (mm).", 0, 10),
         "propeller_inertia_kgm2": _f(5.0, "Propeller inertia in air (kg m^2).", 0, None, True),
         "propeller_added_inertia_fraction": _f(0.25, "Added water inertia over propeller inertia.", 0, 10),
         "propeller_blades": _i(3, "Number of propeller blades.", 1, 12),
         "blade_pass_ripple": _f(0.05, "Blade-pass torque amplitude over mean propeller torque.", 0, 10),
+        "blade_pass_harmonics": _i(1, "Harmonics of the blade-pass order (amplitude ripple/h).", 1, 50),
     },
     "simulation": {
         "solver": _s("diffrax", "Dynamics solver: 'diffrax', 'exudyn' or 'scipy'.", ("diffrax", "exudyn", "scipy")),
         "rtol": _f(1e-6, "Relative tolerance of adaptive solvers.", 0, 1, True, True),
+        "settle_time_s": _f(
+            None, "Simulated time before recording (s); default from the slowest mode's decay.", 0, None
+        ),
         "settled_mesh_cycles": _i(200, "Mesh cycles of settled response used for spectra.", 1, 10**7),
+        "samples_per_mesh_cycle": _i(32, "Output samples per mesh cycle.", 4, 10000),
         "speed_sweep_rpm": _fl([500.0, 3000.0], "Engine speed range of sweeps [min, max] (rpm).", 0, None, True, min_len=2),
         "sweep_speeds": _i(40, "Speeds in a sweep.", 2, 100000),
     },

@@ -1,0 +1,563 @@
+"""The drivetrain model: engine - input shaft - pinion - mesh - gear - output shaft - propeller.
+
+Equations in docs/drivetrain.md (sections refer to it). :class:`DrivetrainModel` holds
+every parameter in SI; :meth:`DrivetrainModel.params` flattens them into a dict of
+arrays that :func:`rhs` consumes with ``xp = numpy`` (scipy reference) or
+``xp = jax.numpy`` (diffrax backend): one implementation of the right-hand side.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import Problems
+from ..meshtable import MeshTable, fourier_eval, fourier_fit
+
+__all__ = ["DrivetrainModel", "outputs", "rhs", "CHANNEL_UNITS"]
+
+_DOF_NAMES = ("engine", "pinion", "gear", "propeller", "pinion_bearing", "gear_bearing")
+
+
+@dataclass(frozen=True)
+class MeshFlank:
+    """One flank's mesh law at the operating torque (docs/drivetrain.md §2-3).
+
+    k_coef, e_coef: Fourier coefficients [a0, a_1..a_h, b_1..b_h] of the tangent
+    stiffness (N/m) and of the no-load-equivalent error e (m) in the pinion angle.
+    lte_coef: the same for the table's LTE (m), for the DTE channel.
+    lambda1, lambda2: rotation radii (m). direction: mean line of action (Sf).
+    damping: c_f (N s/m). backlash: b_f (m).
+    """
+
+    k_coef: np.ndarray
+    e_coef: np.ndarray
+    lte_coef: np.ndarray
+    lambda1: float
+    lambda2: float
+    direction: np.ndarray
+    damping: float
+    backlash: float
+
+    @property
+    def mean_stiffness(self) -> float:
+        return float(self.k_coef[0])
+
+
+@dataclass(frozen=True)
+class DrivetrainModel:
+    """All parameters of the drivetrain in SI (docs/drivetrain.md §8).
+
+    Inertias (kg m^2), stiffnesses (N m/rad, N/m), damping ratios (-), speed (rad/s),
+    torques (N m), masses (kg), backlash (m). ``drive``/``coast``: :class:`MeshFlank`
+    at the operating torque (``coast`` is None when the table has no coast flank).
+    """
+
+    pinion_teeth: int
+    gear_teeth: int
+    speed: float  # Omega, engine = pinion (rad/s)
+    torque: float  # T_op (N m)
+    engine_inertia: float
+    pinion_inertia: float
+    gear_inertia: float
+    propeller_inertia: float  # incl. added water inertia
+    input_stiffness: float
+    output_stiffness: float
+    input_damping_ratio: float
+    output_damping_ratio: float
+    drive: MeshFlank
+    coast: MeshFlank | None
+    bearing_dofs: bool = False
+    pinion_bearing_stiffness: float = 1e9
+    gear_bearing_stiffness: float = 1e9
+    pinion_mass: float = 8.0
+    gear_mass: float = 15.0
+    bearing_damping_ratio: float = 0.02
+    engine_cylinders: int = 8
+    firing_ripple: float = 0.1
+    engine_harmonics: int = 1
+    half_order_ripple: float = 0.0
+    governor: bool = False
+    governor_kp: float = 0.0
+    governor_ki: float = 0.0
+    propeller_blades: int = 3
+    blade_pass_ripple: float = 0.05
+    blade_pass_harmonics: int = 1
+    phase: float = 0.0
+    meta: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self):
+        p = Problems()
+        for name in (
+            "engine_inertia",
+            "pinion_inertia",
+            "gear_inertia",
+            "propeller_inertia",
+            "input_stiffness",
+            "output_stiffness",
+            "speed",
+            "torque",
+        ):
+            v = getattr(self, name)
+            p.check(math.isfinite(v) and v > 0, name, v, "must be finite and > 0")
+        for name in ("input_damping_ratio", "output_damping_ratio", "bearing_damping_ratio"):
+            p.in_range(name, getattr(self, name), 0, 1)
+        if self.bearing_dofs:
+            for name in (
+                "pinion_bearing_stiffness",
+                "gear_bearing_stiffness",
+                "pinion_mass",
+                "gear_mass",
+            ):
+                v = getattr(self, name)
+                p.check(math.isfinite(v) and v > 0, name, v, "must be finite and > 0")
+        for fl_name in ("drive", "coast"):
+            fl = getattr(self, fl_name)
+            if fl is None:
+                continue
+            k0 = fl.k_coef[0]
+            p.check(k0 > 0, f"{fl_name}.mean_stiffness", float(k0), "must be > 0 N/m")
+            p.check(fl.backlash >= 0, f"{fl_name}.backlash", fl.backlash, "must be >= 0 m")
+        p.check(
+            self.drive.lambda1 > 0 and self.drive.lambda2 > 0,
+            "drive rotation radii",
+            (self.drive.lambda1, self.drive.lambda2),
+            "must be > 0 m (check the table's axes and line of action)",
+        )
+        p.raise_if_any("invalid drivetrain model")
+
+    # ---------------------------------------------------------------- build
+    @classmethod
+    def from_scene(
+        cls, scene, table: MeshTable | None = None, *, speed_rpm: float | None = None
+    ) -> DrivetrainModel:
+        """Model of a scene's ``[drivetrain]`` with a mesh table (analytical if None).
+
+        speed_rpm overrides ``drivetrain.engine_speed_rpm``.
+        """
+        d = scene["drivetrain"]
+        if table is None:
+            from ..mesh_analytical import analytical_table, pair_from_scene
+
+            table = analytical_table(
+                pair_from_scene(scene), scene["load"]["torques_Nm"], scene=scene.name
+            )
+        rpm = float(speed_rpm if speed_rpm is not None else d["engine_speed_rpm"])
+        omega = rpm * math.pi / 30.0
+        if d["engine_power_kW"] is not None:
+            torque = d["engine_power_kW"] * 1e3 / omega
+        else:
+            torque = scene["load"]["operating_torque_Nm"]
+        return cls.build(
+            table,
+            speed=omega,
+            torque=torque,
+            engine_inertia=d["engine_inertia_kgm2"],
+            pinion_inertia=d["pinion_inertia_kgm2"],
+            gear_inertia=d["gear_inertia_kgm2"],
+            propeller_inertia=d["propeller_inertia_kgm2"]
+            * (1 + d["propeller_added_inertia_fraction"]),
+            input_stiffness=d["input_shaft_stiffness_Nm_per_rad"],
+            output_stiffness=d["output_shaft_stiffness_Nm_per_rad"],
+            input_damping_ratio=d["input_shaft_damping_ratio"],
+            output_damping_ratio=d["output_shaft_damping_ratio"],
+            mesh_damping_ratio=d["mesh_damping_ratio"],
+            backlash=d["backlash_mm"] * 1e-3,
+            mesh_harmonics=d["mesh_harmonics"],
+            bearing_dofs=d["bearing_dofs"],
+            pinion_bearing_stiffness=d["pinion_bearing_stiffness_N_per_m"],
+            gear_bearing_stiffness=d["gear_bearing_stiffness_N_per_m"],
+            pinion_mass=d["pinion_mass_kg"],
+            gear_mass=d["gear_mass_kg"],
+            bearing_damping_ratio=d["bearing_damping_ratio"],
+            engine_cylinders=d["engine_cylinders"],
+            firing_ripple=d["firing_torque_ripple"],
+            engine_harmonics=d["engine_harmonics"],
+            half_order_ripple=d["half_order_ripple"],
+            governor=d["governor"],
+            governor_kp=d["governor_kp_Nms_per_rad"],
+            governor_ki=d["governor_ki_Nm_per_rad"],
+            propeller_blades=d["propeller_blades"],
+            blade_pass_ripple=d["blade_pass_ripple"],
+            blade_pass_harmonics=d["blade_pass_harmonics"],
+            meta={"scene": scene.name, "table_method": table.attrs.get("method", "")},
+        )
+
+    @classmethod
+    def build(
+        cls,
+        table: MeshTable,
+        *,
+        speed: float,
+        torque: float,
+        mesh_damping_ratio: float = 0.05,
+        backlash: float = 1e-4,
+        mesh_harmonics: int = 0,
+        **kw,
+    ) -> DrivetrainModel:
+        """Model from SI parameters and a table; the mesh flanks are evaluated at ``torque``.
+
+        speed: Omega (rad/s); torque: T_op (N m), must lie in the table's torque range.
+        Other keywords: the dataclass fields.
+        """
+        p = Problems()
+        p.in_range("mesh_damping_ratio", mesh_damping_ratio, 0, 1)
+        p.in_range("backlash", backlash, 0, None)
+        p.check(math.isfinite(torque) and torque > 0, "torque", torque, "must be > 0 N m")
+        p.raise_if_any("invalid drivetrain model")
+        j1 = kw["pinion_inertia"]
+        j2 = kw["gear_inertia"]
+
+        def flank(name: str, b: float) -> MeshFlank:
+            lam1, lam2 = table.rotation_radii(name, torque)
+            kt = table.values_at("tangent_stiffness", name, torque)
+            lte = table.values_at("lte", name, torque)
+            lam1d = table.rotation_radii("drive", torque)[0] if "drive" in table.flanks else lam1
+            fn = torque / abs(lam1d)
+            e = lte - fn / kt
+            kc = np.concatenate(_fit(kt, mesh_harmonics))
+            ec = np.concatenate(_fit(e, mesh_harmonics))
+            lc = np.concatenate(_fit(lte, mesh_harmonics))
+            inv_m = lam1**2 / j1 + lam2**2 / j2
+            c = 2 * mesh_damping_ratio * math.sqrt(kc[0] / inv_m) if kc[0] > 0 else 0.0
+            return MeshFlank(kc, ec, lc, lam1, lam2, table.mean_direction(name, torque), c, b)
+
+        drive = flank("drive", 0.0)
+        coast = flank("coast", backlash) if "coast" in table.flanks else None
+        return cls(
+            pinion_teeth=table.pinion_teeth,
+            gear_teeth=table.gear_teeth,
+            speed=speed,
+            torque=torque,
+            drive=drive,
+            coast=coast,
+            phase=float(table.angle[0]) * 0.0,
+            **kw,
+        )
+
+    def with_speed(self, speed: float, table: MeshTable | None = None) -> DrivetrainModel:
+        """Same model at another speed Omega (rad/s); torque and mesh law unchanged."""
+        return dataclasses.replace(self, speed=float(speed))
+
+    # ---------------------------------------------------------------- layout
+    @property
+    def n_dof(self) -> int:
+        return 6 if self.bearing_dofs else 4
+
+    @property
+    def dof_names(self) -> tuple[str, ...]:
+        return _DOF_NAMES[: self.n_dof]
+
+    @property
+    def gear_speed(self) -> float:
+        """Omega_2 = Omega N_1 / N_2 (rad/s)."""
+        return self.speed * self.pinion_teeth / self.gear_teeth
+
+    @property
+    def mesh_frequency(self) -> float:
+        """N_1 Omega / (2 pi) (Hz)."""
+        return self.pinion_teeth * self.speed / (2 * math.pi)
+
+    @property
+    def propeller_coefficient(self) -> float:
+        """kappa (N m s^2/rad^2): nominal torque balance (docs §6)."""
+        return self.torque * (self.drive.lambda2 / self.drive.lambda1) / self.gear_speed**2
+
+    def mass_vector(self) -> np.ndarray:
+        m = [self.engine_inertia, self.pinion_inertia, self.gear_inertia, self.propeller_inertia]
+        if self.bearing_dofs:
+            m += [self.pinion_mass, self.gear_mass]
+        return np.array(m)
+
+    def structural_matrices(self) -> tuple[np.ndarray, np.ndarray]:
+        """K_s, C_s (shafts and bearings), shape (n, n) (docs §4)."""
+        n = self.n_dof
+        K = np.zeros((n, n))
+        C = np.zeros((n, n))
+        je, j1, j2, jp = self.mass_vector()[:4]
+
+        def spring(i, j, k, c):
+            K[i, i] += k
+            K[j, j] += k
+            K[i, j] -= k
+            K[j, i] -= k
+            C[i, i] += c
+            C[j, j] += c
+            C[i, j] -= c
+            C[j, i] -= c
+
+        cin = 2 * self.input_damping_ratio * math.sqrt(self.input_stiffness * je * j1 / (je + j1))
+        cout = (
+            2 * self.output_damping_ratio * math.sqrt(self.output_stiffness * j2 * jp / (j2 + jp))
+        )
+        spring(0, 1, self.input_stiffness, cin)
+        spring(2, 3, self.output_stiffness, cout)
+        if self.bearing_dofs:
+            for i, k, m in (
+                (4, self.pinion_bearing_stiffness, self.pinion_mass),
+                (5, self.gear_bearing_stiffness, self.gear_mass),
+            ):
+                K[i, i] += k
+                C[i, i] += 2 * self.bearing_damping_ratio * math.sqrt(k * m)
+        return K, C
+
+    def mesh_vectors(self) -> np.ndarray:
+        """G, shape (2, n): rows drive, coast (zeros when there is no coast flank) (docs §2)."""
+        G = np.zeros((2, self.n_dof))
+        nd = self.drive.direction
+        for r, fl in enumerate((self.drive, self.coast)):
+            if fl is None:
+                continue
+            G[r, 1] = fl.lambda1
+            G[r, 2] = -fl.lambda2
+            if self.bearing_dofs:
+                proj = float(nd @ fl.direction)
+                G[r, 4] = proj
+                G[r, 5] = -proj
+        return G
+
+    def excitation_orders(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Engine (orders of Omega, amplitudes/T_op) and propeller (orders of Omega_2, amplitudes)."""
+        eo, ea = [], []
+        of = self.engine_cylinders / 2.0
+        for h in range(1, self.engine_harmonics + 1):
+            eo.append(h * of)
+            ea.append(self.firing_ripple / h)
+        for k in range(1, 4):
+            eo.append(0.5 * k)
+            ea.append(self.half_order_ripple / k)
+        po, pa = [], []
+        for h in range(1, self.blade_pass_harmonics + 1):
+            po.append(h * self.propeller_blades)
+            pa.append(self.blade_pass_ripple / h)
+        return np.array(eo), np.array(ea), np.array(po), np.array(pa)
+
+    def static_state(self) -> np.ndarray:
+        """State y0 = [x, v] of the static equilibrium of the mean torques (docs §7), q_p = 0."""
+        n = self.n_dof
+        K, _ = self.structural_matrices()
+        G = self.mesh_vectors()
+        kd = self.drive.mean_stiffness
+        ed = float(self.drive.e_coef[0])
+        Kt = K + kd * np.outer(G[0], G[0])
+        f = np.zeros(n)
+        f[0] = self.torque
+        f[3] = -self.propeller_coefficient * self.gear_speed**2
+        f += kd * ed * G[0]
+        keep = [i for i in range(n) if i != 3]
+        x = np.zeros(n)
+        x[keep] = np.linalg.solve(Kt[np.ix_(keep, keep)], f[keep])
+        return np.concatenate([x, np.zeros(n)])
+
+    def state_scale(self) -> np.ndarray:
+        """Per-state scale (rad, m, rad/s, m/s) so that one absolute tolerance fits all.
+
+        Angles: static mesh deflection over the rotation radius; translations: the static
+        deflection; speeds: those times the mesh circular frequency.
+        """
+        n = self.n_dof
+        defl = self.torque / self.drive.lambda1 / self.drive.mean_stiffness
+        x = np.empty(n)
+        x[0] = x[1] = defl / self.drive.lambda1
+        x[2] = x[3] = defl / self.drive.lambda2
+        if self.bearing_dofs:
+            x[4:] = defl
+        w = 2 * math.pi * self.mesh_frequency
+        return np.concatenate([x, x * w])
+
+    def params(self) -> dict[str, np.ndarray]:
+        """Flat parameter dict (numpy arrays) consumed by :func:`rhs`."""
+        K, C = self.structural_matrices()
+        G = self.mesh_vectors()
+        h = max(len(self.drive.k_coef), len(self.coast.k_coef) if self.coast else 0)
+
+        def pad(c):
+            hh = (len(c) - 1) // 2
+            out = np.zeros(h)
+            hc = (h - 1) // 2
+            out[0] = c[0]
+            out[1 : 1 + hh] = c[1 : 1 + hh]
+            out[1 + hc : 1 + hc + hh] = c[1 + hh :]
+            return out
+
+        zero = np.zeros(h)
+        fl = [self.drive, self.coast]
+        eo, ea, po, pa = self.excitation_orders()
+        x0 = self.static_state()
+        return {
+            "Minv": 1.0 / self.mass_vector(),
+            "K": K,
+            "C": C,
+            "G": G,
+            "kc": np.stack([pad(f.k_coef) if f else zero for f in fl]),
+            "ec": np.stack([pad(f.e_coef) if f else zero for f in fl]),
+            "cm": np.array([f.damping if f else 0.0 for f in fl]),
+            "bl": np.array([f.backlash if f else 0.0 for f in fl]),
+            "N1": np.array(float(self.pinion_teeth)),
+            "Omega": np.array(self.speed),
+            "Omega2": np.array(self.gear_speed),
+            "phase": np.array(self.phase),
+            "T": np.array(self.torque),
+            "eo": eo,
+            "ea": ea,
+            "kappa": np.array(self.propeller_coefficient),
+            "po": po,
+            "pa": pa,
+            "Kp": np.array(self.governor_kp if self.governor else 0.0),
+            "Ki": np.array(self.governor_ki if self.governor else 0.0),
+            "qe0": np.array(x0[0]),
+            "scale": self.state_scale(),
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        d = dataclasses.asdict(self)
+
+        def conv(o):
+            if isinstance(o, np.ndarray):
+                return o.tolist()
+            if isinstance(o, dict):
+                return {k: conv(v) for k, v in o.items()}
+            return o
+
+        d["meta"] = dict(self.meta)
+        return conv(d)
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> DrivetrainModel:
+        d = dict(d)
+        for k in ("drive", "coast"):
+            if d.get(k) is not None:
+                f = dict(d[k])
+                for a in ("k_coef", "e_coef", "lte_coef", "direction"):
+                    f[a] = np.asarray(f[a], dtype=float)
+                d[k] = MeshFlank(**f)
+        return cls(**d)
+
+
+def _fit(v: np.ndarray, harmonics: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    a0, a, b = fourier_fit(v, harmonics)
+    return np.array([a0]), a, b
+
+
+def _split(c, xp):
+    h = (c.shape[-1] - 1) // 2
+    return c[..., 0], c[..., 1 : 1 + h], c[..., 1 + h :]
+
+
+def mesh_laws(theta1, p, xp=np):
+    """k_f, dk_f, e_f, de_f at pinion angle theta1 (rad); each shape (2,) [drive, coast]."""
+    ka0, ka, kb = _split(p["kc"], xp)
+    ea0, ea, eb = _split(p["ec"], xp)
+    k, dk = fourier_eval(ka0, ka, kb, p["N1"], theta1, xp=xp)
+    e, de = fourier_eval(ea0, ea, eb, p["N1"], theta1, xp=xp)
+    return k, dk, e, de
+
+
+def mesh_forces(t, x, v, p, xp=np):
+    """Contact forces F_f (N, shape (2,)), gaps s_f and the pinion angle (docs §3)."""
+    theta1 = p["Omega"] * t + x[1] + p["phase"]
+    k, _, e, de = mesh_laws(theta1, p, xp)
+    delta = p["G"] @ x
+    ddelta = p["G"] @ v
+    s = delta - e - p["bl"]
+    sdot = ddelta - de * (p["Omega"] + v[1])
+    f = xp.where(s > 0, xp.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
+    return f, s, theta1
+
+
+def external_torques(t, x, v, p, xp=np):
+    """Engine torque (with governor) and propeller load torque (N m), docs §5-6."""
+    te = p["T"] * (1.0 + xp.sum(p["ea"] * xp.sin(p["eo"] * p["Omega"] * t)))
+    te = te - p["Kp"] * v[0] - p["Ki"] * (x[0] - p["qe0"])
+    wp = p["Omega2"] + v[3]
+    tp = p["kappa"] * wp * wp * (1.0 + xp.sum(p["pa"] * xp.sin(p["po"] * p["Omega2"] * t)))
+    return te, tp
+
+
+def rhs(t, z, p, xp=np):
+    """d z / dt of the scaled state z = y / scale, y = [x, v] (docs §7). Shape (2 n,)."""
+    y = z * p["scale"]
+    n = y.shape[0] // 2
+    x = y[:n]
+    v = y[n:]
+    f, _, _ = mesh_forces(t, x, v, p, xp)
+    te, tp = external_torques(t, x, v, p, xp)
+    q = -(p["K"] @ x) - (p["C"] @ v) - p["G"].T @ f
+    unit = xp.zeros(n)
+    if xp is np:
+        unit[0] = te
+        unit[3] = -tp
+    else:
+        unit = unit.at[0].set(te).at[3].set(-tp)
+    a = (q + unit) * p["Minv"]
+    return xp.concatenate([v, a]) / p["scale"]
+
+
+CHANNEL_UNITS = {
+    "engine_angle_rad": "rad",
+    "pinion_angle_rad": "rad",
+    "gear_angle_rad": "rad",
+    "propeller_angle_rad": "rad",
+    "engine_speed_rad_per_s": "rad/s",
+    "pinion_speed_rad_per_s": "rad/s",
+    "gear_speed_rad_per_s": "rad/s",
+    "propeller_speed_rad_per_s": "rad/s",
+    "mesh_deflection_m": "m",
+    "mesh_force_N": "N",
+    "dynamic_transmission_error_m": "m",
+    "input_shaft_torque_Nm": "N m",
+    "output_shaft_torque_Nm": "N m",
+    "engine_torque_Nm": "N m",
+    "propeller_torque_Nm": "N m",
+    "pinion_bearing_force_N": "N",
+    "gear_bearing_force_N": "N",
+}
+
+
+def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dict[str, np.ndarray]:
+    """Named channels (SI) from unscaled states y, shape (n_t, 2 n); see CHANNEL_UNITS.
+
+    Angles are absolute (nominal rotation + deviation); speeds absolute.
+    """
+    p = p if p is not None else model.params()
+    n = model.n_dof
+    x = y[:, :n]
+    v = y[:, n:]
+    forces = np.empty((t.size, 2))
+    te = np.empty(t.size)
+    tp = np.empty(t.size)
+    for i in range(t.size):
+        forces[i] = mesh_forces(t[i], x[i], v[i], p)[0]
+        te[i], tp[i] = external_torques(t[i], x[i], v[i], p)
+    theta1 = p["Omega"] * t + x[:, 1] + p["phase"]
+    la = model.drive.lte_coef
+    hh = (la.size - 1) // 2
+    lte, _ = fourier_eval(la[0], la[1 : 1 + hh], la[1 + hh :], model.pinion_teeth, theta1[:, None])
+    K, C = model.structural_matrices()
+    w1, w2 = model.speed, model.gear_speed
+    out = {
+        "engine_angle_rad": w1 * t + x[:, 0],
+        "pinion_angle_rad": theta1,
+        "gear_angle_rad": w2 * t + x[:, 2],
+        "propeller_angle_rad": w2 * t + x[:, 3],
+        "engine_speed_rad_per_s": w1 + v[:, 0],
+        "pinion_speed_rad_per_s": w1 + v[:, 1],
+        "gear_speed_rad_per_s": w2 + v[:, 2],
+        "propeller_speed_rad_per_s": w2 + v[:, 3],
+        "mesh_deflection_m": x @ p["G"][0],
+        "mesh_force_N": forces[:, 0] - forces[:, 1],
+        "input_shaft_torque_Nm": K[0, 0] * (x[:, 0] - x[:, 1]) + C[0, 0] * (v[:, 0] - v[:, 1]),
+        "output_shaft_torque_Nm": K[3, 3] * (x[:, 2] - x[:, 3]) + C[3, 3] * (v[:, 2] - v[:, 3]),
+        "engine_torque_Nm": te,
+        "propeller_torque_Nm": tp,
+    }
+    out["dynamic_transmission_error_m"] = out["mesh_deflection_m"] - lte
+    if model.bearing_dofs:
+        out["pinion_bearing_force_N"] = K[4, 4] * x[:, 4] + C[4, 4] * v[:, 4]
+        out["gear_bearing_force_N"] = K[5, 5] * x[:, 5] + C[5, 5] * v[:, 5]
+    return out
