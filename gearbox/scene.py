@@ -293,11 +293,11 @@ class Scene:
         return self.path.stem if self.path else "scene"
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain nested dict in TOML layout (top-level keys first)."""
-        out: dict[str, Any] = dict(self.data[""])
+        """Plain nested dict in TOML layout (top-level keys first); unset keys left out."""
+        out: dict[str, Any] = {k: v for k, v in self.data[""].items() if v is not None}
         for sec, values in self.data.items():
             if sec:
-                out[sec] = dict(values)
+                out[sec] = {k: v for k, v in values.items() if v is not None}
         return out
 
     def replaced(self, **sections: Mapping[str, Any]) -> Scene:

@@ -71,7 +71,9 @@ def find_chromium() -> str | None:
     return None
 
 
-def browser_check(report: str | Path, *, chromium: str | None = None, timeout: float = 120) -> BrowserCheck:
+def browser_check(
+    report: str | Path, *, chromium: str | None = None, timeout: float = 120
+) -> BrowserCheck:
     """Render ``report`` in headless Chromium and count the images that decode.
 
     Raises ``FileNotFoundError`` when no Chromium is found and ``RuntimeError`` when

@@ -1,0 +1,374 @@
+"""The stage graph and its cache, on a small graph of test stages.
+
+The test stages mirror the shape of the real graph (design -> ltca -> tables ->
+dynamics -> spectra) and count their calls, so every assertion about what was
+computed is checked twice: by the run summary and by the calls themselves.
+"""
+
+from __future__ import annotations
+
+import math
+import pickle
+from collections import Counter
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import pytest
+
+from gearbox import load_scene
+from gearbox.errors import InputError, Problem
+from gearbox.pipeline import Cache, Stage, map_items, plan, run_pipeline
+from gearbox.pipeline.cache import stage_key
+
+CALLS: Counter = Counter()
+
+
+@dataclass(frozen=True)
+class Value:
+    """A tiny result with to_dict/from_dict, like the real stage results."""
+
+    x: float
+
+    def to_dict(self):
+        return {"x": self.x}
+
+    @classmethod
+    def from_dict(cls, d):
+        return cls(d["x"])
+
+
+def _counted(name, fn):
+    def compute(ctx):
+        CALLS[name] += 1
+        return fn(ctx)
+
+    return compute
+
+
+def graph(extra: dict | None = None) -> dict[str, Stage]:
+    g = {
+        "design": Stage(
+            "design",
+            _counted("design", lambda c: Value(c.scene["pair"]["offset_mm"])),
+            reads=("pair",),
+        ),
+        "ltca": Stage(
+            "ltca",
+            _counted(
+                "ltca", lambda c: Value(c.inputs["design"].x * sum(c.scene["load"]["torques_Nm"]))
+            ),
+            reads=("load.torques_Nm", "ltca"),
+            depends=("design",),
+        ),
+        "tables": Stage(
+            "tables", _counted("tables", lambda c: Value(c.inputs["ltca"].x + 1)), depends=("ltca",)
+        ),
+        "dynamics": Stage(
+            "dynamics",
+            _counted(
+                "dynamics",
+                lambda c: Value(
+                    c.inputs["tables"].x * c.scene["drivetrain"]["propeller_inertia_kgm2"]
+                ),
+            ),
+            reads=("drivetrain", "simulation"),
+            depends=("tables",),
+        ),
+        "spectra": Stage(
+            "spectra",
+            _counted("spectra", lambda c: Value(-c.inputs["dynamics"].x)),
+            depends=("dynamics",),
+        ),
+    }
+    g.update(extra or {})
+    return g
+
+
+@pytest.fixture
+def scene():
+    return load_scene("models/case03.toml")
+
+
+@pytest.fixture(autouse=True)
+def _reset_calls():
+    CALLS.clear()
+
+
+def statuses(run):
+    return {r.name: r.status for r in run.summary.records}
+
+
+def test_plan_takes_only_what_the_outputs_need():
+    g = graph()
+    assert plan(["design"], g) == ["design"]
+    assert plan(["tables"], g) == ["design", "ltca", "tables"]
+    # request order does not matter, upstream always first
+    assert plan(["spectra", "design"], g) == ["design", "ltca", "tables", "dynamics", "spectra"]
+    assert plan(["report"], g) == []
+
+
+def test_unknown_outputs_are_one_error_naming_each():
+    with pytest.raises(InputError) as err:
+        plan(["design", "bogus", "nope"], graph())
+    paths = [(p.path, p.value) for p in err.value.problems]
+    assert paths == [("outputs.requested", "bogus"), ("outputs.requested", "nope")]
+
+
+def test_only_requested_stages_are_computed(scene, tmp_path):
+    run = run_pipeline(scene, ["tables"], stages=graph(), cache=tmp_path)
+    assert statuses(run) == {"design": "computed", "ltca": "computed", "tables": "computed"}
+    assert set(CALLS) == {"design", "ltca", "tables"}
+    # 229 mm offset x (150 + 300 + 450) N m + 1, from the scene values themselves
+    assert run["tables"].x == pytest.approx(229.0 * 900.0 + 1.0, rel=1e-15)
+
+
+def test_second_run_is_all_cached_and_equal(scene, tmp_path):
+    first = run_pipeline(scene, ["spectra"], stages=graph(), cache=tmp_path)
+    CALLS.clear()
+    second = run_pipeline(scene, ["spectra"], stages=graph(), cache=tmp_path)
+    assert set(statuses(second).values()) == {"cached"}
+    assert not CALLS
+    assert second["spectra"] == first["spectra"]
+    assert dict(second.keys) == dict(first.keys)
+    rec = second.summary.record("ltca")
+    assert rec.saved_seconds >= 0.0 and rec.key == first.keys["ltca"]
+
+
+def test_changing_the_propeller_recomputes_only_downstream(scene, tmp_path):
+    run_pipeline(scene, ["spectra"], stages=graph(), cache=tmp_path)
+    CALLS.clear()
+    heavier = scene.replaced(drivetrain={"propeller_inertia_kgm2": 7.5})
+    run = run_pipeline(heavier, ["spectra"], stages=graph(), cache=tmp_path)
+    assert statuses(run) == {
+        "design": "cached",
+        "ltca": "cached",
+        "tables": "cached",
+        "dynamics": "computed",
+        "spectra": "computed",
+    }
+    assert set(CALLS) == {"dynamics", "spectra"}
+    assert run["dynamics"].x == pytest.approx((229.0 * 900.0 + 1.0) * 7.5, rel=1e-15)
+
+
+def test_a_key_not_read_does_not_invalidate_but_an_upstream_change_does(scene, tmp_path):
+    run_pipeline(scene, ["spectra"], stages=graph(), cache=tmp_path)
+    # ltca reads load.torques_Nm only: the operating torque does not enter its key
+    run = run_pipeline(
+        scene.replaced(load={"operating_torque_Nm": 333.0}),
+        ["spectra"],
+        stages=graph(),
+        cache=tmp_path,
+    )
+    assert set(statuses(run).values()) == {"cached"}
+    # the offset changes the design, hence every key downstream of it
+    run = run_pipeline(
+        scene.replaced(pair={"offset_mm": 230.0}), ["spectra"], stages=graph(), cache=tmp_path
+    )
+    assert set(statuses(run).values()) == {"computed"}
+
+
+def test_key_depends_on_version_code_scene_and_upstream():
+    base = stage_key("s", {"pair": {"a": 1.0}}, {"up": "k"})
+    assert base == stage_key("s", {"pair": {"a": 1.0}}, {"up": "k"})
+    assert base != stage_key("s", {"pair": {"a": 1.0 + 1e-12}}, {"up": "k"})
+    assert base != stage_key("s", {"pair": {"a": 1.0}}, {"up": "k2"})
+    assert base != stage_key("t", {"pair": {"a": 1.0}}, {"up": "k"})
+    assert base != stage_key("s", {"pair": {"a": 1.0}}, {"up": "k"}, code=("gearbox.errors",))
+    import gearbox.pipeline.cache as cache_mod
+
+    old = cache_mod.__version__
+    try:
+        cache_mod.__version__ = "999"
+        assert base != stage_key("s", {"pair": {"a": 1.0}}, {"up": "k"})
+    finally:
+        cache_mod.__version__ = old
+
+
+@pytest.mark.parametrize("damage", ["truncate", "flip", "garbage", "empty"])
+def test_corrupt_entry_is_recomputed(scene, tmp_path, damage):
+    first = run_pipeline(scene, ["ltca"], stages=graph(), cache=tmp_path)
+    entry = Cache(tmp_path).path("ltca", first.keys["ltca"])
+    raw = entry.read_bytes()
+    entry.write_bytes(
+        {
+            "truncate": raw[: len(raw) // 2],
+            "flip": raw[:-1] + bytes([raw[-1] ^ 0xFF]),
+            "garbage": b"not a cache entry",
+            "empty": b"",
+        }[damage]
+    )
+    CALLS.clear()
+    run = run_pipeline(scene, ["ltca"], stages=graph(), cache=tmp_path)
+    assert statuses(run) == {"design": "cached", "ltca": "computed"}
+    assert "corrupt entry" in run.summary.record("ltca").detail
+    assert CALLS == Counter({"ltca": 1})
+    assert run["ltca"] == first["ltca"]
+    # the fresh entry is good again
+    again = run_pipeline(scene, ["ltca"], stages=graph(), cache=tmp_path)
+    assert statuses(again) == {"design": "cached", "ltca": "cached"}
+
+
+def test_interrupted_cache_write_leaves_no_entry(scene, tmp_path, monkeypatch):
+    import gearbox.commands._common as common
+
+    def boom(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(common.os, "replace", boom)
+    with pytest.raises(KeyboardInterrupt):
+        run_pipeline(scene, ["design"], stages=graph(), cache=tmp_path)
+    assert [p for p in tmp_path.rglob("*") if p.is_file()] == []
+
+
+def test_no_cache_means_nothing_on_disk(scene, tmp_path, monkeypatch):
+    monkeypatch.setenv("GEARBOX_CACHE", str(tmp_path / "default"))
+    run = run_pipeline(scene, ["tables"], stages=graph(), cache=False)
+    assert run.summary.cache_dir == ""
+    assert not (tmp_path / "default").exists()
+    run = run_pipeline(scene, ["design"], stages=graph(), cache=True)
+    assert run.summary.cache_dir == str(tmp_path / "default")
+    assert any((tmp_path / "default").rglob("*.gbx"))
+
+
+def test_a_stage_reading_an_undeclared_section_fails_loudly(scene, tmp_path):
+    sneaky = Stage(
+        "design", lambda c: Value(c.scene["drivetrain"]["engine_speed_rpm"]), reads=("pair",)
+    )
+    run = run_pipeline(scene, ["tables"], stages=graph({"design": sneaky}), cache=tmp_path)
+    rec = run.summary.record("design")
+    assert rec.status == "failed" and "drivetrain" in rec.detail
+    assert statuses(run) == {"design": "failed", "ltca": "skipped", "tables": "skipped"}
+    assert not run.summary.ok
+
+
+def test_a_single_key_declaration_hides_the_rest_of_its_section(scene, tmp_path):
+    sneaky = Stage(
+        "design",
+        lambda c: Value(c.scene["load"]["operating_torque_Nm"]),
+        reads=("load.torques_Nm",),
+    )
+    run = run_pipeline(scene, ["design"], stages={"design": sneaky}, cache=tmp_path)
+    assert run.summary.record("design").status == "failed"
+
+
+def test_unavailable_stage_is_reported_not_replaced(scene, tmp_path):
+    from gearbox.pipeline import StageUnavailable
+    from gearbox.pipeline.stages import require
+
+    def missing(ctx):
+        require("gearbox.no_such_module")
+
+    run = run_pipeline(
+        scene,
+        ["spectra"],
+        stages=graph({"ltca": Stage("ltca", missing, depends=("design",))}),
+        cache=tmp_path,
+    )
+    assert statuses(run) == {
+        "design": "computed",
+        "ltca": "unavailable",
+        "tables": "skipped",
+        "dynamics": "skipped",
+        "spectra": "skipped",
+    }
+    assert "gearbox.no_such_module" in run.summary.record("ltca").detail
+    assert "ltca" not in run.results and "spectra" not in run.results
+    assert run.summary.ok  # nothing failed; the summary says what is missing
+    with pytest.raises(StageUnavailable, match="has no nothing_here"):
+        require("gearbox.errors", "nothing_here")
+
+
+def test_validation_collects_every_problem_of_every_stage_before_computing(scene, tmp_path):
+    def bad_pair(s):
+        raise InputError(
+            [Problem("pair.offset_mm", 229.0, "too small"), Problem("pair.x", 1, "bad")]
+        )
+
+    def bad_drive(s):
+        raise InputError(Problem("drivetrain.propeller_blades", 3, "odd"))
+
+    g = graph()
+    g["design"] = Stage("design", g["design"].compute, reads=("pair",), validate=bad_pair)
+    g["dynamics"] = Stage(
+        "dynamics",
+        g["dynamics"].compute,
+        reads=("drivetrain",),
+        depends=("tables",),
+        validate=bad_drive,
+    )
+    with pytest.raises(InputError) as err:
+        run_pipeline(scene, ["spectra"], stages=g, cache=tmp_path)
+    assert [p.path for p in err.value.problems] == [
+        "pair.offset_mm",
+        "pair.x",
+        "drivetrain.propeller_blades",
+    ]
+    assert "3 problems" in str(err.value)
+    assert not CALLS  # nothing was computed
+
+
+def test_unpicklable_result_runs_on_uncached(scene, tmp_path):
+    odd = Stage("design", lambda c: lambda: 1, reads=("pair",))
+    run = run_pipeline(scene, ["design"], stages={"design": odd}, cache=tmp_path)
+    rec = run.summary.record("design")
+    assert rec.status == "computed" and "not cached" in rec.detail
+    assert run["design"]() == 1
+
+
+def test_result_without_to_dict_round_trips_through_pickle(tmp_path):
+    c = Cache(tmp_path)
+    c.store("s", "k", {"a": [1.0, 2.0]}, seconds=1.25)
+    value, meta = c.load("s", "k")
+    assert value == {"a": [1.0, 2.0]} and meta["seconds"] == 1.25
+    c.store("s", "k2", Value(3.0), seconds=0.0)
+    assert c.load("s", "k2")[0] == Value(3.0)
+    # stored through to_dict: the payload names the type and holds the dict
+    raw = c.path("s", "k2").read_bytes().split(b"\n", 2)[2]
+    _meta, blob = pickle.loads(raw)
+    assert pickle.loads(blob)["form"] == "dict"
+
+
+def test_summary_round_trip_and_table(scene, tmp_path):
+    from gearbox.pipeline import RunSummary
+
+    run = run_pipeline(scene, ["tables"], stages=graph(), cache=tmp_path)
+    s = run.summary
+    assert RunSummary.from_dict(s.to_dict()) == s
+    text = s.table()
+    for name in ("design", "ltca", "tables", "computed", "total"):
+        assert name in text
+
+
+def _square(x):
+    return x * x
+
+
+def test_map_items_keeps_order_with_any_executor():
+    items = list(range(23))
+    expect = [x * x for x in items]
+    assert map_items(_square, items, jobs=1) == expect
+    with ThreadPoolExecutor(3) as ex:
+        assert map_items(_square, items, executor=ex) == expect
+        # the executor given is not shut down
+        assert ex.submit(_square, 4).result() == 16
+
+
+def test_map_items_default_process_pool():
+    # math.sqrt pickles by reference, so the spawned workers need nothing from tests/
+    got = map_items(math.sqrt, [0.0, 4.0, 9.0, 2.0], jobs=2)
+    assert got == [0.0, 2.0, 3.0, math.sqrt(2.0)]
+
+
+def test_sweep_from_inside_a_stage_uses_the_run_executor(scene, tmp_path):
+    seen = []
+
+    class Recording(ThreadPoolExecutor):
+        def submit(self, fn, *a, **k):
+            seen.append(a)
+            return super().submit(fn, *a, **k)
+
+    sweep = Stage("design", lambda c: tuple(c.map(_square, [1, 2, 3])), reads=())
+    with Recording(2) as ex:
+        run = run_pipeline(scene, ["design"], stages={"design": sweep}, cache=False, executor=ex)
+    assert run["design"] == (1, 4, 9)
+    assert sorted(seen) == [(1,), (2,), (3,)]
