@@ -301,8 +301,9 @@ def order_spectrum(
     samples_per_rev : float or None
         Samples per revolution after angle resampling; None: the finest spacing
         of the input over the analysed record. The highest order resolved is
-        ``samples_per_rev / 2``; the cubic-spline resampling wants about 20 samples
-        per cycle of the highest order of interest for 1e-4 relative accuracy.
+        ``samples_per_rev / 2``. Accuracy of the cubic-spline resampling, measured
+        on sums of cosines (tests/test_spectrum_orders.py): about 1.8e-3 relative
+        amplitude error at 6 input samples per cycle, 3.5e-5 at 15.
     name, unit : str
         Channel name and its unit, carried into the result.
 
@@ -315,8 +316,21 @@ def order_spectrum(
     total = float(revs[-1])
     win = window if window != "auto" else ("flattop" if period_revs is None else "rectangular")
 
+    # Plain FFT: constant speed, uniform sampling, whole samples per period. The n
+    # samples x[-n:] then stand for n sample intervals (the DFT's periodic record).
+    dt = np.diff(t)
+    h = float(dt.mean())
+    constant = speed_rpm is not None and np.ndim(speed_rpm) == 0
+    plain = constant and float(np.ptp(dt)) <= 1e-9 * h
+    if plain and period_revs is not None:
+        m = period_revs * 60.0 / float(speed_rpm) / h
+        plain = abs(m - round(m)) <= 1e-9 * m
+        if plain:
+            total = x.size * h * float(speed_rpm) / 60.0
+
     if period_revs is None:
-        n_use, record = 1, total
+        n_use = 1
+        record = x.size * h * float(speed_rpm) / 60.0 if plain else total
     else:
         available = int(math.floor(total / period_revs + 1e-9))
         n_use = available if n_periods is None else int(n_periods)
@@ -330,25 +344,12 @@ def order_spectrum(
             )
             p.raise_if_any("order spectrum")
         record = n_use * float(period_revs)
-
-    # Plain FFT: constant speed, uniform sampling, whole samples per period.
-    dt = np.diff(t)
-    uniform = float(np.ptp(dt)) <= 1e-9 * float(dt.mean())
-    constant = speed_rpm is not None and np.ndim(speed_rpm) == 0
-    plain = False
-    if constant and uniform:
-        h = float(dt.mean())
-        if period_revs is None:
-            n, plain = x.size, True
-            record = n * h * float(speed_rpm) / 60.0
-        else:
-            m = period_revs * 60.0 / float(speed_rpm) / h
-            if abs(m - round(m)) <= 1e-6 * m and n_use * round(m) <= x.size:
-                n, plain = n_use * int(round(m)), True
+    if plain:
+        n = x.size if period_revs is None else n_use * int(round(m))
     if plain:
         xs = x[-n:]
         start_time = float(t[-n])
-        duration = n * float(dt.mean())
+        duration = n * h
         method = "fft"
     else:
         start = total - record
