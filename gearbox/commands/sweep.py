@@ -1,0 +1,45 @@
+HELP = "Parameter studies of the design (paper Figs. 6-9): CSV and PNG per study."
+EXAMPLES = """  gearbox sweep models/case03.toml --out out/sweep
+  gearbox sweep models/case03.toml --out out/sweep --points 201
+"""
+
+
+def add_arguments(parser):
+    from ._common import add_scene_argument
+
+    add_scene_argument(parser)
+    parser.add_argument("--out", default="gearbox-out/sweep", help="output folder (default: gearbox-out/sweep)")
+    parser.add_argument("--points", type=int, default=101, help="points along each curve (default 101)")
+
+
+def run(args):
+    import io
+    from pathlib import Path
+
+    from ..errors import InputError, Problem
+    from ..geometry import PairSpec
+    from ..geometry.sweep import PAPER_STUDIES
+    from ..scene import load_scene
+    from ._common import write_atomic
+
+    if not 2 <= args.points <= 100000:
+        raise InputError(Problem("--points", args.points, "must be in [2, 100000]"))
+    spec = PairSpec.from_scene(load_scene(args.scene))
+    out = Path(args.out)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..geometry.plotting import plot_study
+
+    for st in PAPER_STUDIES(spec, args.points):
+        write_atomic(out / f"{st.name}.csv", st.to_csv())
+        axes = plot_study(st)
+        buf = io.BytesIO()
+        axes[0].figure.savefig(buf, format="png", dpi=110)
+        plt.close(axes[0].figure)
+        write_atomic(out / f"{st.name}.png", buf.getvalue())
+        n_ok = int(st.ok.sum())
+        print(f"{st.name}: {n_ok}/{st.ok.size} designs solved -> {out / st.name}.csv/.png")
+    return 0
