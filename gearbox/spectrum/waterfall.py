@@ -218,7 +218,6 @@ def runup_waterfall(
         n_total = int(math.floor(revs[-1] * per_block / block + 1e-9))
         coord = np.arange(n_total) * (block / per_block)
         y = CubicSpline(revs, x)(coord)
-        times = np.interp(coord, revs, t)
         span = block
     else:
         h = float(np.diff(t).mean())
@@ -243,13 +242,12 @@ def runup_waterfall(
     amps[:, 0] *= 0.5
     if per_block % 2 == 0:
         amps[:, -1] *= 0.5
-    # Mean speed of a block: revolutions over duration (order axis), mean of the
-    # sampled speed over the block's samples (frequency axis).
+    # Speed of a block: the speed at its middle, where the (symmetric) window puts
+    # its weight; the middle revolution (order axis) or the middle time (frequency).
     if axis == "order":
-        t0 = times[starts]
-        t_end = np.interp(coord[starts] + block, revs, t)
-        speeds = block / (t_end - t0) * 60.0
+        t_mid = np.interp(coord[starts] + 0.5 * block, revs, t)
     else:
-        speeds = s[idx].mean(axis=1)
+        t_mid = t[starts] + 0.5 * span
+    speeds = np.interp(t_mid, t, s)
     bins = np.arange(spec.shape[1]) / span
     return Waterfall(speeds, axis, bins, amps, unit, name, window)
