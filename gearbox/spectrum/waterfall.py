@@ -5,7 +5,7 @@ Two ways to build one:
 - :func:`waterfall` stacks order spectra of a speed sweep (one steady-state run per
   speed, each analysed by :func:`gearbox.spectrum.order_spectrum`);
 - :func:`runup_waterfall` cuts one run-up record into blocks, each block's
-  spectrum at the block's mean speed: blocks of equal *revolutions* after angle
+  spectrum at the speed in the block's middle: blocks of equal *revolutions* after angle
   resampling for an order axis (order tracking), blocks of equal *time* for a
   frequency axis. Windowed (flat top by default: the block holds no whole period).
 

@@ -1,0 +1,95 @@
+"""Spectrum figures: drawn on the given axes, returned, and rendered to PNG."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from gearbox.spectrum import (
+    campbell,
+    excitation_orders,
+    order_spectrum,
+    runup_waterfall,
+    waterfall,
+)
+from gearbox.spectrum.plotting import plot_campbell, plot_order_spectrum, plot_waterfall
+
+EX = excitation_orders(pinion_teeth=29, gear_teeth=45, cylinders=8, blades=3, half_orders=False)
+
+
+def _png(ax, path):
+    ax.figure.savefig(path, dpi=60)
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 2000
+    return data
+
+
+@pytest.fixture
+def spectrum():
+    rev = np.arange(8 * 512) / 512.0
+    x = 2.0 * np.cos(2 * np.pi * 29 * rev) + 0.4 * np.cos(2 * np.pi * 4 * rev) + 100.0
+    return order_spectrum(rev * 0.04, x, speed_rpm=1500.0, name="F_mesh", unit="N")
+
+
+@pytest.mark.parametrize("style", ["stem", "bar"])
+def test_order_spectrum_plot(spectrum, style, tmp_path):
+    ax = Figure().add_subplot()
+    out = plot_order_spectrum(spectrum, ax, max_order=100, style=style, excitations=EX)
+    assert out is ax
+    assert "order" in ax.get_xlabel() and "(N)" in ax.get_ylabel()
+    # The mean (order 0, 100 N) is left out by default: the tallest thing drawn is
+    # the 2 N mesh order.
+    assert ax.get_ylim()[1] < 10.0
+    _png(ax, tmp_path / f"orders_{style}.png")
+    assert plot_order_spectrum(spectrum, log=True).figure is not None
+
+
+def test_waterfall_plots(tmp_path):
+    t = np.arange(0.0, 2.0, 1.0 / 8192.0)
+    speed = 900.0 + 600.0 * t
+    rev = (900.0 * t + 300.0 * t**2) / 60.0
+    x = np.cos(2 * np.pi * 29 * rev) + 0.5 * np.sin(2 * np.pi * 310.0 * t)
+    wf = runup_waterfall(t, x, speed_rpm=speed, axis="order", block=4.0, samples_per_rev=128)
+    for kind in ("map", "lines"):
+        for axis in ("order", "frequency"):
+            ax = Figure().add_subplot()
+            assert (
+                plot_waterfall(
+                    wf,
+                    ax,
+                    kind=kind,
+                    axis=axis,
+                    max_bin=60 if axis == "order" else 1500,
+                    excitations=EX,
+                )
+                is ax
+            )
+            _png(ax, tmp_path / f"wf_{kind}_{axis}.png")
+    ax = plot_waterfall(wf, db=True)
+    assert "dB" in ax.figure.axes[-1].get_ylabel()
+    spectra = [order_spectrum(t, x, speed_rpm=s, n_periods=15) for s in (600.0, 700.0)]
+    ax = plot_waterfall(waterfall(spectra), kind="lines")
+    assert len(ax.lines) == 2
+
+
+def test_campbell_plot_marks_crossings(tmp_path):
+    cd = campbell(
+        {"shaft": 45.0, "mesh": lambda n: 1300 + 0.1 * n},
+        EX,
+        (300, 3000),
+        operating_range_rpm=(800, 2400),
+    )
+    ax = Figure().add_subplot()
+    assert plot_campbell(cd, ax, max_frequency_hz=1800) is ax
+    xy = {line.get_label(): line.get_xydata() for line in ax.lines}
+    shown = [c for c in cd.crossings if c.frequency_hz <= 1800]
+    risk = np.array([(c.speed_rpm, c.frequency_hz) for c in shown if c.in_operating_range])
+    safe = np.array([(c.speed_rpm, c.frequency_hz) for c in shown if not c.in_operating_range])
+    np.testing.assert_allclose(xy["crossing in operating range"], risk)
+    np.testing.assert_allclose(xy["crossing"], safe)
+    _png(ax, tmp_path / "campbell.png")
