@@ -60,24 +60,31 @@ def plot_order_spectrum(
     if max_order is not None:
         keep &= o <= max_order
     o, a = o[keep], a[keep]
+    floor = 1e-3 * float(a.max()) if a.size else 0.0
     if style == "bar":
         ax.bar(o, a, width=0.8 * spectrum.resolution, color="tab:blue")
     else:
-        markers, stems, base = ax.stem(o, a, basefmt=" ")
-        markers.set_markersize(2.5)
-        stems.set_linewidth(0.8)
-    for e in excitations:
-        if o.size and e.order <= o[-1]:
+        # Stems for every bin, markers only above 1e-3 of the largest (a record
+        # of whole periods leaves most bins at round-off).
+        ax.vlines(o, 0.0, a, lw=0.8, color="tab:blue")
+        big = a > floor
+        ax.plot(o[big], a[big], "o", ms=3, color="tab:blue")
+    span = float(o[-1] - o[0]) if o.size > 1 else 1.0
+    last = -np.inf
+    for e in sorted(excitations, key=lambda e: e.order):
+        if o.size and o[0] <= e.order <= o[-1]:
             ax.axvline(e.order, lw=0.7, alpha=0.6, **_SOURCE_STYLE.get(e.source, {}))
-            ax.annotate(
-                e.label,
-                (e.order, 1.0),
-                xycoords=("data", "axes fraction"),
-                rotation=90,
-                va="top",
-                ha="right",
-                fontsize=7,
-            )
+            if e.order - last > 0.025 * span:  # skip labels that would overlap
+                ax.annotate(
+                    e.label,
+                    (e.order, 1.0),
+                    xycoords=("data", "axes fraction"),
+                    rotation=90,
+                    va="top",
+                    ha="right",
+                    fontsize=7,
+                )
+                last = e.order
     if log:
         ax.set_yscale("log")
     ax.set_xlabel("order (cycles per pinion revolution)")
@@ -196,6 +203,7 @@ def plot_campbell(
         ax.axvspan(
             *cd.operating_range_rpm, color="tab:red", alpha=0.08, lw=0, label="operating range"
         )
+    ends: list[tuple[float, float, str]] = []
     for e in cd.excitations:
         f = e.frequency_hz(n)
         ax.plot(n, f, lw=0.8, **_SOURCE_STYLE.get(e.source, {"color": "k"}))
@@ -203,7 +211,14 @@ def plot_campbell(
             inside = np.flatnonzero(f <= top)
             if inside.size:
                 i = inside[-1]
-                ax.annotate(e.label, (n[i], f[i]), fontsize=6, ha="right", va="bottom")
+                ends.append((float(n[i]), float(f[i]), e.label))
+    # Label each order line at its end, skipping labels that would overlap.
+    placed: list[tuple[float, float]] = []
+    dx, dy = 0.04 * float(n[-1] - n[0]), 0.03 * top
+    for x_end, y_end, label in ends:
+        if all(abs(x_end - px) > dx or abs(y_end - py) > dy for px, py in placed):
+            ax.annotate(label, (x_end, y_end), fontsize=6, ha="right", va="bottom")
+            placed.append((x_end, y_end))
     for j, name in enumerate(cd.mode_names):
         ax.plot(n, cd.mode_frequencies_hz[j], lw=1.6, color="k")
         ax.annotate(name, (n[0], cd.mode_frequencies_hz[j, 0]), fontsize=7, va="bottom")
