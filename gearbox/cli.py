@@ -22,6 +22,7 @@ VERBS = {
     "run": "gearbox.commands.run",
     "design": "gearbox.commands.design",
     "sweep": "gearbox.commands.sweep",
+    "simulate": "gearbox.commands.simulate",
     "scene-doc": "gearbox.commands.scene_doc",
 }
 

@@ -353,18 +353,15 @@ class MeshTable:
         )
 
     def to_netcdf(self, path: str | Path) -> Path:
-        """Write a netCDF-4 file (h5netcdf engine), atomically."""
-        from .commands._common import write_atomic
-
-        data = self.to_dataset().to_netcdf(None, engine="h5netcdf")
-        return write_atomic(path, bytes(data))
+        """Write a netCDF-4 file atomically (see :func:`write_netcdf_atomic`)."""
+        return write_netcdf_atomic(self.to_dataset(), path)
 
     @classmethod
     def from_netcdf(cls, path: str | Path) -> MeshTable:
         import xarray as xr
 
         try:
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
+            with xr.open_dataset(path) as ds:
                 ds.load()
                 return cls.from_dataset(ds)
         except (OSError, KeyError, ValueError) as exc:
@@ -405,6 +402,33 @@ class MeshTable:
 
             write_atomic(path, text)
         return text
+
+
+def write_netcdf_atomic(ds, path: str | Path) -> Path:
+    """Write an ``xarray.Dataset`` as netCDF-4 to a temporary file, then rename.
+
+    Uses the netCDF4 engine where installed, else h5netcdf (which needs h5py).
+    """
+    import os
+    import tempfile
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    try:
+        try:
+            import netCDF4  # noqa: F401
+
+            engine = "netcdf4"
+        except ImportError:
+            engine = "h5netcdf"
+        ds.to_netcdf(tmp, engine=engine)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
 
 
 def validate_table(t: MeshTable) -> None:

@@ -136,7 +136,7 @@ class TimeSeries:
     def to_netcdf(self, path: str | Path) -> Path:
         import xarray as xr
 
-        from ..commands._common import write_atomic
+        from ..meshtable import write_netcdf_atomic
 
         data = {
             k: xr.Variable("time", v, {"units": self.units.get(k, "")})
@@ -154,4 +154,4 @@ class TimeSeries:
         ds = xr.Dataset(
             data, coords={"time": xr.Variable("time", self.time, {"units": "s"})}, attrs=attrs
         )
-        return write_atomic(path, bytes(ds.to_netcdf(None, engine="h5netcdf")))
+        return write_netcdf_atomic(ds, path)

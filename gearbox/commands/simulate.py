@@ -1,0 +1,135 @@
+HELP = "Simulate the drivetrain vibration (docs/drivetrain.md) and summarise the mesh force."
+EXAMPLES = """  gearbox simulate models/case03.toml --json
+  gearbox simulate models/case03.toml --solver scipy --out out/sim
+  gearbox simulate models/case03.toml --table out/ltca/mesh_table.nc --speed-rpm 1500
+  gearbox simulate models/case03.toml --modes --json     eigenfrequencies only
+"""
+
+
+def add_arguments(parser):
+    from ._common import add_scene_argument
+
+    add_scene_argument(parser)
+    parser.add_argument(
+        "--solver",
+        choices=("diffrax", "scipy", "exudyn"),
+        default=None,
+        help="solver (default: simulation.solver of the scene)",
+    )
+    parser.add_argument(
+        "--rtol", type=float, default=None, help="relative tolerance (default: scene)"
+    )
+    parser.add_argument(
+        "--table",
+        default=None,
+        help="mesh table (netCDF, from `gearbox ltca`); default: analytical ISO 6336-1 table",
+    )
+    parser.add_argument(
+        "--speed-rpm", type=float, default=None, help="engine speed (rpm), overrides the scene"
+    )
+    parser.add_argument(
+        "--mesh-cycles", type=int, default=None, help="recorded mesh cycles (default: scene)"
+    )
+    parser.add_argument(
+        "--modes", action="store_true", help="linear modes only, no time integration"
+    )
+    parser.add_argument(
+        "--out", default=None, help="folder for timeseries.csv/.nc, summary.json, mesh_table.nc"
+    )
+    parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+
+
+def summary(scene, args) -> tuple[dict, object, object, object]:
+    """(summary dict, model, TimeSeries or None, table)."""
+    import math
+
+    from ..drivetrain.linear import modes
+    from ..drivetrain.model import DrivetrainModel
+    from ..drivetrain.simulate import default_solver, mesh_force_metrics, simulate
+    from ..errors import InputError, Problem
+    from ..mesh_analytical import analytical_table, pair_from_scene
+    from ..meshtable import MeshTable
+
+    if args.table:
+        table = MeshTable.from_netcdf(args.table)
+    else:
+        table = analytical_table(
+            pair_from_scene(scene), scene["load"]["torques_Nm"], scene=scene.name
+        )
+    if args.speed_rpm is not None and not (math.isfinite(args.speed_rpm) and args.speed_rpm > 0):
+        raise InputError(Problem("--speed-rpm", args.speed_rpm, "must be > 0 rpm"))
+    model = DrivetrainModel.from_scene(scene, table, speed_rpm=args.speed_rpm)
+    md = modes(model)
+    out = {
+        "scene": scene.name,
+        "engine_speed_rpm": model.speed * 30 / math.pi,
+        "pinion_torque_Nm": model.torque,
+        "mesh_frequency_Hz": model.mesh_frequency,
+        "mean_mesh_stiffness_N_per_m": model.drive.mean_stiffness,
+        "table_method": table.attrs.get("method", ""),
+        **md.to_dict(),
+    }
+    if args.modes:
+        return out, model, None, table
+    sim = scene["simulation"]
+    name = args.solver or sim["solver"]
+    rtol = args.rtol if args.rtol is not None else sim["rtol"]
+    if not (0 < rtol < 1):
+        raise InputError(Problem("--rtol", rtol, "must be in (0, 1)"))
+    solver = default_solver(name, rtol)
+    cycles = args.mesh_cycles if args.mesh_cycles is not None else sim["settled_mesh_cycles"]
+    if cycles < 1:
+        raise InputError(Problem("--mesh-cycles", cycles, "must be >= 1"))
+    ts = simulate(
+        model,
+        solver,
+        settle_time=sim["settle_time_s"],
+        mesh_cycles=cycles,
+        samples_per_cycle=sim["samples_per_mesh_cycle"],
+    )
+    out.update(
+        {
+            "solver": name,
+            "rtol": rtol,
+            "status": ts.status,
+            "failure": ts.failure.to_dict() if ts.failure else None,
+            "wall_time_s": ts.wall_time,
+            "compile_time_s": ts.attrs.get("compile_time_s", 0.0),
+            "nfev": ts.nfev,
+            "steps": ts.steps,
+            "settling_change": ts.attrs.get("settling_change"),
+            **mesh_force_metrics(ts, model),
+        }
+    )
+    return out, model, ts, table
+
+
+def run(args):
+    import math
+    from pathlib import Path
+
+    from ..scene import load_scene
+    from ._common import dumps_json, write_atomic
+
+    scene = load_scene(args.scene)
+    out, model, ts, table = summary(scene, args)
+    clean = {
+        k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in out.items()
+    }
+    if args.out:
+        d = Path(args.out)
+        write_atomic(d / "summary.json", dumps_json(clean) + "\n")
+        table.to_netcdf(d / "mesh_table.nc")
+        if ts is not None:
+            ts.to_csv(d / "timeseries.csv")
+            ts.to_netcdf(d / "timeseries.nc")
+    if args.json:
+        print(dumps_json(clean))
+    else:
+        print(f"gearbox simulate: {scene.name}")
+        for k, v in clean.items():
+            if k != "modes":
+                print(f"  {k}: {v}")
+    if ts is not None and not ts.success:
+        return 1
+    return 0
