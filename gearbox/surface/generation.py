@@ -1,0 +1,260 @@
+"""Flank surfaces by simulated generation with a tilted rack cutter.
+
+Method (the envelope of the tool surface family, Litvin & Fuentes, *Gear Geometry and
+Applied Theory*, 2nd ed., sections 6.1 and 6.4 "equation of meshing"):
+
+1. Rack profile in its normal section (coordinates s along the rack's normal pitch,
+   v outward, i.e. away from the gear axis): a straight flank through the reference
+   line point ``s0 = sigma pi m_n / 4`` with normal ``(sigma cos a_n, sin a_n)`` and, below
+   it, the tip rounding of radius rho_a0 tangent to the flank and to the tip line
+   ``v = -h_a0``. ``sigma = -1`` for the right flank R, ``+1`` for the left flank L.
+   The profile parameter ``u`` is the arc length along this profile, 0 at the
+   tangency of rounding and flank, > 0 up the straight flank (the involute part of
+   the gear), < 0 on the rounding (the gear's root fillet), down to
+   ``u_min = -rho_a0 (pi/2 - a_n)`` on the tip line.
+2. The rack tooth runs at the helix angle beta in its pitch plane (tooth line
+   ``e1 = (-sin b, 0, cos b)`` in rack axes u, v, w), and the rack is tilted about its
+   direction of motion u by the cone angle gamma so that its reference plane rises
+   towards +z: rack (u, v, w) -> gear (x, v cos g + w sin g + r_p + x_t m_t,
+   -v sin g + w cos g). Each transverse section z therefore sees the rack shifted
+   radially by X(z) = x_t m_t + z tan(gamma).
+3. Generation: the gear turns by phi about +z while the rack moves by -r_p phi along x
+   (rolling of the pitch circle r_p on the rack). The equation of meshing
+   ``n . v_rel = 0`` is linear in phi for a rack point P (fixed frame) with normal n:
+   ``phi = (n_y P_x - n_x (P_y - r_p)) / (n_y r_p)``, so the envelope is closed form.
+   The gear point is ``Rz(-phi) (P - r_p phi e_x)`` and its normal ``Rz(-phi) n``.
+
+Every quantity is written with :class:`gearbox.surface._jet.Jet`, so the first and
+second derivatives in (z, u) are exact; the principal curvatures follow from the
+fundamental forms (:func:`principal_curvatures`). Nothing here uses the closed-form
+involute-helicoid relations of :mod:`gearbox.geometry`: the tests compare the two.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._jet import Jet, jet_variable, where
+from .blank import SIDES, ToothBlank
+
+__all__ = [
+    "FlankPoints",
+    "flank_points",
+    "flank_jets",
+    "principal_curvatures",
+    "profile_range",
+    "side_sign",
+]
+
+
+def side_sign(side: str) -> int:
+    """sigma of a flank: -1 for "R", +1 for "L"."""
+    if side not in SIDES:
+        raise ValueError(f"side must be one of {SIDES}, got {side!r}")
+    return -1 if side == "R" else 1
+
+
+def profile_range(blank: ToothBlank) -> tuple[float, float]:
+    """``(u_min, 0)``: the rack-profile arc length of the rounding (m).
+
+    ``u_min = -rho_a0 (pi/2 - a_n)`` is the rack tip line, ``0`` the start of the
+    straight flank (the gear's form circle). The upper end of the involute is set
+    by the tip cone; see :func:`tip_parameter`.
+    """
+    return -blank.tool_tip_radius * (0.5 * math.pi - blank.normal_pressure_angle), 0.0
+
+
+def _rack_profile(blank: ToothBlank, sigma: int, u: Jet):
+    """Normal-section rack profile (s, v, m_s, m_v) as jets in u (m, unit normal)."""
+    a = blank.normal_pressure_angle
+    m = blank.normal_module
+    rho = blank.tool_tip_radius
+    sa, ca = math.sin(a), math.cos(a)
+    s0 = sigma * math.pi * m / 4
+    vc = -blank.tool_addendum + rho
+    sc = s0 + sigma * (rho - sa * vc) / ca
+    st, vt = sc - rho * sigma * ca, vc - rho * sa
+    # straight flank
+    s_f = st - sigma * sa * u
+    v_f = vt + ca * u
+    ms_f = 0.0 * u + sigma * ca
+    mv_f = 0.0 * u + sa
+    if rho <= 0.0:
+        return s_f, v_f, ms_f, mv_f
+    th = u / rho + (0.5 * math.pi - a)
+    sth, cth = th.sin(), th.cos()
+    s_r = sc - rho * sigma * sth
+    v_r = vc - rho * cth
+    ms_r = sigma * sth
+    mv_r = cth
+    on_flank = u.val >= 0.0
+    return (where(on_flank, s_f, s_r), where(on_flank, v_f, v_r), where(on_flank, ms_f, ms_r),
+            where(on_flank, mv_f, mv_r))
+
+
+def flank_jets(blank: ToothBlank, side: str, z, u):
+    """Generated flank point of tooth 0 as jets, and its unit normal.
+
+    Args:
+        blank: the gear's :class:`ToothBlank`.
+        side: ``"R"`` or ``"L"``.
+        z: axial position in the gear frame (m), array.
+        u: rack-profile arc length (m), array broadcastable with z.
+
+    Returns:
+        ``(r, n, phi)``: ``r`` a list of 3 :class:`Jet` (x, y, z of the point, with
+        derivatives in (z, u)); ``n`` ndarray shape ``(3,) + shape``, the unit normal
+        pointing out of the tooth material; ``phi`` the generating roll angle (rad).
+    """
+    sigma = side_sign(side)
+    z, u = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(u, dtype=float))
+    Z, U = jet_variable(z, 0), jet_variable(u, 1)
+    b, g = blank.helix_angle, blank.cone_angle
+    sb, cb, sg, cg = math.sin(b), math.cos(b), math.sin(g), math.cos(g)
+    rp = blank.reference_pitch_radius
+    y0 = rp + blank.profile_shift_xt * blank.transverse_module
+
+    s, v, ms, mv = _rack_profile(blank, sigma, U)
+    # position along the tooth line so that the point lies in section z (step 2)
+    e = (Z + v * sg - s * (sb * cg)) / (cb * cg)
+    pu = s * cb - e * sb
+    pv = v
+    pw = s * sb + e * cb
+    nu = ms * cb
+    nv = mv
+    nw = ms * sb
+    # tilt and shift into the fixed frame (= gear frame at phi = 0)
+    px = pu
+    py = pv * cg + pw * sg + y0
+    pz = -pv * sg + pw * cg
+    nx = nu
+    ny = nv * cg + nw * sg
+    nz = -nv * sg + nw * cg
+    # equation of meshing n . v_rel = 0 (step 3)
+    phi = (ny * px - nx * (py - rp)) / (ny * rp)
+    qx = px - rp * phi
+    cphi, sphi = phi.cos(), phi.sin()
+    rx = cphi * qx + sphi * py
+    ry = cphi * py - sphi * qx
+    c0, s0 = cphi.val, sphi.val
+    n = np.stack([c0 * nx.val + s0 * ny.val, c0 * ny.val - s0 * nx.val, nz.val])
+    return [rx, ry, pz], n, phi.val
+
+
+@dataclass(frozen=True)
+class FlankPoints:
+    """Points of a generated flank (gear frame, SI); arrays of one common shape S.
+
+    Attributes:
+        side: ``"R"`` or ``"L"``.
+        z, u: surface parameters (m), shape S.
+        position: ndarray shape S + (3,), the point (m).
+        normal: unit normal out of the material, shape S + (3,).
+        dr_dz, dr_du: tangent vectors (-, -), shape S + (3,).
+        curvatures: principal curvatures (k_min, k_max) (1/m), shape S + (2,); positive
+            where the flank is convex.
+        directions: principal directions, shape S + (2, 3), unit, in the tangent plane.
+        roll_angle: generating roll angle phi (rad), shape S.
+        on_fillet: True where the point lies on the root fillet (u < 0), shape S.
+    """
+
+    side: str
+    z: np.ndarray
+    u: np.ndarray
+    position: np.ndarray
+    normal: np.ndarray
+    dr_dz: np.ndarray
+    dr_du: np.ndarray
+    curvatures: np.ndarray
+    directions: np.ndarray
+    roll_angle: np.ndarray
+    on_fillet: np.ndarray
+
+    @property
+    def radius(self) -> np.ndarray:
+        """Distance from the gear axis (m), shape S."""
+        return np.hypot(self.position[..., 0], self.position[..., 1])
+
+
+def principal_curvatures(r: list[Jet], n: np.ndarray):
+    """Principal curvatures and directions from the fundamental forms.
+
+    Args:
+        r: 3 jets of the position (derivatives in two parameters).
+        n: unit normal out of the material, shape ``(3,) + S``.
+
+    Returns:
+        ``(k, d)``: k shape ``S + (2,)`` (k_min, k_max), positive for a convex surface
+        (centre of curvature inside the material); d shape ``S + (2, 3)`` unit
+        principal directions. Weingarten map ``I^-1 II`` (do Carmo, *Differential
+        Geometry of Curves and Surfaces*, section 3-3).
+    """
+    R = np.stack([c.d for c in r], axis=-1)  # (6, S..., 3)
+    rz, ru, rzz, rzu, ruu = R[1], R[2], R[3], R[4], R[5]
+    nn = np.moveaxis(n, 0, -1)
+    E = np.sum(rz * rz, -1)
+    F = np.sum(rz * ru, -1)
+    G = np.sum(ru * ru, -1)
+    # second form with the sign that makes convex positive (normal points outwards)
+    L = -np.sum(rzz * nn, -1)
+    M = -np.sum(rzu * nn, -1)
+    N = -np.sum(ruu * nn, -1)
+    det = E * G - F * F
+    H = 0.5 * (E * N - 2 * F * M + G * L) / det
+    K = (L * N - M * M) / det
+    disc = np.sqrt(np.maximum(H * H - K, 0.0))
+    k = np.stack([H - disc, H + disc], axis=-1)
+    dirs = []
+    for i in range(2):
+        lam = k[..., i]
+        a1, b1 = M - lam * F, -(L - lam * E)
+        a2, b2 = N - lam * G, -(M - lam * F)
+        use1 = (a1 * a1 + b1 * b1) >= (a2 * a2 + b2 * b2)
+        a = np.where(use1, a1, a2)
+        b = np.where(use1, b1, b2)
+        d = a[..., None] * rz + b[..., None] * ru
+        norm = np.linalg.norm(d, axis=-1, keepdims=True)
+        dirs.append(d / np.where(norm > 0, norm, 1.0))
+    d = np.stack(dirs, axis=-2)
+    # umbilic / flat points: any orthonormal pair of the tangent plane
+    flat = disc < 1e-12 * np.maximum(np.abs(H), 1e-300)
+    if np.any(flat):
+        t1 = rz / np.linalg.norm(rz, axis=-1, keepdims=True)
+        t2 = np.cross(nn, t1)
+        d = np.where(flat[..., None, None], np.stack([t1, t2], axis=-2), d)
+    return k, d
+
+
+def flank_points(blank: ToothBlank, side: str, z, u) -> FlankPoints:
+    """Generated flank of tooth 0 at parameters (z, u): points, normals, curvatures.
+
+    Args:
+        blank: the gear's :class:`ToothBlank`.
+        side: ``"R"`` (drive) or ``"L"`` (coast).
+        z: axial positions in the gear frame (m), array.
+        u: rack-profile arc length (m), array broadcastable with z; see
+            :func:`profile_range`.
+
+    Returns:
+        :class:`FlankPoints`; tooth k is tooth 0 turned by ``2 pi k / N`` about z.
+    """
+    r, n, phi = flank_jets(blank, side, z, u)
+    k, d = principal_curvatures(r, n)
+    R = np.stack([c.d for c in r], axis=-1)
+    zz, uu = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(u, dtype=float))
+    return FlankPoints(
+        side=side,
+        z=zz,
+        u=uu,
+        position=R[0],
+        normal=np.moveaxis(n, 0, -1),
+        dr_dz=R[1],
+        dr_du=R[2],
+        curvatures=k,
+        directions=d,
+        roll_angle=phi,
+        on_fillet=uu < 0.0,
+    )
