@@ -1,0 +1,382 @@
+"""Loaded TCA over a mesh cycle: per position and torque, the contact solution and
+everything the tables, summaries and figures need.
+
+Definitions (stated once, used everywhere):
+
+- ``rotation`` phi: loaded pinion rotation (rad) against the gear, from the
+  geometric position; ``phi_0`` the rigid rotation to first contact (unloaded TE);
+- normal load ``F_n = sum F_i`` (N); the load-weighted arm ``m = T / F_n`` (m);
+- LTE (m): the loaded transmission error as a translation along the line of action,
+  ``phi * m`` (for an involute pair ``r_b1 cos(beta_b) phi``), so that
+  ``T dphi = F_n dLTE``; the unloaded TE is ``phi_0 * m``;
+- secant mesh stiffness ``k = F_n / (LTE - TE_0)`` (N/m): by construction ``k`` times
+  the elastic LTE is the transmitted normal load;
+- tangent mesh stiffness ``dF_n / dLTE`` by a central difference in torque
+  (``+-tangent_step``); the dynamics uses the tangent one, since small vibrations
+  about the static load see the local slope of the load-deflection curve
+  (:mod:`gearbox.meshtable`);
+- mesh point P: load-weighted mean of the contact points; line of action n: the
+  normalised load-weighted mean of the normals (force of the pinion on the gear);
+- contact pattern: over the cycle, each loaded point covers its Hertz half-width
+  (or half the profile travel between positions, whichever is larger) across the
+  contact line in its face slice; the area fraction is the covered part of the
+  active flank (profile range x face range of the grid).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import Problems
+from .compliance import Compliance, FastCompliance
+from .grid import ContactGrid
+from .slice_model import hertz_half_width, hertz_pressure
+from .solver import ContactSolver, solve_contact
+from .stress import slice_root_stress
+
+__all__ = ["CycleResult", "LTCAOptions", "ltca_cycle"]
+
+
+@dataclass(frozen=True)
+class LTCAOptions:
+    """Options of a mesh-cycle loaded TCA.
+
+    positions: pinion positions per mesh cycle (>= 4); tangent_step: relative torque
+    step of the tangent stiffness; pattern_cells: (profile, face) cells of the
+    contact-pattern raster; edge_tolerance: share of the load on flank-edge points
+    above which a position is flagged as edge contact; progress: show a progress bar.
+    """
+
+    positions: int = 24
+    tangent_step: float = 0.02
+    pattern_cells: tuple[int, int] = (40, 40)
+    edge_tolerance: float = 0.05
+    progress: bool = False
+
+    def __post_init__(self):
+        p = Problems()
+        p.check(
+            isinstance(self.positions, int) and self.positions >= 4,
+            "ltca.positions",
+            self.positions,
+            "must be an integer >= 4 (positions per mesh cycle)",
+        )
+        p.in_range("tangent_step", self.tangent_step, 0.0, 0.5, lo_open=True)
+        p.in_range("edge_tolerance", self.edge_tolerance, 0.0, 1.0)
+        p.raise_if_any("invalid loaded TCA options")
+
+
+@dataclass(frozen=True)
+class CycleResult:
+    """Loaded TCA of one flank over one mesh cycle and several torques (SI).
+
+    Shapes: T = torques, P = positions, K = tooth pairs tracked, S = face slots,
+    U x V = pattern raster (profile x face).
+
+    torque (T,) N m; fraction (P,) position in mesh cycles; stiffness,
+    tangent_stiffness (T, P) N/m; lte (T, P) m (loaded, unloaded TE included);
+    lte_unloaded (P,) m; normal_load (T, P) N; max_pressure (T, P) Pa;
+    root_stress_pinion, root_stress_gear (T, P) Pa, largest over the face;
+    root_stress_face_pinion, root_stress_face_gear (T, S) Pa, largest over the cycle
+    per face slot; pair_index (K,) and pair_share (T, P, K) load share of each tooth
+    pair; mesh_point, line_of_action (T, P, 3) in the grid's frame;
+    pattern_pressure (T, U, V) Pa, largest Hertz pressure met by each cell over the
+    cycle (0 = never in contact); pattern_area_fraction (T,);
+    edge_load_fraction (T, P); iterations (T, P) active-set iterations;
+    converged (T, P) bool; gap_residual (T, P) m; profile_range, face_range (m).
+    """
+
+    torque: np.ndarray
+    fraction: np.ndarray
+    stiffness: np.ndarray
+    tangent_stiffness: np.ndarray
+    lte: np.ndarray
+    lte_unloaded: np.ndarray
+    normal_load: np.ndarray
+    max_pressure: np.ndarray
+    root_stress_pinion: np.ndarray
+    root_stress_gear: np.ndarray
+    root_stress_face_pinion: np.ndarray
+    root_stress_face_gear: np.ndarray
+    pair_index: np.ndarray
+    pair_share: np.ndarray
+    mesh_point: np.ndarray
+    line_of_action: np.ndarray
+    pattern_pressure: np.ndarray
+    pattern_area_fraction: np.ndarray
+    edge_load_fraction: np.ndarray
+    iterations: np.ndarray
+    converged: np.ndarray
+    gap_residual: np.ndarray
+    profile_range: tuple[float, float]
+    face_range: tuple[float, float]
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def edge_contact(self) -> np.ndarray:
+        """(T,) True where some position puts more than the tolerated load on a flank edge."""
+        tol = self.meta.get("edge_tolerance", 0.05)
+        return np.any(self.edge_load_fraction > tol, axis=1)
+
+    @property
+    def success(self) -> bool:
+        return bool(np.all(self.converged))
+
+    def tooth_load_share(self, t: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """Load share of one tooth pair through its whole engagement.
+
+        Returns (x, share): x in mesh cycles from the first position where the pair
+        can touch, shape (K P,), and its share of the normal load.
+        """
+        P = self.fraction.size
+        xs, vs = [], []
+        for j, k in enumerate(self.pair_index[::-1]):
+            kk = self.pair_index.size - 1 - j
+            xs.append(self.fraction - k)
+            vs.append(self.pair_share[t, :, kk])
+        x = np.concatenate(xs)
+        v = np.concatenate(vs)
+        o = np.argsort(x)
+        del P
+        return x[o], v[o]
+
+    def to_dict(self) -> dict:
+        d = {}
+        for k, v in self.__dict__.items():
+            d[k] = v.tolist() if isinstance(v, np.ndarray) else v
+        return d
+
+
+def _pattern(raster, profile_range, face_range, prof, face, half, pressure):
+    """Mark cells of the raster (U, V) covered by intervals prof +- half at face."""
+    U, V = raster.shape
+    p0, p1 = profile_range
+    f0, f1 = face_range
+    du = (p1 - p0) / U
+    uc = p0 + du * (np.arange(U) + 0.5)
+    iv = np.clip(((face - f0) / (f1 - f0) * V).astype(int), 0, V - 1)
+    for j in range(prof.size):
+        sel = np.abs(uc - prof[j]) <= half[j] + 0.5 * du * 0.0
+        if not sel.any():
+            sel = np.zeros(U, bool)
+            sel[np.clip(int((prof[j] - p0) / du), 0, U - 1)] = True
+        col = raster[:, iv[j]]
+        np.maximum(col, np.where(sel, pressure[j], 0.0), out=col)
+
+
+def ltca_cycle(
+    grid_at: Callable[[float], ContactGrid],
+    torques,
+    *,
+    options: LTCAOptions = LTCAOptions(),
+    compliance: Compliance | None = None,
+    solver: ContactSolver = ContactSolver(),
+) -> CycleResult:
+    """Loaded TCA over one mesh cycle for several torques.
+
+    grid_at: function of the position in mesh cycles (0 <= f < 1) returning the
+    :class:`ContactGrid` there; torques: pinion torque levels (N m), each > 0.
+    Returns a :class:`CycleResult`.
+    """
+    torques = np.atleast_1d(np.asarray(torques, dtype=float))
+    p = Problems()
+    for i, t in enumerate(torques):
+        p.in_range(f"torques[{i}]", float(t), 0.0, None, lo_open=True)
+    if torques.size == 0:
+        p.add("torques", [], "needs at least one torque level")
+    p.raise_if_any("invalid loaded TCA input")
+    compliance = compliance or FastCompliance()
+    P = options.positions
+    T = torques.size
+    fractions = np.arange(P) / P
+    grids = [grid_at(float(f)) for f in fractions]
+    kmin = min(int(g.pair.min()) for g in grids)
+    kmax = max(int(g.pair.max()) for g in grids)
+    pair_index = np.arange(kmin, kmax + 1)
+    S = grids[0].n_slots
+    U, V = options.pattern_cells
+    profile_range = grids[0].profile_range
+    face_range = grids[0].face_range
+
+    out = {
+        name: np.zeros((T, P))
+        for name in (
+            "stiffness",
+            "tangent_stiffness",
+            "lte",
+            "normal_load",
+            "max_pressure",
+            "root_stress_pinion",
+            "root_stress_gear",
+            "edge_load_fraction",
+            "gap_residual",
+        )
+    }
+    iterations = np.zeros((T, P), dtype=int)
+    converged = np.ones((T, P), dtype=bool)
+    lte0 = np.zeros(P)
+    share = np.zeros((T, P, pair_index.size))
+    mesh_point = np.zeros((T, P, 3))
+    loa = np.zeros((T, P, 3))
+    rs_face1 = np.zeros((T, S))
+    rs_face2 = np.zeros((T, S))
+    samples = [[] for _ in range(T)]  # (profile, face, load>0, a_profile, p0, slot)
+
+    bar = None
+    if options.progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=P * T, desc="loaded TCA", unit="solve", leave=False)
+    for j, grid in enumerate(grids):
+        C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
+        phi0 = float(np.min(grid.separation / grid.arm))
+        prev = None
+        for t, torque in enumerate(torques):
+            init = None if prev is None else prev.load * (torque / torques[t - 1])
+            kw = dict(solver=solver, tooth_matrix=C0)
+            sol = solve_contact(grid, compliance, torque, initial_load=init, **kw)
+            lo = solve_contact(
+                grid, compliance, torque * (1 - options.tangent_step), initial_load=sol.load, **kw
+            )
+            hi = solve_contact(
+                grid, compliance, torque * (1 + options.tangent_step), initial_load=sol.load, **kw
+            )
+            prev = sol
+            F = sol.load
+            Fn = float(F.sum())
+            arm = torque / Fn
+
+            def lte_of(s, tq):
+                return s.rotation * tq / float(s.load.sum())
+
+            lte = sol.rotation * arm
+            lte0_j = phi0 * arm
+            out["lte"][t, j] = lte
+            out["normal_load"][t, j] = Fn
+            out["stiffness"][t, j] = Fn / (lte - lte0_j)
+            dF = float(hi.load.sum() - lo.load.sum())
+            dd = lte_of(hi, torque * (1 + options.tangent_step)) - lte_of(
+                lo, torque * (1 - options.tangent_step)
+            )
+            out["tangent_stiffness"][t, j] = dF / dd
+            iterations[t, j] = sol.iterations + lo.iterations + hi.iterations
+            converged[t, j] = sol.success and lo.success and hi.success
+            out["gap_residual"][t, j] = sol.gap_residual
+            if t == 0:
+                lte0[j] = lte0_j
+            q = F / grid.line_length
+            E, nu = grid.youngs_modulus, grid.poisson_ratio
+            p0 = hertz_pressure(q, grid.curvature_radius, E, nu)
+            out["max_pressure"][t, j] = float(p0.max())
+            qw = F / grid.width
+            s1 = slice_root_stress(grid.tooth1, qw)
+            s2 = slice_root_stress(grid.tooth2, qw)
+            out["root_stress_pinion"][t, j] = float(s1.max())
+            out["root_stress_gear"][t, j] = float(s2.max())
+            np.maximum.at(rs_face1[t], grid.slot, s1)
+            np.maximum.at(rs_face2[t], grid.slot, s2)
+            for kk, k in enumerate(pair_index):
+                share[t, j, kk] = float(F[grid.pair == k].sum()) / Fn
+            mesh_point[t, j] = (F @ grid.position) / Fn
+            nv = F @ grid.normal
+            loa[t, j] = nv / np.linalg.norm(nv)
+            out["edge_load_fraction"][t, j] = float(F[grid.edge].sum()) / Fn
+            a = hertz_half_width(q, grid.curvature_radius, E, nu) / grid.transverse_projection
+            samples[t].append((grid.profile, grid.face, F > 0, a, p0, grid.slot))
+            if bar is not None:
+                bar.update(1)
+    if bar is not None:
+        bar.close()
+
+    # contact pattern: per torque, per face slot, loaded profile samples over the cycle
+    pattern = np.zeros((T, U, V))
+    area = np.zeros(T)
+    for t in range(T):
+        prof = np.concatenate([s[0] for s in samples[t]])
+        face = np.concatenate([s[1] for s in samples[t]])
+        loaded = np.concatenate([s[2] for s in samples[t]])
+        a = np.concatenate([s[3] for s in samples[t]])
+        p0 = np.concatenate([s[4] for s in samples[t]])
+        slot = np.concatenate([s[5] for s in samples[t]])
+        half = a.copy()
+        for sl in np.unique(slot):
+            m = slot == sl
+            u = np.sort(prof[m])
+            step = float(np.median(np.diff(u))) if u.size > 1 else 0.0
+            half[m] = np.maximum(a[m], 0.5 * step)
+        _pattern(
+            pattern[t],
+            profile_range,
+            face_range,
+            prof[loaded],
+            face[loaded],
+            half[loaded],
+            p0[loaded],
+        )
+        area[t] = float(np.mean(pattern[t] > 0))
+    return CycleResult(
+        torque=torques,
+        fraction=fractions,
+        stiffness=out["stiffness"],
+        tangent_stiffness=out["tangent_stiffness"],
+        lte=out["lte"],
+        lte_unloaded=lte0,
+        normal_load=out["normal_load"],
+        max_pressure=out["max_pressure"],
+        root_stress_pinion=out["root_stress_pinion"],
+        root_stress_gear=out["root_stress_gear"],
+        root_stress_face_pinion=rs_face1,
+        root_stress_face_gear=rs_face2,
+        pair_index=pair_index,
+        pair_share=share,
+        mesh_point=mesh_point,
+        line_of_action=loa,
+        pattern_pressure=pattern,
+        pattern_area_fraction=area,
+        edge_load_fraction=out["edge_load_fraction"],
+        iterations=iterations,
+        converged=converged,
+        gap_residual=out["gap_residual"],
+        profile_range=tuple(profile_range),
+        face_range=tuple(face_range),
+        meta={"edge_tolerance": options.edge_tolerance, "compliance": compliance.name},
+    )
+
+
+def cycle_summary(res: CycleResult) -> dict:
+    """Per torque: mean and peak-to-peak mesh stiffness and LTE, mean P and n, pattern
+    area fraction, edge-contact flag, solver status (JSON-ready, SI)."""
+    rows = []
+    for t, tq in enumerate(res.torque):
+        k = res.stiffness[t]
+        e = res.lte[t]
+        n = res.line_of_action[t].mean(axis=0)
+        rows.append(
+            {
+                "torque_Nm": float(tq),
+                "mean_mesh_stiffness_N_per_m": float(k.mean()),
+                "mesh_stiffness_peak_to_peak_N_per_m": float(k.max() - k.min()),
+                "mean_tangent_stiffness_N_per_m": float(res.tangent_stiffness[t].mean()),
+                "lte_mean_m": float(e.mean()),
+                "lte_peak_to_peak_m": float(e.max() - e.min()),
+                "mesh_point_m": [float(v) for v in res.mesh_point[t].mean(axis=0)],
+                "line_of_action": [float(v) for v in n / np.linalg.norm(n)],
+                "contact_pattern_area_fraction": float(res.pattern_area_fraction[t]),
+                "max_contact_pressure_Pa": float(res.max_pressure[t].max()),
+                "max_root_stress_pinion_Pa": float(res.root_stress_pinion[t].max()),
+                "max_root_stress_gear_Pa": float(res.root_stress_gear[t].max()),
+                "edge_contact": bool(res.edge_contact[t]),
+                "max_edge_load_fraction": float(res.edge_load_fraction[t].max()),
+                "solver_converged": bool(np.all(res.converged[t])),
+                "solver_iterations_max": int(res.iterations[t].max()),
+            }
+        )
+    return {"torques": rows}
+
+
+__all__ += ["cycle_summary"]
+_ = math

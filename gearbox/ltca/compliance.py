@@ -1,0 +1,170 @@
+"""Compliance levels of the loaded TCA behind one interface.
+
+A compliance level turns a :class:`~gearbox.ltca.grid.ContactGrid` into the
+influence-coefficient matrix along the common normal: ``C[i, j]`` is the normal
+approach at point i per newton of normal load at point j (m/N), symmetric and
+positive definite. The contact solver needs nothing else, so the finite-element
+level (``fidelity = "fe"``) plugs in by implementing :class:`Compliance`.
+
+:class:`FastCompliance` is the semi-analytical level:
+
+- each face slice of each tooth is a thin transverse slice whose compliance comes
+  from :func:`~gearbox.ltca.slice_model.slice_compliance` (bending, shear, axial
+  compression, fillet foundation);
+- neighbouring slices of one tooth are coupled by a shear layer: the slices are the
+  springs of a Pasternak foundation (Pasternak, P.L., "On a new method of analysis of
+  an elastic foundation by means of two foundation constants", Gosudarstvennoe
+  Izdatelstvo Literatury po Stroitelstvu i Arkhitekture, Moscow, 1954), the form used
+  for gear teeth by Ajmi, M., Velex, P., "A model for simulating the quasi-static
+  and dynamic behaviour of solid wide-faced spur and helical gears", Mech. Mach.
+  Theory 40 (2005) 173-190. Its Green's function on a long tooth is the
+  exponential influence function ``exp(-|y - y'| / lambda) / (2 lambda)``; a uniform
+  line load gives exactly the slice deflection, so the coupling redistributes load
+  without changing the stiffness of a uniformly loaded tooth. The decay length
+  ``lambda`` is ``coupling_length`` times the whole depth of the tooth (default 1.0,
+  a modelling choice; the FE level of issue 5 is the place to calibrate it);
+- the local contact flattening of each slice is Weber's (diagonal, load dependent).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from ..errors import Problems
+from .grid import ContactGrid
+from .slice_model import slice_compliance, weber_approach
+
+__all__ = ["Compliance", "FastCompliance", "compliance_for"]
+
+
+@runtime_checkable
+class Compliance(Protocol):
+    """Interface of a compliance level.
+
+    ``matrix(grid, line_load)`` returns the influence matrix, shape (n, n), m/N,
+    along the common normal at the grid points. ``line_load`` (N/m of contact line,
+    shape (n,)) is the current load estimate; levels whose matrix depends on the
+    load (``load_dependent = True``, e.g. contact flattening) use it, the solver
+    iterates them to a fixed point. ``tooth_compliance(grid)`` returns the part
+    without the local contact term (for the contact pattern's loaded separation).
+    """
+
+    name: str
+    load_dependent: bool
+
+    def matrix(self, grid: ContactGrid, line_load: np.ndarray | None = None) -> np.ndarray: ...
+
+    def tooth_matrix(self, grid: ContactGrid) -> np.ndarray: ...
+
+
+def _pasternak_block(c_slot, width, lam):
+    """Compliance matrix of one tooth's slices coupled by a shear layer.
+
+    c_slot: normal compliance per unit face width of every slot (m per N/m), shape
+    (m,); width: slot width (m); lam: decay length (m). Free ends (no shear at the
+    face ends). Returns shape (m, m), m/N.
+    """
+    k = width / c_slot  # spring of each slice (N/m)
+    kw = 1.0 / np.mean(c_slot)  # foundation modulus per unit width (N/m^2)
+    g = lam**2 * kw  # shear-layer stiffness (N)
+    m = c_slot.size
+    K = np.diag(k)
+    if m > 1:
+        kc = g / width
+        i = np.arange(m - 1)
+        K[i, i] += kc
+        K[i + 1, i + 1] += kc
+        K[i, i + 1] -= kc
+        K[i + 1, i] -= kc
+    return np.linalg.inv(K)
+
+
+@dataclass(frozen=True)
+class FastCompliance:
+    """Semi-analytical compliance: thin slices, shear-layer coupling, Weber contact.
+
+    coupling_length: slice-coupling decay length over the tooth's whole depth (-);
+    0 turns the coupling off (independent slices).
+    """
+
+    coupling_length: float = 1.0
+    name: str = "fast"
+    load_dependent: bool = True
+
+    def __post_init__(self):
+        p = Problems()
+        p.in_range("coupling_length", self.coupling_length, 0.0, 20.0)
+        p.raise_if_any("invalid fast compliance")
+
+    def slice_parts(self, grid: ContactGrid):
+        """Normal compliance per unit face width of pinion and gear slices (m per N/m)."""
+        E, nu = grid.youngs_modulus, grid.poisson_ratio
+        proj2 = grid.transverse_projection**2
+        c1 = slice_compliance(grid.tooth1, E, nu).total * proj2
+        c2 = slice_compliance(grid.tooth2, E, nu).total * proj2
+        return c1, c2
+
+    def tooth_matrix(self, grid: ContactGrid) -> np.ndarray:
+        n = grid.size
+        C = np.zeros((n, n))
+        c1, c2 = self.slice_parts(grid)
+        for teeth, c in ((grid.tooth1, c1), (grid.tooth2, c2)):
+            depth = teeth.tip_radius - teeth.root_radius
+            for k in grid.pairs():
+                idx = np.flatnonzero(grid.pair == k)
+                idx = idx[np.argsort(grid.slot[idx])]
+                slots = grid.slot[idx]
+                width = float(np.mean(grid.width[idx]))
+                if self.coupling_length == 0.0 or idx.size == 1:
+                    C[idx, idx] += c[idx] / grid.width[idx]
+                    continue
+                # every slot of the face: occupied ones carry their own slice, the
+                # others (no contact line there) the nearest occupied slice's
+                all_slots = np.arange(grid.n_slots)
+                nearest = np.clip(np.searchsorted(slots, all_slots), 0, slots.size - 1)
+                left = np.clip(nearest - 1, 0, slots.size - 1)
+                use_left = np.abs(slots[left] - all_slots) < np.abs(slots[nearest] - all_slots)
+                nearest = np.where(use_left, left, nearest)
+                c_slot = c[idx][nearest]
+                lam = self.coupling_length * float(np.mean(depth[idx]))
+                block = _pasternak_block(c_slot, width, lam)
+                C[np.ix_(idx, idx)] += block[np.ix_(slots, slots)]
+        return C
+
+    def contact_diagonal(self, grid: ContactGrid, line_load: np.ndarray) -> np.ndarray:
+        """Secant compliance of the local flattening, shape (n,), m/N."""
+        E, nu = grid.youngs_modulus, grid.poisson_ratio
+        h1 = _half_thickness(grid.tooth1)
+        h2 = _half_thickness(grid.tooth2)
+        q = np.maximum(line_load, 1e-6)
+        w = weber_approach(q, grid.curvature_radius, h1, h2, E, nu)
+        return w / (q * grid.line_length)
+
+    def matrix(self, grid: ContactGrid, line_load: np.ndarray | None = None) -> np.ndarray:
+        C = self.tooth_matrix(grid)
+        if line_load is None:
+            line_load = np.full(grid.size, 1.0e5)
+        C[np.diag_indices_from(C)] += self.contact_diagonal(grid, line_load)
+        return C
+
+
+def _half_thickness(teeth) -> np.ndarray:
+    """Distance of the load point from the tooth centre line (m), transverse section."""
+    from ..geometry.involute import inv
+
+    alpha = np.arccos(np.clip(teeth.base_radius / teeth.radius, -1, 1))
+    psi = teeth.base_half_angle - inv(alpha)
+    return np.maximum(teeth.radius * np.sin(psi), 1e-6)
+
+
+def compliance_for(fidelity: str) -> Compliance:
+    """The compliance level named by ``ltca.fidelity``."""
+    if fidelity == "fast":
+        return FastCompliance()
+    p = Problems()
+    p.add("ltca.fidelity", fidelity, "only 'fast' is available in this version ('fe' is planned)")
+    p.raise_if_any("invalid loaded TCA fidelity")
+    raise AssertionError  # pragma: no cover

@@ -1,0 +1,275 @@
+"""Parallel-axis involute pairs (spur and helical): the analytic reference geometry.
+
+For parallel axes the contact lines lie in the plane of action and are straight,
+inclined by the base helix angle beta_b (ISO 21771:2007, section 5), so the initial
+separation of perfect involute flanks along every contact line is zero and the whole
+loaded TCA input is known in closed form. This module builds that input
+(:class:`~gearbox.ltca.grid.ContactGrid`) for any pinion position; the loaded TCA
+then runs exactly as for the beveloid pair.
+
+Plane-of-action coordinates: roll distance ``xi`` along the transverse line of
+action, measured from the pinion's tangent point T1 (so the pinion's transverse
+radius of curvature at the contact is ``xi``), and ``y`` along the face width from the
+face middle. Contact line of tooth pair k: ``xi = xi_0 + k p_bt + y tan(beta_b)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ..errors import Problems
+from ..geometry.involute import inv, inv_inverse
+from .grid import ContactGrid, ToothSections
+
+__all__ = ["ParallelPair", "parallel_grid"]
+
+
+@dataclass(frozen=True)
+class ParallelPair:
+    """A parallel-axis external involute gear pair, SI.
+
+    normal_module: m_n (m); normal_pressure_angle: alpha_n (rad); helix_angle: beta
+    (rad, pinion; the gear has the opposite hand); teeth: (z1, z2); profile_shift:
+    (x1, x2) normal coefficients; face_width: b (m); center_distance: a (m), ``None``
+    for the backlash-free distance of the profile shifts; addendum_coefficient
+    h_aP/m_n; dedendum_coefficient h_fP/m_n; root_radius_coefficient rho_fP/m_n
+    of the basic rack (ISO 53 profile A: 1.25 and 0.38); bore_ratio: bore radius over root
+    radius (the rim for the fillet-foundation term); youngs_modulus (Pa);
+    poisson_ratio.
+    """
+
+    normal_module: float
+    normal_pressure_angle: float
+    helix_angle: float
+    teeth: tuple[int, int]
+    profile_shift: tuple[float, float] = (0.0, 0.0)
+    face_width: float = 0.04
+    center_distance: float | None = None
+    addendum_coefficient: float = 1.0
+    dedendum_coefficient: float = 1.25
+    root_radius_coefficient: float = 0.38
+    bore_ratio: float = 0.5
+    youngs_modulus: float = 206.0e9
+    poisson_ratio: float = 0.3
+
+    def __post_init__(self):
+        p = Problems()
+        p.in_range("normal_module", self.normal_module, 0.0, None, lo_open=True)
+        p.in_range("normal_pressure_angle", self.normal_pressure_angle, 0.0, 0.7, lo_open=True)
+        p.in_range("helix_angle", self.helix_angle, -1.0, 1.0)
+        p.in_range("teeth[0]", self.teeth[0], 8, None)
+        p.in_range("teeth[1]", self.teeth[1], 8, None)
+        p.in_range("face_width", self.face_width, 0.0, None, lo_open=True)
+        p.in_range("bore_ratio", self.bore_ratio, 0.0, 0.95, lo_open=True)
+        p.in_range("youngs_modulus", self.youngs_modulus, 0.0, None, lo_open=True)
+        p.in_range("poisson_ratio", self.poisson_ratio, 0.0, 0.5, hi_open=True)
+        p.raise_if_any("invalid parallel gear pair")
+        object.__setattr__(self, "teeth", tuple(int(z) for z in self.teeth))
+        object.__setattr__(self, "profile_shift", tuple(float(x) for x in self.profile_shift))
+
+    # ---------------------------------------------------------------- derived
+    @property
+    def transverse_module(self) -> float:
+        return self.normal_module / math.cos(self.helix_angle)
+
+    @property
+    def transverse_pressure_angle(self) -> float:
+        """alpha_t (rad), tan alpha_t = tan alpha_n / cos beta."""
+        return math.atan(math.tan(self.normal_pressure_angle) / math.cos(self.helix_angle))
+
+    @property
+    def base_helix_angle(self) -> float:
+        """beta_b (rad), sin beta_b = sin beta cos alpha_n (magnitude)."""
+        return math.asin(abs(math.sin(self.helix_angle)) * math.cos(self.normal_pressure_angle))
+
+    def pitch_radius(self, i: int) -> float:
+        return 0.5 * self.transverse_module * self.teeth[i]
+
+    def base_radius(self, i: int) -> float:
+        return self.pitch_radius(i) * math.cos(self.transverse_pressure_angle)
+
+    def tip_radius(self, i: int) -> float:
+        return self.pitch_radius(i) + self.normal_module * (
+            self.addendum_coefficient + self.profile_shift[i]
+        )
+
+    def root_radius(self, i: int) -> float:
+        return self.pitch_radius(i) - self.normal_module * (
+            self.dedendum_coefficient - self.profile_shift[i]
+        )
+
+    def base_half_angle(self, i: int) -> float:
+        """Half tooth-thickness angle at the base circle psi_b (rad), ISO 21771:
+        s_t / (2 r) + inv(alpha_t) with s_t = m_t (pi/2 + 2 x tan alpha_t)."""
+        at = self.transverse_pressure_angle
+        x = self.profile_shift[i]
+        return (math.pi / 2 + 2 * x * math.tan(self.normal_pressure_angle)) / self.teeth[i] + inv(
+            at
+        )
+
+    @property
+    def working_pressure_angle(self) -> float:
+        """alpha_wt (rad) at the centre distance."""
+        if self.center_distance is None:
+            z1, z2 = self.teeth
+            at = self.transverse_pressure_angle
+            return float(
+                inv_inverse(
+                    inv(at)
+                    + 2 * math.tan(self.normal_pressure_angle) * sum(self.profile_shift) / (z1 + z2)
+                )
+            )
+        return math.acos((self.base_radius(0) + self.base_radius(1)) / self.center_distance)
+
+    @property
+    def working_center_distance(self) -> float:
+        return (self.base_radius(0) + self.base_radius(1)) / math.cos(self.working_pressure_angle)
+
+    @property
+    def line_of_action_length(self) -> float:
+        """T1 T2 (m), the transverse line of action between the tangent points."""
+        return self.working_center_distance * math.sin(self.working_pressure_angle)
+
+    @property
+    def roll_limits(self) -> tuple[float, float]:
+        """(xi_A, xi_E): pinion roll distances (m) of the start and end of the active
+        path (gear tip and pinion tip)."""
+        rb1, rb2 = self.base_radius(0), self.base_radius(1)
+        xa = self.line_of_action_length - math.sqrt(self.tip_radius(1) ** 2 - rb2**2)
+        xe = math.sqrt(self.tip_radius(0) ** 2 - rb1**2)
+        # the root form circles limit too (undercut-free pairs: inside the involute)
+        return max(xa, 0.0), min(xe, self.line_of_action_length)
+
+    @property
+    def base_pitch(self) -> float:
+        """Transverse base pitch p_bt (m)."""
+        return 2 * math.pi * self.base_radius(0) / self.teeth[0]
+
+    @property
+    def transverse_contact_ratio(self) -> float:
+        xa, xe = self.roll_limits
+        return (xe - xa) / self.base_pitch
+
+    @property
+    def overlap_ratio(self) -> float:
+        return self.face_width * abs(math.sin(self.helix_angle)) / (math.pi * self.normal_module)
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["teeth"] = list(self.teeth)
+        d["profile_shift"] = list(self.profile_shift)
+        return d
+
+    @classmethod
+    def from_dict(cls, d) -> ParallelPair:
+        d = dict(d)
+        d["teeth"] = tuple(d["teeth"])
+        d["profile_shift"] = tuple(d["profile_shift"])
+        return cls(**d)
+
+
+def parallel_grid(pair: ParallelPair, fraction: float, n_face: int = 40) -> ContactGrid:
+    """Contact grid of a parallel involute pair at one pinion position.
+
+    fraction: pinion position in mesh cycles (0 = the reference pair's contact line
+    starts at the start of the active path at the face middle), any real.
+    n_face: slices across the face width (cell centres).
+
+    Every tooth pair whose contact line crosses the active flank gets one point per
+    slice inside the active path; separations are zero (perfect involutes).
+    """
+    p = Problems()
+    p.in_range("n_face", n_face, 3, None)
+    p.raise_if_any("invalid contact grid request")
+    b = pair.face_width
+    dy = b / n_face
+    y = -0.5 * b + dy * (np.arange(n_face) + 0.5)
+    tb = math.tan(pair.base_helix_angle)
+    pb = pair.base_pitch
+    xa, xe = pair.roll_limits
+    lam = pair.line_of_action_length
+    xi0 = xa + (fraction % 1.0) * pb
+    kmax = int(math.ceil((xe - xa + b * tb) / pb)) + 1
+    rows = []
+    for k in range(-kmax, kmax + 1):
+        xi = xi0 + k * pb + y * tb
+        inside = (xi >= xa) & (xi <= xe)
+        if not inside.any():
+            continue
+        rows.append((k, xi[inside], y[inside], np.flatnonzero(inside)))
+    pair_idx = np.concatenate([np.full(r[1].size, r[0]) for r in rows])
+    xi = np.concatenate([r[1] for r in rows])
+    face = np.concatenate([r[2] for r in rows])
+    slot = np.concatenate([r[3] for r in rows])
+    n = xi.size
+    cb = math.cos(pair.base_helix_angle)
+    rb1, rb2 = pair.base_radius(0), pair.base_radius(1)
+    r1 = np.sqrt(rb1**2 + xi**2)
+    r2 = np.sqrt(rb2**2 + (lam - xi) ** 2)
+    rho = xi * (lam - xi) / lam / cb  # relative radius of curvature, normal section
+    xa_e, xe_e = xa + 1e-9 * pb, xe - 1e-9 * pb
+    edge = (xi <= xa_e + 0.5 * dy * tb) | (xi >= xe_e - 0.5 * dy * tb)
+    teeth1 = ToothSections.uniform(
+        n,
+        radius=r1,
+        base_radius=rb1,
+        root_radius=pair.root_radius(0),
+        tip_radius=pair.tip_radius(0),
+        bore_radius=pair.bore_ratio * pair.root_radius(0),
+        base_half_angle=pair.base_half_angle(0),
+        teeth=pair.teeth[0],
+        normal_module=pair.normal_module,
+        normal_pressure_angle=pair.normal_pressure_angle,
+        helix_angle=abs(pair.helix_angle),
+        profile_shift=pair.profile_shift[0],
+        rack_dedendum=pair.dedendum_coefficient,
+        rack_root_radius=pair.root_radius_coefficient,
+    )
+    teeth2 = ToothSections.uniform(
+        n,
+        radius=r2,
+        base_radius=rb2,
+        root_radius=pair.root_radius(1),
+        tip_radius=pair.tip_radius(1),
+        bore_radius=pair.bore_ratio * pair.root_radius(1),
+        base_half_angle=pair.base_half_angle(1),
+        teeth=pair.teeth[1],
+        normal_module=pair.normal_module,
+        normal_pressure_angle=pair.normal_pressure_angle,
+        helix_angle=abs(pair.helix_angle),
+        profile_shift=pair.profile_shift[1],
+        rack_dedendum=pair.dedendum_coefficient,
+        rack_root_radius=pair.root_radius_coefficient,
+    )
+    # mesh point and normal in a pair frame: x along the centre line, z along the axis
+    aw = pair.working_pressure_angle
+    t1 = np.array([rb1 * math.cos(aw), rb1 * math.sin(aw), 0.0])  # T1 seen from O1
+    u = np.array([-math.sin(aw), math.cos(aw), 0.0])  # along T1 -> T2 ... transverse LOA
+    u = -u if np.dot(u, np.array([1.0, 0.0, 0.0])) < 0 else u
+    pos = t1[None, :] + xi[:, None] * u[None, :] + face[:, None] * np.array([0.0, 0.0, 1.0])
+    nrm = np.tile(cb * u + math.sin(pair.base_helix_angle) * np.array([0.0, 0.0, 1.0]), (n, 1))
+    return ContactGrid(
+        pair=pair_idx.astype(int),
+        slot=slot.astype(int),
+        face=face,
+        width=np.full(n, dy),
+        line_length=np.full(n, dy / cb),
+        separation=np.zeros(n),
+        arm=np.full(n, rb1 * cb),
+        transverse_projection=np.full(n, cb),
+        curvature_radius=rho,
+        profile=xi - xa,
+        profile_range=(0.0, xe - xa),
+        face_range=(-0.5 * b, 0.5 * b),
+        n_slots=n_face,
+        edge=edge,
+        position=pos,
+        normal=nrm,
+        tooth1=teeth1,
+        tooth2=teeth2,
+        youngs_modulus=pair.youngs_modulus,
+        poisson_ratio=pair.poisson_ratio,
+    )

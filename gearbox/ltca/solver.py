@@ -1,0 +1,260 @@
+"""The contact problem of the loaded TCA and its solver.
+
+Unknowns: normal loads F_i >= 0 at the grid points and the loaded pinion rotation
+phi (gear held). With the influence matrix C (m/N), initial separations s (m) and
+arms m (normal approach per radian of pinion rotation, m/rad):
+
+    w = C F + s - m phi >= 0,   F >= 0,   F_i w_i = 0,   m^T F = T
+
+(the gap w is zero where loaded, open elsewhere; the loads balance the pinion
+torque T). It is the KKT system of the strictly convex quadratic programme
+``min 1/2 F^T C F + s^T F  s.t.  F >= 0, m^T F = T`` (phi is the multiplier of the
+equality), solved here by a primal active-set method (Nocedal, J., Wright, S.J.,
+Numerical Optimization, 2nd ed., Springer 2006, Algorithm 16.3), which keeps the
+loads feasible at every iteration and terminates in finitely many steps. Points are
+added to the loaded set in blocks for the first iterations (all violated gaps at
+once; the ratio test keeps feasibility), then one at a time, which restores the
+finite termination of the textbook method.
+
+A load-dependent compliance (contact flattening) is handled by a fixed-point
+iteration on the line loads around the active-set solve.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ..errors import Problems
+
+__all__ = ["ContactSolution", "ContactSolver", "solve_contact", "solve_lcp"]
+
+
+@dataclass(frozen=True)
+class ContactSolver:
+    """Settings of the contact solver.
+
+    gap_tol: relative tolerance on gaps (of the mean deflection); max_iter: cap of
+    active-set iterations per solve; block_iter: iterations that add violated points
+    in blocks; max_outer: cap of fixed-point iterations on a load-dependent
+    compliance; outer_rtol: their tolerance on the loads (relative to the largest).
+    """
+
+    gap_tol: float = 1.0e-9
+    max_iter: int = 2000
+    block_iter: int = 20
+    max_outer: int = 40
+    outer_rtol: float = 1.0e-7
+
+    def __post_init__(self):
+        p = Problems()
+        p.in_range("gap_tol", self.gap_tol, 0.0, 1.0, lo_open=True)
+        p.in_range("max_iter", self.max_iter, 1, None)
+        p.in_range("max_outer", self.max_outer, 1, None)
+        p.in_range("outer_rtol", self.outer_rtol, 0.0, 1.0, lo_open=True)
+        p.raise_if_any("invalid contact solver settings")
+
+
+@dataclass(frozen=True)
+class ContactSolution:
+    """Solution of the contact problem at one position and torque.
+
+    load: ndarray, shape (n,), normal loads (N); gap: shape (n,), loaded gaps (m);
+    rotation: loaded pinion rotation phi (rad) from the position of the grid;
+    success, status ('converged', 'max_iter', 'outer_max_iter'), message;
+    iterations: active-set iterations (all solves), outer_iterations: fixed-point
+    iterations; gap_residual: largest penetration max(-w, 0) (m); complementarity:
+    max |F_i w_i| / (max F * mean deflection) (-); load_residual: |m^T F - T| / T.
+    """
+
+    load: np.ndarray
+    gap: np.ndarray
+    rotation: float
+    success: bool
+    status: str
+    message: str
+    iterations: int
+    outer_iterations: int
+    gap_residual: float
+    complementarity: float
+    load_residual: float
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["load"] = self.load.tolist()
+        d["gap"] = self.gap.tolist()
+        return d
+
+    @classmethod
+    def from_dict(cls, d) -> ContactSolution:
+        d = dict(d)
+        d["load"] = np.asarray(d["load"], dtype=float)
+        d["gap"] = np.asarray(d["gap"], dtype=float)
+        return cls(**d)
+
+
+def _eqp(C, s, m, T, P):
+    """Loads on the set P and phi with all gaps of P closed and m^T F = T."""
+    k = P.size
+    A = np.empty((k + 1, k + 1))
+    A[:k, :k] = C[np.ix_(P, P)]
+    A[:k, k] = -m[P]
+    A[k, :k] = m[P]
+    A[k, k] = 0.0
+    rhs = np.empty(k + 1)
+    rhs[:k] = -s[P]
+    rhs[k] = T
+    x = np.linalg.solve(A, rhs)
+    return x[:k], x[k]
+
+
+def solve_lcp(C, s, m, T, *, solver: ContactSolver = ContactSolver(), start=None):
+    """Primal active-set solution of the contact problem for a fixed matrix C.
+
+    C: shape (n, n) symmetric positive definite (m/N); s, m: shape (n,); T > 0.
+    start: optional boolean mask, shape (n,), of points guessed loaded (warm start);
+    used only if its equality solution has positive loads.
+    Returns (F, phi, gap, iterations, converged).
+    """
+    n = s.size
+    scale = float(np.mean(np.diag(C))) * T / float(np.mean(m))  # typical deflection (m)
+    tol = solver.gap_tol * scale
+    F = np.zeros(n)
+    P = None
+    if start is not None and np.any(start):
+        P0 = np.flatnonzero(start)
+        FP, _ = _eqp(C, s, m, T, P0)
+        if np.all(FP > 0):
+            P = P0
+            F[P] = FP
+    if P is None:
+        i0 = int(np.argmin(s / m))
+        P = np.array([i0])
+        F[i0] = T / m[i0]
+    it = 0
+    phi = 0.0
+    while it < solver.max_iter:
+        it += 1
+        FP, phi_hat = _eqp(C, s, m, T, P)
+        if np.all(FP > 0):
+            F[:] = 0.0
+            F[P] = FP
+            phi = phi_hat
+            w = C @ F + s - m * phi
+            w[P] = 0.0
+            viol = np.flatnonzero(w < -tol)
+            if viol.size == 0:
+                gap = C @ F + s - m * phi
+                return F, phi, gap, it, True
+            if it <= solver.block_iter:
+                add = viol
+            else:
+                add = np.array([viol[np.argmin(w[viol])]])
+            P = np.sort(np.concatenate([P, add]))
+            continue
+        # step towards the equality solution until the first load reaches zero
+        Fp = F[P]
+        dec = FP <= 0
+        ratio = np.where(dec, Fp / np.where(dec, Fp - FP, 1.0), np.inf)
+        alpha = float(np.min(ratio))
+        F[P] = Fp + alpha * (FP - Fp)
+        keep = F[P] > 1e-14 * T / float(np.mean(m))
+        keep[np.argmin(ratio)] = False
+        F[P[~keep]] = 0.0
+        P = P[keep]
+        if P.size == 0:  # cannot happen with T > 0; restart from the first contact
+            i0 = int(np.argmin(s / m))
+            P = np.array([i0])
+            F[i0] = T / m[i0]
+    gap = C @ F + s - m * phi
+    return F, phi, gap, it, False
+
+
+def solve_contact(
+    grid,
+    compliance,
+    torque: float,
+    *,
+    solver: ContactSolver = ContactSolver(),
+    start=None,
+    tooth_matrix=None,
+    initial_load=None,
+):
+    """Solve the loaded contact at one grid position and pinion torque.
+
+    grid: :class:`~gearbox.ltca.grid.ContactGrid`; compliance: a
+    :class:`~gearbox.ltca.compliance.Compliance`; torque: pinion torque T (N m, > 0);
+    start: optional warm-start mask of loaded points; tooth_matrix: the
+    load-independent part of the compliance if already computed (it depends on the
+    position only, not on the torque); initial_load: a load estimate (N, shape
+    (n,)) that starts the fixed-point iteration on the contact flattening.
+    Returns a :class:`ContactSolution`.
+    """
+    p = Problems()
+    p.in_range("torque", torque, 0.0, None, lo_open=True)
+    p.raise_if_any("invalid loaded TCA input")
+    s = np.asarray(grid.separation, dtype=float)
+    m = np.asarray(grid.arm, dtype=float)
+    n = grid.size
+    if compliance.load_dependent:
+        C0 = compliance.tooth_matrix(grid) if tooth_matrix is None else tooth_matrix
+        q = np.full(n, torque / float(np.sum(m * grid.line_length)))
+        if initial_load is not None and np.any(np.asarray(initial_load) > 0):
+            q = np.asarray(initial_load, dtype=float) / grid.line_length
+            start = q > 0 if start is None else start
+    else:
+        C0 = None
+        q = None
+    total_it = 0
+    outer = 0
+    F = None
+    status = "converged"
+    converged = True
+    prev = None
+    while True:
+        outer += 1
+        if compliance.load_dependent:
+            C = C0.copy()
+            C[np.diag_indices_from(C)] += compliance.contact_diagonal(grid, q)
+        else:
+            C = compliance.matrix(grid)
+        F, phi, gap, it, ok = solve_lcp(
+            C, s, m, torque, solver=solver, start=start if F is None else F > 0
+        )
+        total_it += it
+        if not ok:
+            converged = False
+            status = "max_iter"
+            break
+        if not compliance.load_dependent:
+            break
+        q_new = F / grid.line_length
+        if prev is not None and np.max(np.abs(F - prev)) <= solver.outer_rtol * np.max(F):
+            break
+        if outer >= solver.max_outer:
+            converged = False
+            status = "outer_max_iter"
+            break
+        prev = F
+        q = q_new
+    scale = float(np.mean(np.diag(C))) * torque / float(np.mean(m))
+    compl = float(np.max(np.abs(F * gap)) / (np.max(F) * scale)) if np.max(F) > 0 else 0.0
+    msg = {
+        "converged": f"converged in {total_it} active-set iterations, {outer} fixed-point iterations",
+        "max_iter": f"active-set iteration cap {solver.max_iter} reached",
+        "outer_max_iter": f"fixed-point cap {solver.max_outer} reached on the contact flattening",
+    }[status]
+    return ContactSolution(
+        load=F,
+        gap=gap,
+        rotation=float(phi),
+        success=converged,
+        status=status,
+        message=msg,
+        iterations=total_it,
+        outer_iterations=outer,
+        gap_residual=float(max(-np.min(gap), 0.0)),
+        complementarity=compl,
+        load_residual=float(abs(m @ F - torque) / torque),
+    )
