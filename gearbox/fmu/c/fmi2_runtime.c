@@ -1,0 +1,893 @@
+/* fmi2_runtime.c: generic FMI 2.0 runtime for the gearbox FMUs, Model Exchange and
+ * Co-Simulation in one binary.
+ *
+ * The model (model.c, config.h) supplies equations and tables; this file supplies the
+ * FMI state machine, argument checks with a logged message on every error, memory
+ * through the importer's callbacks, the resource folder, and the internal
+ * Co-Simulation integrator: Dormand-Prince 5(4) with step-size control (Hairer,
+ * Norsett, Wanner, "Solving Ordinary Differential Equations I", 2nd ed., Sec. II.4
+ * (error estimate and step control, eqs. (4.10)-(4.13)) and Sec. II.5, Table 5.2
+ * (coefficients)).
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gbx_model.h"
+
+#define GBX_MAX_SUBSTEPS 10000000L
+
+/* ------------------------------------------------------------------ services */
+
+void *gbx_calloc(const ModelInstance *m, size_t n, size_t size) {
+    if (m->cb.allocateMemory) return m->cb.allocateMemory(n, size);
+    return calloc(n, size);
+}
+
+void gbx_free(const ModelInstance *m, void *p) {
+    if (!p) return;
+    if (m->cb.freeMemory)
+        m->cb.freeMemory(p);
+    else
+        free(p);
+}
+
+void gbx_log(const ModelInstance *m, fmi2Status status, const char *category, const char *fmt, ...) {
+    char buf[1024];
+    va_list ap;
+    if (!m || !m->cb.logger) return;
+    if (status == fmi2OK && !m->logging) return;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    /* the message goes through "%s": the logger treats its argument as a format */
+    m->cb.logger(m->cb.componentEnvironment, m->name, status, category, "%s", buf);
+}
+
+double gbx_input(const ModelInstance *m, int vr, double t) {
+    int rate = GBX_VARS[vr].index;
+    double u = m->r[vr];
+    if (m->type == fmi2CoSimulation && rate >= 0) u += m->r[rate] * (t - m->t_input);
+    return u;
+}
+
+static char *dup_string(const ModelInstance *m, const char *s) {
+    size_t n = strlen(s);
+    char *d = (char *)gbx_calloc(m, n + 1, 1);
+    if (d) memcpy(d, s, n + 1);
+    return d;
+}
+
+/* file:///a/b%20c/resources -> /a/b c/resources; NULL when not a local file URI. */
+static char *uri_to_path(const ModelInstance *m, const char *uri) {
+    const char *p;
+    char *out, *o;
+    if (!uri) return NULL;
+    if (strncmp(uri, "file:///", 8) == 0)
+        p = uri + 7;
+    else if (strncmp(uri, "file://localhost/", 17) == 0)
+        p = uri + 16;
+    else if (strncmp(uri, "file:/", 6) == 0)
+        p = uri + 5;
+    else
+        return NULL;
+    out = (char *)gbx_calloc(m, strlen(p) + 1, 1);
+    if (!out) return NULL;
+    for (o = out; *p; p++) {
+        if (p[0] == '%' && p[1] && p[2]) {
+            char hex[3] = {p[1], p[2], 0};
+            char *end;
+            long c = strtol(hex, &end, 16);
+            if (*end == 0) {
+                *o++ = (char)c;
+                p += 2;
+                continue;
+            }
+        }
+        *o++ = *p;
+    }
+    *o = 0;
+    while (o > out + 1 && o[-1] == '/') *--o = 0;
+    return out;
+}
+
+int gbx_read_table(ModelInstance *m, const char *file, int *rows, int *cols, double **data) {
+    char path[4096];
+    char line[512];
+    FILE *f;
+    int version = 0;
+    long n, i;
+    double *d;
+    *data = NULL;
+    snprintf(path, sizeof path, "%s/%s", m->resource_dir ? m->resource_dir : ".", file);
+    f = fopen(path, "r");
+    if (!f) {
+        gbx_log(m, fmi2Error, "logStatusError", "cannot open resource table '%s'", path);
+        return 1;
+    }
+    if (!fgets(line, sizeof line, f) ||
+        sscanf(line, "gearbox-table %d %d %d", &version, rows, cols) != 3 || version != 1 ||
+        *rows < 1 || *cols < 1 || *rows > 100000 || *cols > 1000) {
+        gbx_log(m, fmi2Error, "logStatusError",
+                "resource table '%s' is corrupt: first line must be 'gearbox-table 1 <rows> <cols>'",
+                path);
+        fclose(f);
+        return 1;
+    }
+    n = (long)*rows * (long)*cols;
+    d = (double *)gbx_calloc(m, (size_t)n, sizeof(double));
+    if (!d) {
+        fclose(f);
+        gbx_log(m, fmi2Error, "logStatusError", "out of memory reading '%s'", path);
+        return 1;
+    }
+    i = 0;
+    while (i < n) {
+        int c = fgetc(f);
+        if (c == EOF) break;
+        if (c == '#') { /* comment to end of line */
+            while (c != EOF && c != '\n') c = fgetc(f);
+            continue;
+        }
+        if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ',') continue;
+        ungetc(c, f);
+        if (fscanf(f, "%lf", &d[i]) != 1 || !isfinite(d[i])) {
+            gbx_log(m, fmi2Error, "logStatusError",
+                    "resource table '%s' is corrupt: value %ld of %ld is not a finite number", path,
+                    i + 1, n);
+            gbx_free(m, d);
+            fclose(f);
+            return 1;
+        }
+        i++;
+    }
+    fclose(f);
+    if (i != n) {
+        gbx_log(m, fmi2Error, "logStatusError",
+                "resource table '%s' is corrupt: %ld numbers found, %d x %d = %ld expected", path, i,
+                *rows, *cols, n);
+        gbx_free(m, d);
+        return 1;
+    }
+    *data = d;
+    return 0;
+}
+
+/* ------------------------------------------------------------ argument checks */
+
+#define MASK_INSTANTIATED (1 << GBX_ST_INSTANTIATED)
+#define MASK_INIT (1 << GBX_ST_INIT)
+#define MASK_EVENT (1 << GBX_ST_EVENT)
+#define MASK_CONT (1 << GBX_ST_CONT)
+#define MASK_STEP (1 << GBX_ST_STEP)
+#define MASK_TERMINATED (1 << GBX_ST_TERMINATED)
+#define MASK_ERROR (1 << GBX_ST_ERROR)
+#define MASK_ANY 0x7f
+
+static const char *STATE_NAMES[] = {"instantiated", "initialization mode", "event mode",
+                                    "continuous-time mode", "step mode", "terminated", "error"};
+
+static int not_allowed(ModelInstance *m, const char *fn, int mask) {
+    if (!m) return 1;
+    if (mask & (1 << m->state)) return 0;
+    gbx_log(m, fmi2Error, "logStatusError", "%s must not be called in state '%s'", fn,
+            STATE_NAMES[m->state]);
+    m->state = GBX_ST_ERROR;
+    return 1;
+}
+
+static int null_arg(ModelInstance *m, const char *fn, const char *arg, const void *p, size_t n) {
+    if (n == 0 || p) return 0;
+    gbx_log(m, fmi2Error, "logStatusError", "%s: argument %s must not be NULL", fn, arg);
+    m->state = GBX_ST_ERROR;
+    return 1;
+}
+
+static int bad_vr(ModelInstance *m, const char *fn, fmi2ValueReference vr) {
+    if (vr < GBX_NR) return 0;
+    gbx_log(m, fmi2Error, "logStatusError", "%s: unknown value reference %u (valid: 0..%d)", fn,
+            (unsigned)vr, GBX_NR - 1);
+    return 1;
+}
+
+static int update(ModelInstance *m, const char *fn) {
+    char msg[512];
+    msg[0] = 0;
+    if (gbx_model_update(m, msg, sizeof msg) != 0) {
+        gbx_log(m, fmi2Error, "logStatusError", "%s: invalid parameters: %s", fn, msg);
+        return 1;
+    }
+    return 0;
+}
+
+static int refresh_initial_state(ModelInstance *m, const char *fn) {
+    if (m->x_pending && (m->state == GBX_ST_INSTANTIATED || m->state == GBX_ST_INIT)) {
+        if (update(m, fn) != 0) return 1;
+        gbx_model_initial_state(m);
+        m->x_pending = 0;
+    }
+    return 0;
+}
+
+static void reset_values(ModelInstance *m) {
+    int i;
+    for (i = 0; i < GBX_NR; i++) m->r[i] = GBX_VARS[i].start;
+    for (i = 0; i < GBX_NX_ALLOC; i++) m->x[i] = 0.0;
+    m->time = 0.0;
+    m->t_input = 0.0;
+    m->x_pending = 1;
+    m->h = 0.0;
+    m->n_steps = m->n_rejected = m->n_rhs = 0;
+}
+
+/* ----------------------------------------------------------- common functions */
+
+const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+const char *fmi2GetVersion(void) { return fmi2Version; }
+
+fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
+                               const fmi2String categories[]) {
+    ModelInstance *m = (ModelInstance *)c;
+    (void)categories;
+    if (not_allowed(m, "fmi2SetDebugLogging", MASK_ANY)) return fmi2Error;
+    if (null_arg(m, "fmi2SetDebugLogging", "categories", categories, nCategories)) return fmi2Error;
+    m->logging = loggingOn ? 1 : 0;
+    return fmi2OK;
+}
+
+fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                              fmi2String fmuResourceLocation,
+                              const fmi2CallbackFunctions *functions, fmi2Boolean visible,
+                              fmi2Boolean loggingOn) {
+    ModelInstance tmp, *m;
+    (void)visible;
+    if (!functions) return NULL;
+    memset(&tmp, 0, sizeof tmp);
+    tmp.cb = *functions;
+    tmp.name = (char *)(instanceName ? instanceName : "?");
+    tmp.logging = loggingOn ? 1 : 0;
+    if (!instanceName || !*instanceName) {
+        gbx_log(&tmp, fmi2Error, "logStatusError", "fmi2Instantiate: instanceName must be non-empty");
+        return NULL;
+    }
+    if (!fmuGUID || strcmp(fmuGUID, MODEL_GUID) != 0) {
+        gbx_log(&tmp, fmi2Error, "logStatusError", "fmi2Instantiate: GUID '%s' does not match '%s'",
+                fmuGUID ? fmuGUID : "(null)", MODEL_GUID);
+        return NULL;
+    }
+    if (fmuType != fmi2ModelExchange && fmuType != fmi2CoSimulation) {
+        gbx_log(&tmp, fmi2Error, "logStatusError", "fmi2Instantiate: unknown fmuType %d", (int)fmuType);
+        return NULL;
+    }
+    m = (ModelInstance *)gbx_calloc(&tmp, 1, sizeof(ModelInstance));
+    if (!m) {
+        gbx_log(&tmp, fmi2Error, "logStatusError", "fmi2Instantiate: out of memory");
+        return NULL;
+    }
+    m->cb = *functions;
+    m->logging = tmp.logging;
+    m->type = fmuType;
+    m->name = dup_string(m, instanceName);
+    m->resource_dir = uri_to_path(m, fmuResourceLocation);
+    if (!m->name) {
+        gbx_free(m, m->resource_dir);
+        gbx_free(m, m);
+        return NULL;
+    }
+    if (!m->resource_dir) {
+        gbx_log(m, fmi2Error, "logStatusError",
+                "fmi2Instantiate: fmuResourceLocation '%s' is not a local file URI (file:///...); "
+                "the model needs its tables from resources/",
+                fmuResourceLocation ? fmuResourceLocation : "(null)");
+        gbx_free(m, m->name);
+        gbx_free(m, m);
+        return NULL;
+    }
+    reset_values(m);
+    if (gbx_model_load(m) != 0) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2Instantiate: loading the model tables from '%s' failed",
+                m->resource_dir);
+        gbx_model_free(m);
+        gbx_free(m, m->resource_dir);
+        gbx_free(m, m->name);
+        gbx_free(m, m);
+        return NULL;
+    }
+    m->state = GBX_ST_INSTANTIATED;
+    gbx_log(m, fmi2OK, "logEvents", "instantiated (%s)",
+            fmuType == fmi2CoSimulation ? "Co-Simulation" : "Model Exchange");
+    return m;
+}
+
+void fmi2FreeInstance(fmi2Component c) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (!m) return;
+    gbx_log(m, fmi2OK, "logEvents", "freed after %ld steps, %ld rejected, %ld right-hand sides",
+            m->n_steps, m->n_rejected, m->n_rhs);
+    gbx_model_free(m);
+    gbx_free(m, m->resource_dir);
+    gbx_free(m, m->name);
+    gbx_free(m, m);
+}
+
+fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
+                               fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
+    ModelInstance *m = (ModelInstance *)c;
+    (void)stopTimeDefined;
+    (void)stopTime;
+    if (not_allowed(m, "fmi2SetupExperiment", MASK_INSTANTIATED)) return fmi2Error;
+    if (!isfinite(startTime)) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2SetupExperiment: startTime = %g must be finite",
+                startTime);
+        return fmi2Error;
+    }
+    if (toleranceDefined && m->type == fmi2CoSimulation) {
+        if (!(tolerance > 0.0 && tolerance < 1.0)) {
+            gbx_log(m, fmi2Error, "logStatusError",
+                    "fmi2SetupExperiment: tolerance = %g must be in (0, 1)", tolerance);
+            return fmi2Error;
+        }
+        m->r[GBX_VR_SOLVER_RTOL] = tolerance;
+    }
+    m->time = startTime;
+    m->t_input = startTime;
+    m->x_pending = 1;
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2EnterInitializationMode", MASK_INSTANTIATED)) return fmi2Error;
+    m->state = GBX_ST_INIT;
+    m->x_pending = 1;
+    return fmi2OK;
+}
+
+fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2ExitInitializationMode", MASK_INIT)) return fmi2Error;
+    m->x_pending = 1;
+    if (refresh_initial_state(m, "fmi2ExitInitializationMode") != 0) {
+        m->state = GBX_ST_ERROR;
+        return fmi2Error;
+    }
+    m->state = m->type == fmi2CoSimulation ? GBX_ST_STEP : GBX_ST_EVENT;
+    m->h = 0.0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Terminate(fmi2Component c) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2Terminate", MASK_EVENT | MASK_CONT | MASK_STEP | MASK_ERROR))
+        return fmi2Error;
+    gbx_log(m, fmi2OK, "logEvents", "terminated at t = %g s after %ld steps (%ld rejected)",
+            m->time, m->n_steps, m->n_rejected);
+    m->state = GBX_ST_TERMINATED;
+    return fmi2OK;
+}
+
+fmi2Status fmi2Reset(fmi2Component c) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2Reset", MASK_ANY)) return fmi2Error;
+    reset_values(m);
+    m->state = GBX_ST_INSTANTIATED;
+    return fmi2OK;
+}
+
+/* ------------------------------------------------------------- get / set */
+
+fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+    ModelInstance *m = (ModelInstance *)c;
+    size_t i;
+    int outputs_done = 0, derivs_done = 0;
+    double dx[GBX_NX_ALLOC];
+    if (not_allowed(m, "fmi2GetReal", MASK_INIT | MASK_EVENT | MASK_CONT | MASK_STEP |
+                                          MASK_TERMINATED | MASK_ERROR))
+        return fmi2Error;
+    if (null_arg(m, "fmi2GetReal", "vr", vr, nvr) || null_arg(m, "fmi2GetReal", "value", value, nvr))
+        return fmi2Error;
+    if (refresh_initial_state(m, "fmi2GetReal") != 0) return fmi2Error;
+    for (i = 0; i < nvr; i++) {
+        const gbx_var *v;
+        if (bad_vr(m, "fmi2GetReal", vr[i])) return fmi2Error;
+        v = &GBX_VARS[vr[i]];
+        switch (v->kind) {
+        case GBX_STATE:
+            value[i] = m->x[v->index];
+            break;
+        case GBX_DERIVATIVE:
+            if (!derivs_done) {
+                gbx_model_derivatives(m, m->time, m->x, dx);
+                m->n_rhs++;
+                derivs_done = 1;
+            }
+            value[i] = dx[v->index];
+            break;
+        case GBX_OUTPUT:
+            if (!outputs_done) {
+                gbx_model_outputs(m, m->time, m->x);
+                outputs_done = 1;
+            }
+            value[i] = m->r[vr[i]];
+            break;
+        default:
+            value[i] = m->r[vr[i]];
+        }
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                       const fmi2Real value[]) {
+    ModelInstance *m = (ModelInstance *)c;
+    size_t i;
+    int changed_parameter = 0;
+    double old[GBX_NR];
+    if (not_allowed(m, "fmi2SetReal", MASK_INSTANTIATED | MASK_INIT | MASK_EVENT | MASK_CONT | MASK_STEP))
+        return fmi2Error;
+    if (null_arg(m, "fmi2SetReal", "vr", vr, nvr) || null_arg(m, "fmi2SetReal", "value", value, nvr))
+        return fmi2Error;
+    /* check everything first, so that a rejected call changes nothing */
+    for (i = 0; i < nvr; i++) {
+        const gbx_var *v;
+        double x = value[i];
+        int ok;
+        if (bad_vr(m, "fmi2SetReal", vr[i])) return fmi2Error;
+        v = &GBX_VARS[vr[i]];
+        if (v->kind != GBX_PARAMETER && v->kind != GBX_INPUT) {
+            gbx_log(m, fmi2Error, "logStatusError",
+                    "fmi2SetReal: variable '%s' (vr %u) is calculated and cannot be set", v->name,
+                    (unsigned)vr[i]);
+            return fmi2Error;
+        }
+        if (v->kind == GBX_PARAMETER && v->fixed && m->state != GBX_ST_INSTANTIATED &&
+            m->state != GBX_ST_INIT) {
+            gbx_log(m, fmi2Error, "logStatusError",
+                    "fmi2SetReal: parameter '%s' is fixed: set it before initialization ends",
+                    v->name);
+            return fmi2Error;
+        }
+        if (v->kind == GBX_PARAMETER && m->state == GBX_ST_CONT) {
+            gbx_log(m, fmi2Error, "logStatusError",
+                    "fmi2SetReal: parameter '%s' can be changed in event mode, not in "
+                    "continuous-time mode", v->name);
+            return fmi2Error;
+        }
+        ok = isfinite(x) && (v->min_open ? x > v->min : x >= v->min) &&
+             (v->max_open ? x < v->max : x <= v->max);
+        if (!ok) {
+            gbx_log(m, fmi2Error, "logStatusError",
+                    "fmi2SetReal: %s = %g is invalid: must be in %s%g, %g%s", v->name, x,
+                    v->min_open ? "(" : "[", v->min, v->max, v->max_open ? ")" : "]");
+            return fmi2Error;
+        }
+    }
+    memcpy(old, m->r, sizeof old);
+    for (i = 0; i < nvr; i++) {
+        m->r[vr[i]] = value[i];
+        if (GBX_VARS[vr[i]].kind == GBX_PARAMETER) changed_parameter = 1;
+    }
+    if (changed_parameter && (m->state == GBX_ST_STEP || m->state == GBX_ST_EVENT)) {
+        if (update(m, "fmi2SetReal") != 0) {
+            char msg[512];
+            memcpy(m->r, old, sizeof old); /* a rejected call changes nothing */
+            gbx_model_update(m, msg, sizeof msg);
+            return fmi2Error;
+        }
+    }
+    if (changed_parameter && (m->state == GBX_ST_INSTANTIATED || m->state == GBX_ST_INIT))
+        m->x_pending = 1;
+    m->t_input = m->time;
+    return fmi2OK;
+}
+
+#define NO_VARIABLES(kind, ctype)                                                                  \
+    fmi2Status fmi2Get##kind(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,          \
+                             ctype value[]) {                                                      \
+        ModelInstance *m = (ModelInstance *)c;                                                     \
+        (void)vr;                                                                                  \
+        (void)value;                                                                               \
+        if (not_allowed(m, "fmi2Get" #kind, MASK_ANY)) return fmi2Error;                           \
+        if (nvr == 0) return fmi2OK;                                                               \
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2Get" #kind ": the model has no such variables"); \
+        return fmi2Error;                                                                          \
+    }                                                                                              \
+    fmi2Status fmi2Set##kind(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,          \
+                             const ctype value[]) {                                                \
+        ModelInstance *m = (ModelInstance *)c;                                                     \
+        (void)vr;                                                                                  \
+        (void)value;                                                                               \
+        if (not_allowed(m, "fmi2Set" #kind, MASK_ANY)) return fmi2Error;                           \
+        if (nvr == 0) return fmi2OK;                                                               \
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2Set" #kind ": the model has no such variables"); \
+        return fmi2Error;                                                                          \
+    }
+
+NO_VARIABLES(Integer, fmi2Integer)
+NO_VARIABLES(Boolean, fmi2Boolean)
+NO_VARIABLES(String, fmi2String)
+
+/* ------------------------------------------- FMU state, directional derivatives */
+
+#define UNSUPPORTED(fn)                                                                            \
+    {                                                                                              \
+        ModelInstance *m = (ModelInstance *)c;                                                     \
+        if (m) gbx_log(m, fmi2Error, "logStatusError", fn " is not supported by this FMU");        \
+        return fmi2Error;                                                                          \
+    }
+
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) {
+    (void)s;
+    UNSUPPORTED("fmi2GetFMUstate")
+}
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) {
+    (void)s;
+    UNSUPPORTED("fmi2SetFMUstate")
+}
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) {
+    (void)s;
+    UNSUPPORTED("fmi2FreeFMUstate")
+}
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *n) {
+    (void)s;
+    (void)n;
+    UNSUPPORTED("fmi2SerializedFMUstateSize")
+}
+fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n) {
+    (void)s;
+    (void)b;
+    (void)n;
+    UNSUPPORTED("fmi2SerializeFMUstate")
+}
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *s) {
+    (void)s;
+    (void)b;
+    (void)n;
+    UNSUPPORTED("fmi2DeSerializeFMUstate")
+}
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
+                                        const fmi2ValueReference z[], size_t nz,
+                                        const fmi2Real dv[], fmi2Real dz[]) {
+    (void)u;
+    (void)nu;
+    (void)z;
+    (void)nz;
+    (void)dv;
+    (void)dz;
+    UNSUPPORTED("fmi2GetDirectionalDerivative")
+}
+
+/* ------------------------------------------------------------ Model Exchange */
+
+fmi2Status fmi2EnterEventMode(fmi2Component c) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2EnterEventMode", MASK_EVENT | MASK_CONT)) return fmi2Error;
+    m->state = GBX_ST_EVENT;
+    return fmi2OK;
+}
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2NewDiscreteStates", MASK_EVENT)) return fmi2Error;
+    if (null_arg(m, "fmi2NewDiscreteStates", "fmi2eventInfo", info, 1)) return fmi2Error;
+    info->newDiscreteStatesNeeded = fmi2False;
+    info->terminateSimulation = fmi2False;
+    info->nominalsOfContinuousStatesChanged = fmi2False;
+    info->valuesOfContinuousStatesChanged = fmi2False;
+    info->nextEventTimeDefined = fmi2False;
+    info->nextEventTime = 0.0;
+    return fmi2OK;
+}
+
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2EnterContinuousTimeMode", MASK_EVENT)) return fmi2Error;
+    m->state = GBX_ST_CONT;
+    return fmi2OK;
+}
+
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
+    ModelInstance *m = (ModelInstance *)c;
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (not_allowed(m, "fmi2CompletedIntegratorStep", MASK_CONT)) return fmi2Error;
+    if (null_arg(m, "fmi2CompletedIntegratorStep", "enterEventMode", enterEventMode, 1) ||
+        null_arg(m, "fmi2CompletedIntegratorStep", "terminateSimulation", terminateSimulation, 1))
+        return fmi2Error;
+    *enterEventMode = fmi2False;
+    *terminateSimulation = fmi2False;
+    m->n_steps++;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2SetTime", MASK_EVENT | MASK_CONT)) return fmi2Error;
+    if (!isfinite(time)) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2SetTime: time = %g must be finite", time);
+        return fmi2Error;
+    }
+    m->time = time;
+    m->t_input = time;
+    return fmi2OK;
+}
+
+fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
+    ModelInstance *m = (ModelInstance *)c;
+    size_t i;
+    if (not_allowed(m, "fmi2SetContinuousStates", MASK_EVENT | MASK_CONT)) return fmi2Error;
+    if (nx != GBX_NX) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2SetContinuousStates: nx = %u, expected %d",
+                (unsigned)nx, GBX_NX);
+        return fmi2Error;
+    }
+    if (null_arg(m, "fmi2SetContinuousStates", "x", x, nx)) return fmi2Error;
+    for (i = 0; i < nx; i++) {
+        if (!isfinite(x[i])) {
+            gbx_log(m, fmi2Error, "logStatusError", "fmi2SetContinuousStates: x[%u] = %g is not finite",
+                    (unsigned)i, x[i]);
+            return fmi2Error;
+        }
+    }
+    for (i = 0; i < nx; i++) m->x[i] = x[i];
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx) {
+    ModelInstance *m = (ModelInstance *)c;
+    size_t i;
+    if (not_allowed(m, "fmi2GetDerivatives", MASK_INIT | MASK_EVENT | MASK_CONT | MASK_TERMINATED | MASK_ERROR))
+        return fmi2Error;
+    if (nx != GBX_NX) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2GetDerivatives: nx = %u, expected %d", (unsigned)nx,
+                GBX_NX);
+        return fmi2Error;
+    }
+    if (null_arg(m, "fmi2GetDerivatives", "derivatives", derivatives, nx)) return fmi2Error;
+    if (refresh_initial_state(m, "fmi2GetDerivatives") != 0) return fmi2Error;
+    gbx_model_derivatives(m, m->time, m->x, derivatives);
+    m->n_rhs++;
+    for (i = 0; i < nx; i++) {
+        if (!isfinite(derivatives[i])) {
+            gbx_log(m, fmi2Error, "logStatusError", "fmi2GetDerivatives: derivative %u is not finite at t = %g",
+                    (unsigned)i, m->time);
+            return fmi2Error;
+        }
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real ei[], size_t ni) {
+    ModelInstance *m = (ModelInstance *)c;
+    (void)ei;
+    if (not_allowed(m, "fmi2GetEventIndicators", MASK_ANY)) return fmi2Error;
+    if (ni != 0) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2GetEventIndicators: ni = %u, the model has none",
+                (unsigned)ni);
+        return fmi2Error;
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
+    ModelInstance *m = (ModelInstance *)c;
+    size_t i;
+    if (not_allowed(m, "fmi2GetContinuousStates", MASK_INIT | MASK_EVENT | MASK_CONT | MASK_TERMINATED | MASK_ERROR))
+        return fmi2Error;
+    if (nx != GBX_NX) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2GetContinuousStates: nx = %u, expected %d",
+                (unsigned)nx, GBX_NX);
+        return fmi2Error;
+    }
+    if (null_arg(m, "fmi2GetContinuousStates", "x", x, nx)) return fmi2Error;
+    if (refresh_initial_state(m, "fmi2GetContinuousStates") != 0) return fmi2Error;
+    for (i = 0; i < nx; i++) x[i] = m->x[i];
+    return fmi2OK;
+}
+
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real nominals[], size_t nx) {
+    ModelInstance *m = (ModelInstance *)c;
+    int i;
+    if (not_allowed(m, "fmi2GetNominalsOfContinuousStates", MASK_ANY)) return fmi2Error;
+    if (nx != GBX_NX) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2GetNominalsOfContinuousStates: nx = %u, expected %d",
+                (unsigned)nx, GBX_NX);
+        return fmi2Error;
+    }
+    if (null_arg(m, "fmi2GetNominalsOfContinuousStates", "nominals", nominals, nx)) return fmi2Error;
+    for (i = 0; i < GBX_NR; i++)
+        if (GBX_VARS[i].kind == GBX_STATE) nominals[GBX_VARS[i].index] = GBX_VARS[i].nominal;
+    return fmi2OK;
+}
+
+/* ------------------------------------------------------- Co-Simulation: DOPRI5 */
+
+/* Dormand-Prince 5(4) coefficients, Hairer-Norsett-Wanner I, Table 5.2 (Sec. II.5). */
+static const double C2 = 1.0 / 5, C3 = 3.0 / 10, C4 = 4.0 / 5, C5 = 8.0 / 9;
+static const double A21 = 1.0 / 5;
+static const double A31 = 3.0 / 40, A32 = 9.0 / 40;
+static const double A41 = 44.0 / 45, A42 = -56.0 / 15, A43 = 32.0 / 9;
+static const double A51 = 19372.0 / 6561, A52 = -25360.0 / 2187, A53 = 64448.0 / 6561,
+                    A54 = -212.0 / 729;
+static const double A61 = 9017.0 / 3168, A62 = -355.0 / 33, A63 = 46732.0 / 5247, A64 = 49.0 / 176,
+                    A65 = -5103.0 / 18656;
+static const double A71 = 35.0 / 384, A73 = 500.0 / 1113, A74 = 125.0 / 192, A75 = -2187.0 / 6784,
+                    A76 = 11.0 / 84;
+/* error coefficients b - b_hat */
+static const double E1 = 71.0 / 57600, E3 = -71.0 / 16695, E4 = 71.0 / 1920, E5 = -17253.0 / 339200,
+                    E6 = 22.0 / 525, E7 = -1.0 / 40;
+
+static void rhs(ModelInstance *m, double t, const double *x, double *dx) {
+    gbx_model_derivatives(m, t, x, dx);
+    m->n_rhs++;
+}
+
+/* Integrate m->x from m->time to t1; 0 on success. */
+static int integrate(ModelInstance *m, double t1) {
+    const int n = GBX_NX;
+    double rtol = m->r[GBX_VR_SOLVER_RTOL];
+    double hmax = m->r[GBX_VR_SOLVER_MAX_STEP];
+    double atol[GBX_NX_ALLOC];
+    double t = m->time, h = m->h;
+    double (*k)[GBX_NX_ALLOC] = m->k;
+    double *xs = m->xs, *xn = m->xn, *x = m->x;
+    long count = 0;
+    int i, last_rejected = 0;
+    if (n == 0) {
+        m->time = t1;
+        return 0;
+    }
+    for (i = 0; i < GBX_NR; i++)
+        if (GBX_VARS[i].kind == GBX_STATE) atol[GBX_VARS[i].index] = rtol * GBX_VARS[i].nominal;
+    if (!(h > 0.0)) h = fmin(hmax, 1e-6);
+    rhs(m, t, x, k[0]);
+    while (t < t1) {
+        double err = 0.0, fac;
+        int final;
+        if (++count > GBX_MAX_SUBSTEPS) {
+            gbx_log(m, fmi2Error, "logStatusError",
+                    "fmi2DoStep: more than %ld internal steps between t = %g and %g s", GBX_MAX_SUBSTEPS,
+                    m->time, t1);
+            return 1;
+        }
+        h = fmin(h, hmax);
+        final = t + h >= t1 - 1e-12 * fabs(t1);
+        if (final) h = t1 - t;
+        if (!(h > 1e-14 * fmax(1.0, fabs(t)))) {
+            gbx_log(m, fmi2Error, "logStatusError", "fmi2DoStep: step size underflow (h = %g s) at t = %g s",
+                    h, t);
+            return 1;
+        }
+        for (i = 0; i < n; i++) xs[i] = x[i] + h * A21 * k[0][i];
+        rhs(m, t + C2 * h, xs, k[1]);
+        for (i = 0; i < n; i++) xs[i] = x[i] + h * (A31 * k[0][i] + A32 * k[1][i]);
+        rhs(m, t + C3 * h, xs, k[2]);
+        for (i = 0; i < n; i++) xs[i] = x[i] + h * (A41 * k[0][i] + A42 * k[1][i] + A43 * k[2][i]);
+        rhs(m, t + C4 * h, xs, k[3]);
+        for (i = 0; i < n; i++)
+            xs[i] = x[i] + h * (A51 * k[0][i] + A52 * k[1][i] + A53 * k[2][i] + A54 * k[3][i]);
+        rhs(m, t + C5 * h, xs, k[4]);
+        for (i = 0; i < n; i++)
+            xs[i] = x[i] + h * (A61 * k[0][i] + A62 * k[1][i] + A63 * k[2][i] + A64 * k[3][i] +
+                                A65 * k[4][i]);
+        rhs(m, t + h, xs, k[5]);
+        for (i = 0; i < n; i++)
+            xn[i] = x[i] + h * (A71 * k[0][i] + A73 * k[2][i] + A74 * k[3][i] + A75 * k[4][i] +
+                                A76 * k[5][i]);
+        rhs(m, t + h, xn, k[6]);
+        for (i = 0; i < n; i++) {
+            double e = h * (E1 * k[0][i] + E3 * k[2][i] + E4 * k[3][i] + E5 * k[4][i] + E6 * k[5][i] +
+                            E7 * k[6][i]);
+            double sc = atol[i] + rtol * fmax(fabs(x[i]), fabs(xn[i]));
+            err += (e / sc) * (e / sc);
+        }
+        err = sqrt(err / n); /* HNW I eq. (4.11) */
+        if (!isfinite(err)) err = 1e10;
+        if (err <= 1.0) {
+            t = final ? t1 : t + h;
+            for (i = 0; i < n; i++) {
+                x[i] = xn[i];
+                k[0][i] = k[6][i]; /* first same as last */
+            }
+            m->n_steps++;
+            fac = err > 0.0 ? 0.9 * pow(err, -0.2) : 5.0;
+            fac = fmin(fac, last_rejected ? 1.0 : 5.0);
+            fac = fmax(fac, 0.2);
+            if (!final || fac < 1.0) h *= fac; /* keep a good step across communication points */
+            last_rejected = 0;
+        } else {
+            m->n_rejected++;
+            fac = fmax(0.2, 0.9 * pow(err, -0.2));
+            h *= fac;
+            last_rejected = 1;
+        }
+    }
+    for (i = 0; i < n; i++) {
+        if (!isfinite(x[i])) {
+            gbx_log(m, fmi2Error, "logStatusError", "fmi2DoStep: state %d is not finite at t = %g s", i, t);
+            return 1;
+        }
+    }
+    m->h = h;
+    m->time = t1;
+    return 0;
+}
+
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                       const fmi2Integer order[], const fmi2Real value[]) {
+    (void)vr;
+    (void)nvr;
+    (void)order;
+    (void)value;
+    UNSUPPORTED("fmi2SetRealInputDerivatives")
+}
+
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                        const fmi2Integer order[], fmi2Real value[]) {
+    (void)vr;
+    (void)nvr;
+    (void)order;
+    (void)value;
+    UNSUPPORTED("fmi2GetRealOutputDerivatives")
+}
+
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
+                      fmi2Real communicationStepSize, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
+    ModelInstance *m = (ModelInstance *)c;
+    double t1;
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (not_allowed(m, "fmi2DoStep", MASK_STEP)) return fmi2Error;
+    if (!(communicationStepSize > 0.0) || !isfinite(communicationStepSize)) {
+        gbx_log(m, fmi2Error, "logStatusError", "fmi2DoStep: communicationStepSize = %g must be > 0",
+                communicationStepSize);
+        return fmi2Error;
+    }
+    if (fabs(currentCommunicationPoint - m->time) > 1e-9 * fmax(1.0, fabs(m->time))) {
+        gbx_log(m, fmi2Error, "logStatusError",
+                "fmi2DoStep: currentCommunicationPoint = %.17g s, but the FMU is at t = %.17g s",
+                currentCommunicationPoint, m->time);
+        return fmi2Error;
+    }
+    m->time = currentCommunicationPoint;
+    t1 = currentCommunicationPoint + communicationStepSize;
+    if (integrate(m, t1) != 0) {
+        m->state = GBX_ST_ERROR;
+        return fmi2Error;
+    }
+    return fmi2OK;
+}
+
+fmi2Status fmi2CancelStep(fmi2Component c) UNSUPPORTED("fmi2CancelStep")
+
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
+    (void)s;
+    (void)value;
+    UNSUPPORTED("fmi2GetStatus")
+}
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
+    ModelInstance *m = (ModelInstance *)c;
+    if (not_allowed(m, "fmi2GetRealStatus", MASK_ANY)) return fmi2Error;
+    if (s == fmi2LastSuccessfulTime && value) {
+        *value = m->time;
+        return fmi2OK;
+    }
+    gbx_log(m, fmi2Error, "logStatusError", "fmi2GetRealStatus: only fmi2LastSuccessfulTime is supported");
+    return fmi2Error;
+}
+fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
+    (void)s;
+    (void)value;
+    UNSUPPORTED("fmi2GetIntegerStatus")
+}
+fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
+    (void)s;
+    (void)value;
+    UNSUPPORTED("fmi2GetBooleanStatus")
+}
+fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
+    (void)s;
+    (void)value;
+    UNSUPPORTED("fmi2GetStringStatus")
+}

@@ -1,0 +1,604 @@
+"""The FMUs of the drivetrain, built from one :class:`~gearbox.drivetrain.model.DrivetrainModel`.
+
+- :func:`drivetrain_fmu`: the whole chain (engine, shafts, mesh, propeller) in one FMU,
+  with an additive engine torque and propeller load torque as inputs.
+- :func:`gearbox_fmu`: the gearbox alone (input shaft, pinion, mesh, gear, output
+  shaft); the flange angles and speeds of engine and propeller are inputs, the shaft
+  torques outputs, for coupling to the user's own engine and propeller models.
+- :func:`engine_fmu`, :func:`propeller_fmu`: the two ends, for co-simulation with
+  :func:`gearbox_fmu` (``gearbox cosim``).
+
+Every FMU integrates the equations of docs/drivetrain.md (the same as
+``gearbox.drivetrain.model.rhs``); the mesh tables travel as samples per torque level
+in ``resources/`` and are fitted at instantiation, so the mean torque stays a
+parameter.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from importlib import resources as ilr
+
+import numpy as np
+
+from .spec import FmuModel, Variable
+
+__all__ = ["drivetrain_fmu", "engine_fmu", "gearbox_fmu", "mesh_resources", "propeller_fmu"]
+
+_DOFS = ("engine", "pinion", "gear", "propeller", "pinion_bearing", "gear_bearing")
+
+
+def _template(name: str) -> str:
+    return ilr.files("gearbox.fmu").joinpath("c").joinpath(name).read_text(encoding="utf-8")
+
+
+def _harmonics(model) -> int:
+    return (len(model.drive.k_coef) - 1) // 2
+
+
+def mesh_resources(model, table) -> dict[str, str]:
+    """Table samples for the FMU's ``resources/``: meta, torque levels, samples.
+
+    ``mesh_samples.txt`` rows: (flank, torque, position) with flank drive first; columns
+    tangent stiffness (N/m), LTE (m), mesh point P (m, Sf), line of action n (Sf).
+    """
+    flanks = [f for f in ("drive", "coast") if f in table.flanks]
+    if model.coast is None:
+        flanks = ["drive"]
+    h = _harmonics(model)
+    meta = [
+        table.pinion_teeth,
+        table.gear_teeth,
+        len(flanks),
+        table.torque.size,
+        table.angle.size,
+        h,
+        *table.pinion_axis.ravel(),
+        *table.gear_axis.ravel(),
+    ]
+    rows = []
+    for f in flanks:
+        i = table.flank_index(f)
+        for j in range(table.torque.size):
+            for p in range(table.angle.size):
+                rows.append(
+                    [
+                        table.tangent_stiffness[i, j, p],
+                        table.lte[i, j, p],
+                        *table.mesh_point[i, j, p],
+                        *table.line_of_action[i, j, p],
+                    ]
+                )
+
+    def fmt(name: str, comment: str, arr) -> str:
+        arr = np.atleast_2d(np.asarray(arr, dtype=float))
+        body = "\n".join(" ".join(f"{x:.17g}" for x in row) for row in arr)
+        return f"gearbox-table 1 {arr.shape[0]} {arr.shape[1]}\n# {comment}\n{body}\n"
+
+    src = f"# source: mesh table of scene {table.attrs.get('scene', '?')}, method {table.attrs.get('method', '?')}"
+    return {
+        "mesh_meta.txt": fmt(
+            "meta",
+            "N_1 N_2 n_flanks n_torques n_positions harmonics pinion_axis(dir, point) "
+            f"gear_axis(dir, point) (m)\n{src}",
+            [meta],
+        ),
+        "mesh_torque.txt": fmt("torque", "pinion torque levels (N m)", table.torque[:, None]),
+        "mesh_samples.txt": fmt(
+            "samples",
+            "rows: flank (drive, coast) x torque x position; columns: tangent stiffness (N/m), "
+            "LTE (m), P_x P_y P_z (m), n_x n_y n_z",
+            rows,
+        ),
+    }
+
+
+# ----------------------------------------------------------------- variables
+
+
+def _p(name, unit, desc, start, lo=None, hi=None, *, positive=False, fixed=False) -> Variable:
+    kw = {}
+    if positive:
+        kw.update(min=0.0, min_open=True)
+        desc = f"{desc} (> 0)"
+    elif lo is not None:
+        kw["min"] = lo
+    if hi is not None:
+        kw["max"] = hi
+    return Variable(name, "parameter", unit, desc, start=float(start), fixed=fixed, **kw)
+
+
+def _out(name, unit, desc) -> Variable:
+    return Variable(name, "output", unit, desc)
+
+
+def _engine_params(model, *, full: bool) -> list[Variable]:
+    v = [
+        _p(
+            "engine.nominal_speed",
+            "rad/s",
+            "Nominal engine (= pinion) speed Omega",
+            model.speed,
+            positive=True,
+            fixed=True,
+        ),
+        _p(
+            "engine.mean_torque",
+            "N.m",
+            "Mean engine torque T_op, the operating point of the mesh tables",
+            model.torque,
+            positive=True,
+            fixed=True,
+        ),
+        _p(
+            "engine.inertia",
+            "kg.m2",
+            "Engine inertia J_e incl. flywheel",
+            model.engine_inertia,
+            positive=True,
+        ),
+    ]
+    if full:
+        v += [
+            _p(
+                "engine.cylinders",
+                "1",
+                "Cylinders z of the four-stroke engine (firing order z/2)",
+                model.engine_cylinders,
+                1,
+                24,
+            ),
+            _p(
+                "engine.firing_ripple",
+                "1",
+                "Firing-order torque amplitude over mean torque r_f",
+                model.firing_ripple,
+                0,
+                10,
+            ),
+            _p(
+                "engine.half_order_ripple",
+                "1",
+                "Half-order torque amplitudes over mean torque r_h",
+                model.half_order_ripple,
+                0,
+                10,
+            ),
+            _p(
+                "engine.governor_kp",
+                "N.m.s/rad",
+                "Speed governor proportional gain K_p (0: off)",
+                model.governor_kp if model.governor else 0.0,
+                0,
+            ),
+            _p(
+                "engine.governor_ki",
+                "N.m/rad",
+                "Speed governor integral gain K_i (0: off)",
+                model.governor_ki if model.governor else 0.0,
+                0,
+            ),
+        ]
+    return v
+
+
+def _propeller_params(model, *, full: bool) -> list[Variable]:
+    v = [
+        _p(
+            "propeller.inertia",
+            "kg.m2",
+            "Propeller inertia J_pw incl. added water inertia",
+            model.propeller_inertia,
+            positive=True,
+        )
+    ]
+    if full:
+        v += [
+            _p(
+                "propeller.blades",
+                "1",
+                "Number of propeller blades Z",
+                model.propeller_blades,
+                1,
+                12,
+            ),
+            _p(
+                "propeller.blade_pass_ripple",
+                "1",
+                "Blade-pass torque amplitude over mean torque r_b",
+                model.blade_pass_ripple,
+                0,
+                10,
+            ),
+        ]
+    return v
+
+
+def _gearbox_params(model) -> list[Variable]:
+    v = [
+        _p(
+            "input_shaft.stiffness",
+            "N.m/rad",
+            "Torsional stiffness engine - pinion k_in",
+            model.input_stiffness,
+            positive=True,
+        ),
+        _p(
+            "input_shaft.damping_ratio",
+            "1",
+            "Modal damping ratio of the input shaft",
+            model.input_damping_ratio,
+            0,
+            1,
+        ),
+        _p(
+            "pinion.inertia",
+            "kg.m2",
+            "Pinion inertia J_1 incl. shaft share",
+            model.pinion_inertia,
+            positive=True,
+        ),
+        _p(
+            "gear.inertia",
+            "kg.m2",
+            "Gear inertia J_2 incl. shaft share",
+            model.gear_inertia,
+            positive=True,
+        ),
+        _p(
+            "output_shaft.stiffness",
+            "N.m/rad",
+            "Torsional stiffness gear - propeller k_out",
+            model.output_stiffness,
+            positive=True,
+        ),
+        _p(
+            "output_shaft.damping_ratio",
+            "1",
+            "Modal damping ratio of the output shaft",
+            model.output_damping_ratio,
+            0,
+            1,
+        ),
+        _p(
+            "mesh.damping_ratio",
+            "1",
+            "Mesh damping ratio zeta_mesh",
+            _mesh_damping_ratio(model),
+            0,
+            1,
+        ),
+        _p(
+            "mesh.backlash",
+            "m",
+            "Backlash along the line of action (coast contact gap)",
+            model.coast.backlash if model.coast is not None else 0.0,
+            0,
+            0.01,
+        ),
+    ]
+    if model.bearing_dofs:
+        v += [
+            _p(
+                "pinion_bearing.stiffness",
+                "N/m",
+                "Pinion bearing stiffness along the line of action",
+                model.pinion_bearing_stiffness,
+                positive=True,
+            ),
+            _p(
+                "gear_bearing.stiffness",
+                "N/m",
+                "Gear bearing stiffness along the line of action",
+                model.gear_bearing_stiffness,
+                positive=True,
+            ),
+            _p(
+                "pinion.mass",
+                "kg",
+                "Pinion mass (bearing translation)",
+                model.pinion_mass,
+                positive=True,
+            ),
+            _p(
+                "gear.mass", "kg", "Gear mass (bearing translation)", model.gear_mass, positive=True
+            ),
+            _p(
+                "bearing.damping_ratio",
+                "1",
+                "Damping ratio of each bearing translation",
+                model.bearing_damping_ratio,
+                0,
+                1,
+            ),
+        ]
+    return v
+
+
+def _mesh_damping_ratio(model) -> float:
+    """zeta_mesh back from the drive flank's damping c = 2 zeta sqrt(kbar m) (docs §3)."""
+    d = model.drive
+    inv_m = d.lambda1**2 / model.pinion_inertia + d.lambda2**2 / model.gear_inertia
+    c_unit = 2.0 * np.sqrt(d.mean_stiffness / inv_m)
+    return float(d.damping / c_unit)
+
+
+def _gearbox_outputs(model) -> list[Variable]:
+    v = [
+        _out("pinion.phi", "rad", "Pinion angle (absolute)"),
+        _out("pinion.w", "rad/s", "Pinion speed"),
+        _out("gear.phi", "rad", "Gear angle (absolute, driving sense)"),
+        _out("gear.w", "rad/s", "Gear speed"),
+        _out(
+            "input_shaft.torque",
+            "N.m",
+            "Input shaft torque T_in (on the pinion; the engine feels -T_in)",
+        ),
+        _out("output_shaft.torque", "N.m", "Output shaft torque T_out (on the propeller)"),
+        _out(
+            "mesh.force", "N", "Dynamic mesh force F_drive - F_coast along the drive line of action"
+        ),
+        _out("mesh.deflection", "m", "Mesh deflection delta_drive along the line of action"),
+        _out("mesh.dte", "m", "Dynamic transmission error delta_drive - LTE_drive(theta_1)"),
+    ]
+    if model.bearing_dofs:
+        v += [
+            _out("pinion_bearing.force", "N", "Pinion bearing force along the line of action"),
+            _out("gear_bearing.force", "N", "Gear bearing force along the line of action"),
+        ]
+    return v
+
+
+def _states(model, dofs: list[int]) -> tuple[list[Variable], list[Variable]]:
+    scale = model.state_scale()
+    n = model.n_dof
+    states, ders = [], []
+    for kind, off, unit, dunit in (("q", 0, "rad", "rad/s"), ("v", n, "rad/s", "rad/s2")):
+        for i in dofs:
+            name = f"{kind}.{_DOFS[i]}"
+            u, du = (unit, dunit) if i < 4 else (("m", "m/s") if kind == "q" else ("m/s", ""))
+            what = "deviation from the nominal rotation" if i < 4 else "bearing translation"
+            if kind == "v":
+                what = "speed " + ("deviation" if i < 4 else "of the bearing translation")
+            states.append(
+                Variable(name, "state", u, f"{_DOFS[i]} {what}", nominal=float(scale[off + i]))
+            )
+            ders.append(
+                Variable(f"der({name})", "derivative", du or "", f"d/dt {name}", derivative_of=name)
+            )
+    return states, ders
+
+
+def _mesh_c(
+    model, identifier, description, variables, dofs, *, engine, propeller, readme, resources
+) -> FmuModel:
+    h = _harmonics(model)
+    nstate = len(dofs)
+    state_of_dof = [dofs.index(i) if i in dofs else -1 for i in range(model.n_dof)]
+    head = (
+        f"#define GBX_WITH_ENGINE {int(engine)}\n"
+        f"#define GBX_WITH_PROPELLER {int(propeller)}\n"
+        f"#define GBX_BEARINGS {int(model.bearing_dofs)}\n"
+        f"#define GBX_MAX_HARMONICS {h}\n"
+        f"#define GBX_ENGINE_HARMONICS {model.engine_harmonics}\n"
+        f"#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
+        f"static const int GBX_STATE_OF_DOF[{model.n_dof}] = "
+        f"{{{', '.join(map(str, state_of_dof))}}};\n"
+        f"/* {nstate} degrees of freedom as states, velocities after positions */\n\n"
+    )
+    code = head + (_template("loads.c.in") if engine or propeller else "")
+    code += _template("drivetrain_model.c.in")
+    data = """    int n1, n2, nf, nt, np, h, has_coast;
+    double axis[2][6];
+    double *torque, *samples, *coef;
+    double lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6];
+    double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
+    double x0[6], qe0;"""
+    return FmuModel(identifier, description, tuple(variables), data, code, resources, readme)
+
+
+def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> FmuModel:
+    """The whole drivetrain as one FMU (engine torque and propeller load as extra inputs)."""
+    dofs = list(range(model.n_dof))
+    states, ders = _states(model, dofs)
+    variables = (
+        _engine_params(model, full=True)
+        + _propeller_params(model, full=True)
+        + _gearbox_params(model)
+        + [
+            Variable(
+                "engine.torque_input", "input", "N.m", "Extra engine torque added to T_e", start=0.0
+            ),
+            Variable(
+                "propeller.torque_input",
+                "input",
+                "N.m",
+                "Extra load torque on the propeller added to T_p",
+                start=0.0,
+            ),
+            _out("engine.phi", "rad", "Engine angle (absolute)"),
+            _out("engine.w", "rad/s", "Engine speed"),
+            _out("engine.torque", "N.m", "Engine torque T_e incl. governor and torque input"),
+            _out("propeller.phi", "rad", "Propeller angle (absolute)"),
+            _out("propeller.w", "rad/s", "Propeller speed"),
+            _out("propeller.torque", "N.m", "Propeller load torque T_p incl. torque input"),
+        ]
+        + _gearbox_outputs(model)
+        + states
+        + ders
+    )
+    desc = (
+        f"Beveloid marine drivetrain (engine, shafts, crossed beveloid mesh, propeller), "
+        f"scene {model.meta.get('scene', '?')}"
+    )
+    return _mesh_c(
+        model,
+        identifier,
+        desc,
+        variables,
+        dofs,
+        engine=True,
+        propeller=True,
+        readme=_readme("drivetrain", identifier, desc),
+        resources=mesh_resources(model, table),
+    )
+
+
+def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuModel:
+    """The gearbox alone: engine and propeller flange angles and speeds are inputs."""
+    dofs = [i for i in range(model.n_dof) if i not in (0, 3)]
+    states, ders = _states(model, dofs)
+    y0 = model.static_state()
+    variables = (
+        _engine_params(model, full=False)
+        + _propeller_params(model, full=False)
+        + _gearbox_params(model)
+        + [
+            Variable(
+                "input_flange.phi",
+                "input",
+                "rad",
+                "Engine-side flange angle (absolute)",
+                start=float(y0[0]),
+                rate="input_flange.w",
+            ),
+            Variable(
+                "input_flange.w", "input", "rad/s", "Engine-side flange speed", start=model.speed
+            ),
+            Variable(
+                "output_flange.phi",
+                "input",
+                "rad",
+                "Propeller-side flange angle (absolute)",
+                start=0.0,
+                rate="output_flange.w",
+            ),
+            Variable(
+                "output_flange.w",
+                "input",
+                "rad/s",
+                "Propeller-side flange speed",
+                start=model.gear_speed,
+            ),
+        ]
+        + _gearbox_outputs(model)
+        + states
+        + ders
+    )
+    notes = {
+        "engine.inertia": "; only sets the input shaft damping",
+        "propeller.inertia": "; only sets the output shaft damping",
+    }
+    variables = [
+        replace(v, description=v.description + notes[v.name]) if v.name in notes else v
+        for v in variables
+    ]
+    desc = (
+        f"Crossed beveloid gearbox with flanges as inputs (for user engine and propeller "
+        f"models), scene {model.meta.get('scene', '?')}"
+    )
+    return _mesh_c(
+        model,
+        identifier,
+        desc,
+        variables,
+        dofs,
+        engine=False,
+        propeller=False,
+        readme=_readme("gearbox", identifier, desc),
+        resources=mesh_resources(model, table),
+    )
+
+
+def engine_fmu(model, *, identifier: str = "MarineEngine") -> FmuModel:
+    """Engine alone: input shaft torque in, angle and speed out (co-simulation partner)."""
+    y0 = model.static_state()
+    variables = _engine_params(model, full=True) + [
+        _p(
+            "engine.initial_deviation",
+            "rad",
+            "Initial angle deviation q_e(0) (static "
+            "equilibrium of the whole drivetrain); governor reference",
+            float(y0[0]),
+            fixed=True,
+        ),
+        Variable(
+            "input_shaft.torque",
+            "input",
+            "N.m",
+            "Input shaft torque T_in (load on the engine)",
+            start=model.torque,
+        ),
+        _out("engine.phi", "rad", "Engine angle (absolute)"),
+        _out("engine.w", "rad/s", "Engine speed"),
+        _out("engine.torque", "N.m", "Engine torque T_e incl. governor"),
+    ]
+    states, ders = _states(model, [0])
+    variables += [states[0], states[1], ders[0], ders[1]]
+    code = (
+        f"#define GBX_ENGINE_HARMONICS {model.engine_harmonics}\n#define GBX_BLADE_HARMONICS 1\n"
+        + _template("loads.c.in").split("static double propeller_torque")[0]
+        + _template("engine_model.c.in")
+    )
+    desc = "Four-stroke marine engine: inertia, firing-order torque, optional speed governor"
+    return FmuModel(
+        identifier, desc, tuple(variables), "", code, {}, _readme("engine", identifier, desc)
+    )
+
+
+def propeller_fmu(model, *, identifier: str = "Propeller") -> FmuModel:
+    """Propeller alone: output shaft torque in, angle and speed out (co-simulation partner)."""
+    tp0 = model.propeller_coefficient * model.gear_speed**2
+    variables = [
+        _p(
+            "propeller.nominal_speed",
+            "rad/s",
+            "Nominal propeller (= gear) speed Omega_2",
+            model.gear_speed,
+            positive=True,
+            fixed=True,
+        ),
+        _p(
+            "propeller.nominal_torque",
+            "N.m",
+            "Propeller torque at the nominal speed T_p0",
+            tp0,
+            positive=True,
+            fixed=True,
+        ),
+        *_propeller_params(model, full=True),
+        Variable(
+            "output_shaft.torque",
+            "input",
+            "N.m",
+            "Output shaft torque T_out (drives the propeller)",
+            start=tp0,
+        ),
+        _out("propeller.phi", "rad", "Propeller angle (absolute)"),
+        _out("propeller.w", "rad/s", "Propeller speed"),
+        _out("propeller.torque", "N.m", "Propeller load torque T_p"),
+    ]
+    states, ders = _states(model, [3])
+    variables += [states[0], states[1], ders[0], ders[1]]
+    loads = _template("loads.c.in")
+    code = (
+        f"#define GBX_ENGINE_HARMONICS 1\n#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
+        + loads[: loads.index("static double engine_torque")]
+        + loads[loads.index("static double propeller_torque") :]
+        + _template("propeller_model.c.in")
+    )
+    desc = (
+        "Fixed-pitch marine propeller: inertia with added water, quadratic load, blade-pass ripple"
+    )
+    return FmuModel(
+        identifier, desc, tuple(variables), "", code, {}, _readme("propeller", identifier, desc)
+    )
+
+
+def _readme(kind: str, identifier: str, description: str) -> str:
+    return (
+        _template("readme.md.in")
+        .replace("@IDENTIFIER@", identifier)
+        .replace("@DESCRIPTION@", description)
+        .replace("@KIND@", kind)
+    )
