@@ -75,7 +75,8 @@ def mesh_resources(model, table) -> dict[str, str]:
         body = "\n".join(" ".join(f"{x:.17g}" for x in row) for row in arr)
         return f"gearbox-table 1 {arr.shape[0]} {arr.shape[1]}\n# {comment}\n{body}\n"
 
-    src = f"# source: mesh table of scene {table.attrs.get('scene', '?')}, method {table.attrs.get('method', '?')}"
+    attrs = table.attrs
+    src = f"# source: mesh table of scene {attrs.get('scene', '?')}, {attrs.get('method', '?')}"
     return {
         "mesh_meta.txt": fmt(
             "meta",
@@ -582,7 +583,8 @@ def propeller_fmu(model, *, identifier: str = "Propeller") -> FmuModel:
     variables += [states[0], states[1], ders[0], ders[1]]
     loads = _template("loads.c.in")
     code = (
-        f"#define GBX_ENGINE_HARMONICS 1\n#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
+        "#define GBX_ENGINE_HARMONICS 1\n"
+        f"#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
         + loads[: loads.index("static double engine_torque")]
         + loads[loads.index("static double propeller_torque") :]
         + _template("propeller_model.c.in")
