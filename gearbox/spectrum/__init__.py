@@ -10,11 +10,16 @@ single-sided peak amplitudes in the signal's unit.
   rectangular window; order tracking by angle resampling where the speed varies.
 - :func:`waterfall`, :func:`runup_waterfall` / :class:`Waterfall`.
 - :func:`campbell` / :class:`CampbellDiagram`, :func:`excitation_orders`.
+- Adapters: :func:`timeseries_spectra` (drivetrain TimeSeries channels),
+  :func:`mode_table` (eigenfrequencies per speed), :func:`period_revs_of`.
 - Figures: :mod:`gearbox.spectrum.plotting` (imports matplotlib).
 
 See docs/spectrum.md.
 """
 
+from .adapters import mode_table as mode_table
+from .adapters import period_revs_of as period_revs_of
+from .adapters import timeseries_spectra as timeseries_spectra
 from .campbell import CampbellDiagram as CampbellDiagram
 from .campbell import Crossing as Crossing
 from .campbell import ExcitationOrder as ExcitationOrder
@@ -40,9 +45,12 @@ __all__ = [
     "common_period_revs",
     "excitation_orders",
     "excitation_orders_from_scene",
+    "mode_table",
     "order_spectra",
     "order_spectrum",
+    "period_revs_of",
     "revolutions",
     "runup_waterfall",
+    "timeseries_spectra",
     "waterfall",
 ]
