@@ -85,7 +85,9 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "normal_pressure_angle_deg": _f(
             R, "Normal pressure angle alpha_n of the tool (deg).", 0, 45, True, True
         ),
-        "shaft_angle_deg": _f(R, "Shaft angle delta between the gear axes (deg).", 0, 90, False, True),
+        "shaft_angle_deg": _f(
+            R, "Shaft angle delta between the gear axes (deg).", 0, 90, False, True
+        ),
         "offset_mm": _f(
             R,
             "Offset E: shortest distance between the axes (mm). For shaft angle 0 it is "
@@ -101,7 +103,9 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "target_flank equals target_fpd_angle_deg (line contact, paper eq. (10)).",
             ("cone_angles", "target_fpd"),
         ),
-        "target_fpd_angle_deg": _f(0.0, "Target FPD angle for design_mode 'target_fpd' (deg).", -45, 45),
+        "target_fpd_angle_deg": _f(
+            0.0, "Target FPD angle for design_mode 'target_fpd' (deg).", -45, 45
+        ),
         "target_flank": _s("right", "Flank whose FPD angle is targeted.", ("right", "left")),
         "backlash_free": Field(
             "bool", True, "Gear profile shift from the backlash-free condition, paper eq. (20)."
@@ -109,9 +113,15 @@ SCHEMA: dict[str, dict[str, Field]] = {
     },
     "pinion": {
         "teeth": _i(R, "Number of teeth N_1.", 5, 1000),
-        "helix_angle_deg": _f(R, "Tool (rack) helix angle beta_1 (deg); sign gives the hand.", -60, 60),
-        "cone_angle_deg": _f(R, "Cone angle gamma_1 (deg); ignored in design_mode 'target_fpd'.", 0, 30),
-        "profile_shift_xt": _f(R, "Transverse profile-shift coefficient x_t1 at the reference section.", -1.5, 2.5),
+        "helix_angle_deg": _f(
+            R, "Tool (rack) helix angle beta_1 (deg); sign gives the hand.", -60, 60
+        ),
+        "cone_angle_deg": _f(
+            R, "Cone angle gamma_1 (deg); ignored in design_mode 'target_fpd'.", 0, 30
+        ),
+        "profile_shift_xt": _f(
+            R, "Transverse profile-shift coefficient x_t1 at the reference section.", -1.5, 2.5
+        ),
         "face_width_mm": _f(40.0, "Face width along the axis (mm).", 0, None, True),
         "reference_section_mm": _f(
             0.0,
@@ -123,7 +133,10 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "teeth": _i(R, "Number of teeth N_2.", 5, 1000),
         "cone_angle_deg": _f(R, "Cone angle gamma_2 (deg).", 0, 30),
         "helix_angle_deg": _f(
-            None, "Gear helix angle beta_2 (deg). Solved by the design (paper eqs (18)-(19)); if given, it is checked against the solution.", -60, 60
+            None,
+            "Gear helix angle beta_2 (deg). Solved by the design (paper eqs (18)-(19)); if given, it is checked against the solution.",
+            -60,
+            60,
         ),
         "profile_shift_xt": _f(
             None,
@@ -136,9 +149,13 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "reference_section_mm": _f(0.0, "As for the pinion (mm)."),
     },
     "tool": {
-        "addendum_coefficient": _f(1.25, "Tool addendum h_a0/m_n (cuts the gear dedendum).", 0.5, 2.0),
+        "addendum_coefficient": _f(
+            1.25, "Tool addendum h_a0/m_n (cuts the gear dedendum).", 0.5, 2.0
+        ),
         "tip_radius_coefficient": _f(0.25, "Tool tip radius rho_a0/m_n.", 0.0, 0.6),
-        "gear_addendum_coefficient": _f(1.0, "Gear addendum h_a/m_n from the reference line of the rack.", 0.5, 1.5),
+        "gear_addendum_coefficient": _f(
+            1.0, "Gear addendum h_a/m_n from the reference line of the rack.", 0.5, 1.5
+        ),
     },
     "material": {
         "youngs_modulus_GPa": _f(206.0, "Young's modulus, both gears (GPa).", 0, None, True),
@@ -146,8 +163,12 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "density_kg_per_m3": _f(7850.0, "Density (kg/m^3).", 0, None, True),
     },
     "load": {
-        "torques_Nm": _fl([150.0, 300.0, 450.0], "Pinion torque levels of the mesh tables (N m).", 0, None, True),
-        "operating_torque_Nm": _f(300.0, "Pinion torque at the operating point (N m).", 0, None, True),
+        "torques_Nm": _fl(
+            [150.0, 300.0, 450.0], "Pinion torque levels of the mesh tables (N m).", 0, None, True
+        ),
+        "operating_torque_Nm": _f(
+            300.0, "Pinion torque at the operating point (N m).", 0, None, True
+        ),
     },
     "assembly": {
         "offset_error_mm": _f(0.0, "Error of the offset E (mm).", -5, 5),
@@ -158,18 +179,28 @@ SCHEMA: dict[str, dict[str, Field]] = {
     "tca": {
         "positions": _i(61, "Pinion positions of the unloaded TCA sweep.", 4, 100000),
         "mesh_cycles": _f(1.5, "Pinion angle range in mesh cycles (2 pi / N_1 each).", 0, 20, True),
-        "marking_compound_mm": _f(0.00635, "Separation that defines the instantaneous contact ellipse (mm).", 0, 1, True),
+        "marking_compound_mm": _f(
+            0.00635, "Separation that defines the instantaneous contact ellipse (mm).", 0, 1, True
+        ),
     },
     "ltca": {
-        "fidelity": _s("fast", "Compliance level: 'fast' (semi-analytical) or 'fe' (finite elements).", ("fast", "fe")),
+        "fidelity": _s(
+            "fast",
+            "Compliance level: 'fast' (semi-analytical) or 'fe' (finite elements).",
+            ("fast", "fe"),
+        ),
         "positions": _i(24, "Pinion positions per mesh cycle in the mesh tables.", 4, 10000),
         "grid_profile": _i(20, "Contact grid points along the profile.", 3, 2000),
         "grid_face": _i(40, "Contact grid points along the face width.", 3, 4000),
-        "flanks": Field("strs", ["drive", "coast"], "Flanks to analyse.", choices=("drive", "coast"), min_len=1),
+        "flanks": Field(
+            "strs", ["drive", "coast"], "Flanks to analyse.", choices=("drive", "coast"), min_len=1
+        ),
     },
     "drivetrain": {
         "engine_inertia_kgm2": _f(2.0, "Engine inertia incl. flywheel (kg m^2).", 0, None, True),
-        "engine_cylinders": _i(8, "Cylinders of the 4-stroke engine (firing order = cylinders/2).", 1, 24),
+        "engine_cylinders": _i(
+            8, "Cylinders of the 4-stroke engine (firing order = cylinders/2).", 1, 24
+        ),
         "engine_power_kW": _f(
             None,
             "Engine power at the operating speed (kW); mean torque = power/speed. "
@@ -179,44 +210,87 @@ SCHEMA: dict[str, dict[str, Field]] = {
             True,
         ),
         "engine_speed_rpm": _f(2000.0, "Operating engine (= pinion) speed (rpm).", 0, None, True),
-        "firing_torque_ripple": _f(0.1, "Firing-order torque amplitude over mean engine torque.", 0, 10),
+        "firing_torque_ripple": _f(
+            0.1, "Firing-order torque amplitude over mean engine torque.", 0, 10
+        ),
         "engine_harmonics": _i(1, "Harmonics of the firing order (amplitude ripple/h).", 1, 50),
         "half_order_ripple": _f(
-            0.0, "Torque amplitude at orders 0.5, 1, 1.5 (divided by 1, 2, 3) over mean (cylinder imbalance).", 0, 10
+            0.0,
+            "Torque amplitude at orders 0.5, 1, 1.5 (divided by 1, 2, 3) over mean (cylinder imbalance).",
+            0,
+            10,
         ),
-        "governor": Field("bool", False, "Hold the set speed with a PI speed governor on top of the mean torque."),
+        "governor": Field(
+            "bool", False, "Hold the set speed with a PI speed governor on top of the mean torque."
+        ),
         "governor_kp_Nms_per_rad": _f(50.0, "Governor proportional gain (N m s/rad).", 0, None),
         "governor_ki_Nm_per_rad": _f(500.0, "Governor integral gain (N m/rad).", 0, None),
-        "input_shaft_stiffness_Nm_per_rad": _f(2.0e5, "Torsional stiffness engine - pinion (N m/rad).", 0, None, True),
+        "input_shaft_stiffness_Nm_per_rad": _f(
+            2.0e5, "Torsional stiffness engine - pinion (N m/rad).", 0, None, True
+        ),
         "input_shaft_damping_ratio": _f(0.02, "Modal damping ratio of the input shaft.", 0, 1),
-        "pinion_inertia_kgm2": _f(0.05, "Pinion inertia incl. shaft share (kg m^2).", 0, None, True),
+        "pinion_inertia_kgm2": _f(
+            0.05, "Pinion inertia incl. shaft share (kg m^2).", 0, None, True
+        ),
         "gear_inertia_kgm2": _f(0.12, "Gear inertia incl. shaft share (kg m^2).", 0, None, True),
-        "output_shaft_stiffness_Nm_per_rad": _f(4.0e5, "Torsional stiffness gear - propeller (N m/rad).", 0, None, True),
+        "output_shaft_stiffness_Nm_per_rad": _f(
+            4.0e5, "Torsional stiffness gear - propeller (N m/rad).", 0, None, True
+        ),
         "output_shaft_damping_ratio": _f(0.02, "Modal damping ratio of the output shaft.", 0, 1),
-        "bearing_dofs": Field("bool", False, "Add pinion and gear bearing translations along the line of action."),
-        "pinion_bearing_stiffness_N_per_m": _f(1.0e9, "Pinion bearing stiffness along the line of action (N/m).", 0, None, True),
-        "gear_bearing_stiffness_N_per_m": _f(1.0e9, "Gear bearing stiffness along the line of action (N/m).", 0, None, True),
+        "bearing_dofs": Field(
+            "bool", False, "Add pinion and gear bearing translations along the line of action."
+        ),
+        "pinion_bearing_stiffness_N_per_m": _f(
+            1.0e9, "Pinion bearing stiffness along the line of action (N/m).", 0, None, True
+        ),
+        "gear_bearing_stiffness_N_per_m": _f(
+            1.0e9, "Gear bearing stiffness along the line of action (N/m).", 0, None, True
+        ),
         "pinion_mass_kg": _f(8.0, "Pinion mass for the bearing translation (kg).", 0, None, True),
         "gear_mass_kg": _f(15.0, "Gear mass for the bearing translation (kg).", 0, None, True),
         "bearing_damping_ratio": _f(0.02, "Damping ratio of each bearing translation.", 0, 1),
         "mesh_damping_ratio": _f(0.05, "Mesh damping ratio (of the mesh mode).", 0, 1),
-        "mesh_harmonics": _i(0, "Mesh-order harmonics kept in the Fourier series of the tables (0 = all).", 0, 10000),
+        "mesh_harmonics": _i(
+            0, "Mesh-order harmonics kept in the Fourier series of the tables (0 = all).", 0, 10000
+        ),
         "backlash_mm": _f(0.1, "Circumferential backlash along the line of action (mm).", 0, 10),
         "propeller_inertia_kgm2": _f(5.0, "Propeller inertia in air (kg m^2).", 0, None, True),
-        "propeller_added_inertia_fraction": _f(0.25, "Added water inertia over propeller inertia.", 0, 10),
+        "propeller_added_inertia_fraction": _f(
+            0.25, "Added water inertia over propeller inertia.", 0, 10
+        ),
         "propeller_blades": _i(3, "Number of propeller blades.", 1, 12),
-        "blade_pass_ripple": _f(0.05, "Blade-pass torque amplitude over mean propeller torque.", 0, 10),
-        "blade_pass_harmonics": _i(1, "Harmonics of the blade-pass order (amplitude ripple/h).", 1, 50),
+        "blade_pass_ripple": _f(
+            0.05, "Blade-pass torque amplitude over mean propeller torque.", 0, 10
+        ),
+        "blade_pass_harmonics": _i(
+            1, "Harmonics of the blade-pass order (amplitude ripple/h).", 1, 50
+        ),
     },
     "simulation": {
-        "solver": _s("diffrax", "Dynamics solver: 'diffrax', 'exudyn' or 'scipy'.", ("diffrax", "exudyn", "scipy")),
+        "solver": _s(
+            "diffrax",
+            "Dynamics solver: 'diffrax', 'exudyn' or 'scipy'.",
+            ("diffrax", "exudyn", "scipy"),
+        ),
         "rtol": _f(1e-6, "Relative tolerance of adaptive solvers.", 0, 1, True, True),
         "settle_time_s": _f(
-            None, "Simulated time before recording (s); default from the slowest mode's decay.", 0, None
+            None,
+            "Simulated time before recording (s); default from the slowest mode's decay.",
+            0,
+            None,
         ),
-        "settled_mesh_cycles": _i(200, "Mesh cycles of settled response used for spectra.", 1, 10**7),
+        "settled_mesh_cycles": _i(
+            200, "Mesh cycles of settled response used for spectra.", 1, 10**7
+        ),
         "samples_per_mesh_cycle": _i(32, "Output samples per mesh cycle.", 4, 10000),
-        "speed_sweep_rpm": _fl([500.0, 3000.0], "Engine speed range of sweeps [min, max] (rpm).", 0, None, True, min_len=2),
+        "speed_sweep_rpm": _fl(
+            [500.0, 3000.0],
+            "Engine speed range of sweeps [min, max] (rpm).",
+            0,
+            None,
+            True,
+            min_len=2,
+        ),
         "sweep_speeds": _i(40, "Speeds in a sweep.", 2, 100000),
     },
     "outputs": {
@@ -225,9 +299,26 @@ SCHEMA: dict[str, dict[str, Field]] = {
             ["design"],
             "Results to produce; the stages they need are computed, the rest skipped.",
             choices=(
-                "design", "sweep", "tca", "ltca", "tables", "dynamics", "spectra",
-                "waterfall", "campbell", "report", "fmu",
+                "design",
+                "sweep",
+                "tca",
+                "ltca",
+                "tables",
+                "dynamics",
+                "spectra",
+                "waterfall",
+                "campbell",
+                "report",
+                "fmu",
             ),
+        ),
+        "mesh_tables": _s(
+            "auto",
+            "Source of the mesh tables for the dynamics: 'loaded_tca' (gearbox.ltca), "
+            "'analytical' (ISO 6336-1 mean stiffness with contact-line-length variation, "
+            "gearbox.mesh_analytical), or 'auto' (loaded TCA where this installation has it, "
+            "else analytical; the report names the one used).",
+            ("auto", "loaded_tca", "analytical"),
         ),
     },
 }
@@ -265,7 +356,14 @@ def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
         if len(v) < f.min_len:
             probs.add(path, v, f"must have at least {f.min_len} entries")
         sub = Field(
-            "float" if kind == "floats" else "str", None, "", f.lo, f.hi, f.lo_open, f.hi_open, f.choices
+            "float" if kind == "floats" else "str",
+            None,
+            "",
+            f.lo,
+            f.hi,
+            f.lo_open,
+            f.hi_open,
+            f.choices,
         )
         return [_check_value(sub, f"{path}[{i}]", x, probs) for i, x in enumerate(v)]
     raise AssertionError(kind)  # pragma: no cover - schema defect
@@ -341,7 +439,11 @@ def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:
         data[sec] = MappingProxyType(out)
     for sec, v in raw.items():
         if isinstance(v, dict) and sec not in SCHEMA:
-            probs.add(sec, "{...}", f"unknown section; valid sections: {', '.join(s for s in SCHEMA if s)}")
+            probs.add(
+                sec,
+                "{...}",
+                f"unknown section; valid sections: {', '.join(s for s in SCHEMA if s)}",
+            )
     where = f"scene {path}" if path else "scene"
     probs.raise_if_any(f"invalid {where}")
     return Scene(MappingProxyType(data), path)
@@ -371,7 +473,12 @@ def schema_markdown() -> str:
         "",
     ]
     for sec, fields in SCHEMA.items():
-        lines += [f"## `[{sec}]`" if sec else "## top level", "", "| key | kind | default | range | meaning |", "|---|---|---|---|---|"]
+        lines += [
+            f"## `[{sec}]`" if sec else "## top level",
+            "",
+            "| key | kind | default | range | meaning |",
+            "|---|---|---|---|---|",
+        ]
         for key, f in fields.items():
             default = "required" if f.required else ("-" if f.default is None else repr(f.default))
             if f.choices:

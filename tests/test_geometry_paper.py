@@ -34,7 +34,12 @@ def spec_from_table(case: str, offset_mm: float = T1["offset_mm"]) -> PairSpec:
         normal_pressure_angle=d(T1["normal_pressure_angle_deg"]),
         shaft_angle=d(T1["shaft_angle_deg"]),
         offset=offset_mm * 1e-3,
-        pinion=GearSpec(T1["teeth"][0], d(row["helix_angle_deg"][0]), d(row["cone_angle_deg"][0]), row["profile_shift_xt"][0]),
+        pinion=GearSpec(
+            T1["teeth"][0],
+            d(row["helix_angle_deg"][0]),
+            d(row["cone_angle_deg"][0]),
+            row["profile_shift_xt"][0],
+        ),
         gear=GearSpec(T1["teeth"][1], None, d(row["cone_angle_deg"][1]), None),
     )
 
@@ -57,7 +62,9 @@ def test_scene_files_carry_table2_and_reproduce_it(case):
     scene = load_scene(MODELS / f"case{case}.toml")
     row = ROWS[case]
     assert scene["pinion"]["helix_angle_deg"] == row["helix_angle_deg"][0]
-    assert [scene["pinion"]["cone_angle_deg"], scene["gear"]["cone_angle_deg"]] == row["cone_angle_deg"]
+    assert [scene["pinion"]["cone_angle_deg"], scene["gear"]["cone_angle_deg"]] == row[
+        "cone_angle_deg"
+    ]
     d = design_pair(PairSpec.from_scene(scene))
     assert abs(d.normal_angular_factor - row["normal_angular_factor"]) < 1e-4
     assert abs(math.degrees(d.fpd_angle_right) - row["fpd_angle_right_deg"]) < 1e-3
@@ -84,18 +91,46 @@ def _fit_single_input(name: str):
     residual norm below ~1 per output means 'consistent with the printed rounding'.
     """
     row = ROWS["04"]
-    target = np.array([row["normal_angular_factor"], row["helix_angle_deg"][1], row["fpd_angle_right_deg"], row["fpd_angle_left_deg"]])
+    target = np.array(
+        [
+            row["normal_angular_factor"],
+            row["helix_angle_deg"][1],
+            row["fpd_angle_right_deg"],
+            row["fpd_angle_left_deg"],
+        ]
+    )
     scale = np.array([0.5e-4, 0.5e-2, 0.5e-4, 0.5e-4])
-    base = dict(gamma1=row["cone_angle_deg"][0], gamma2=row["cone_angle_deg"][1], beta1=row["helix_angle_deg"][0],
-                offset=T1["offset_mm"], delta=T1["shaft_angle_deg"], alpha_n=T1["normal_pressure_angle_deg"])
+    base = dict(
+        gamma1=row["cone_angle_deg"][0],
+        gamma2=row["cone_angle_deg"][1],
+        beta1=row["helix_angle_deg"][0],
+        offset=T1["offset_mm"],
+        delta=T1["shaft_angle_deg"],
+        alpha_n=T1["normal_pressure_angle_deg"],
+    )
 
     def outputs(v):
         p = dict(base, **{name: v})
         r = math.radians
-        s = solve_pair_arrays(T1["normal_module_mm"] * 1e-3, r(p["alpha_n"]), r(p["delta"]), p["offset"] * 1e-3,
-                              T1["teeth"][0], T1["teeth"][1], r(p["beta1"]), r(p["gamma1"]), r(p["gamma2"]))
-        return np.array([float(s["xi_n"]), math.degrees(float(s["beta2"])), math.degrees(float(s["fpd_right"])),
-                         math.degrees(float(s["fpd_left"]))])
+        s = solve_pair_arrays(
+            T1["normal_module_mm"] * 1e-3,
+            r(p["alpha_n"]),
+            r(p["delta"]),
+            p["offset"] * 1e-3,
+            T1["teeth"][0],
+            T1["teeth"][1],
+            r(p["beta1"]),
+            r(p["gamma1"]),
+            r(p["gamma2"]),
+        )
+        return np.array(
+            [
+                float(s["xi_n"]),
+                math.degrees(float(s["beta2"])),
+                math.degrees(float(s["fpd_right"])),
+                math.degrees(float(s["fpd_left"])),
+            ]
+        )
 
     def resid(v):
         out = outputs(v[0])
@@ -136,7 +171,11 @@ def test_case04_offset_is_the_inconsistent_input():
 
 def test_target_fpd_mode_recovers_case03_cone_angle():
     """Designing case 03 for its own printed xi_R gives back its printed gamma_1 = 1.0 deg."""
-    spec = replace(spec_from_table("03"), design_mode="target_fpd", target_fpd_angle=math.radians(ROWS["03"]["fpd_angle_right_deg"]))
+    spec = replace(
+        spec_from_table("03"),
+        design_mode="target_fpd",
+        target_fpd_angle=math.radians(ROWS["03"]["fpd_angle_right_deg"]),
+    )
     d = design_pair(spec)
     # xi_R printed to 1e-4 deg; d(xi_R)/d(gamma_1) ~ -0.8, so gamma_1 is known to ~1e-4 deg
     assert abs(math.degrees(d.spec.pinion.cone_angle) - 1.0) < 2e-4

@@ -8,7 +8,9 @@ def add_arguments(parser):
     from ._common import add_scene_argument
 
     add_scene_argument(parser)
-    parser.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    parser.add_argument(
+        "--json", action="store_true", help="print one JSON object instead of the table"
+    )
 
 
 def run(args):

@@ -8,8 +8,12 @@ def add_arguments(parser):
     from ._common import add_scene_argument
 
     add_scene_argument(parser)
-    parser.add_argument("--out", default="gearbox-out/sweep", help="output folder (default: gearbox-out/sweep)")
-    parser.add_argument("--points", type=int, default=101, help="points along each curve (default 101)")
+    parser.add_argument(
+        "--out", default="gearbox-out/sweep", help="output folder (default: gearbox-out/sweep)"
+    )
+    parser.add_argument(
+        "--points", type=int, default=101, help="points along each curve (default 101)"
+    )
 
 
 def run(args):

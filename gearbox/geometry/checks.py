@@ -45,7 +45,14 @@ import numpy as np
 from .design import Check, GearDesign, PairDesign
 from .involute import inv
 
-__all__ = ["design_checks", "overlap_ratio", "sections", "N_SECTIONS", "TOPPING_MIN_SAN", "TOTAL_CONTACT_MIN"]
+__all__ = [
+    "design_checks",
+    "overlap_ratio",
+    "sections",
+    "N_SECTIONS",
+    "TOPPING_MIN_SAN",
+    "TOTAL_CONTACT_MIN",
+]
 
 N_SECTIONS = 21
 TOPPING_MIN_SAN = 0.25
@@ -64,7 +71,11 @@ def _radial_shift(g: GearDesign, z):
 
 
 def _tip_radius(g: GearDesign, z, m_n, tool):
-    return g.reference_pitch_radius + _radial_shift(g, z) + tool.gear_addendum_coefficient * m_n / math.cos(g.cone_angle)
+    return (
+        g.reference_pitch_radius
+        + _radial_shift(g, z)
+        + tool.gear_addendum_coefficient * m_n / math.cos(g.cone_angle)
+    )
 
 
 def _where(g, z, i) -> str:
@@ -85,18 +96,29 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
     for name, g in (("pinion", d.pinion), ("gear", d.gear)):
         z = sections(g)
         X = _radial_shift(g, z)
-        h_lim = (tool.addendum_coefficient - tool.tip_radius_coefficient * (1 - math.sin(a_n))) * m_n / math.cos(g.cone_angle)
+        h_lim = (
+            (tool.addendum_coefficient - tool.tip_radius_coefficient * (1 - math.sin(a_n)))
+            * m_n
+            / math.cos(g.cone_angle)
+        )
         for j, flank in enumerate(("right", "left")):
             a_p = g.transverse_pressure_angle[j]
             margin = g.reference_pitch_radius * math.sin(a_p) ** 2 - (h_lim - X)
             i = int(np.argmin(margin))
             out[f"{name}_undercut_{flank}"] = Check(
-                bool(margin[i] >= 0), float(margin[i]), "m",
+                bool(margin[i] >= 0),
+                float(margin[i]),
+                "m",
                 f"{name} {flank} flank: no undercut while the tool's straight flank ends above the interference "
                 f"point; worst at {_where(g, z, i)}",
             )
         r_a = _tip_radius(g, z, m_n, tool)
-        psi = math.pi / g.teeth + X * (math.tan(g.transverse_pressure_angle[0]) + math.tan(g.transverse_pressure_angle[1])) / g.reference_pitch_radius
+        psi = (
+            math.pi / g.teeth
+            + X
+            * (math.tan(g.transverse_pressure_angle[0]) + math.tan(g.transverse_pressure_angle[1]))
+            / g.reference_pitch_radius
+        )
         for j in range(2):
             a_a = np.arccos(np.clip(g.base_radius[j] / r_a, -1, 1))
             psi = psi + inv(g.transverse_pressure_angle[j]) - inv(a_a)
@@ -104,7 +126,9 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
         margin = s_an - TOPPING_MIN_SAN * m_n
         i = int(np.argmin(margin))
         out[f"{name}_topping"] = Check(
-            bool(margin[i] >= 0), float(margin[i]), "m",
+            bool(margin[i] >= 0),
+            float(margin[i]),
+            "m",
             f"{name}: normal tip tooth thickness {s_an[i] * 1e3:.3f} mm >= {TOPPING_MIN_SAN:g} m_n; worst at {_where(g, z, i)}",
         )
     # transverse contact ratio, corresponding sections of both gears
@@ -120,19 +144,25 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
             eps = eps + g_a / (2 * math.pi * r_b / g.teeth)
         i = int(np.argmin(eps))
         out[f"transverse_contact_ratio_{flank}"] = Check(
-            bool(eps[i] >= 1.0), float(eps[i] - 1.0), "1",
+            bool(eps[i] >= 1.0),
+            float(eps[i] - 1.0),
+            "1",
             f"{flank} flanks: transverse contact ratio min {eps[i]:.3f} (toe {eps[0]:.3f}, heel {eps[-1]:.3f}) >= 1",
         )
         eps_g = float(eps[i]) + eps_b[0]
         out[f"total_contact_ratio_{flank}"] = Check(
-            bool(eps_g >= TOTAL_CONTACT_MIN), eps_g - TOTAL_CONTACT_MIN, "1",
+            bool(eps_g >= TOTAL_CONTACT_MIN),
+            eps_g - TOTAL_CONTACT_MIN,
+            "1",
             f"{flank} flanks: eps_gamma = eps_alpha + eps_beta(pinion) = {eps_g:.3f} >= {TOTAL_CONTACT_MIN:g} "
             f"(overlap ratios: pinion {eps_b[0]:.3f}, gear {eps_b[1]:.3f})",
         )
     if spec.gear.helix_angle is not None:
         diff = abs(math.degrees(spec.gear.helix_angle - d.gear.helix_angle))
         out["gear_helix_angle_given"] = Check(
-            bool(diff <= HELIX_TOL_DEG), HELIX_TOL_DEG - diff, "deg",
+            bool(diff <= HELIX_TOL_DEG),
+            HELIX_TOL_DEG - diff,
+            "deg",
             f"given gear helix angle {math.degrees(spec.gear.helix_angle):.4f} deg vs solved "
             f"{math.degrees(d.gear.helix_angle):.4f} deg (tolerance {HELIX_TOL_DEG} deg)",
         )

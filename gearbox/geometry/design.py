@@ -178,7 +178,9 @@ def _offset_of(xi, m_n, alpha_n, delta, n1, n2, beta1, gamma1, gamma2):
     """Offset E(xi_n) from eqs (18)-(19) and the intermediate quantities (vectorised)."""
     alpha_nw, gw1, bw1, _ = working_rack(xi, alpha_n, beta1, gamma1)
     with np.errstate(invalid="ignore", divide="ignore"):
-        sin_gw2 = np.where(np.asarray(gamma2) == 0.0, 0.0, np.sin(alpha_n) * np.sin(gamma2) / np.sin(alpha_nw))
+        sin_gw2 = np.where(
+            np.asarray(gamma2) == 0.0, 0.0, np.sin(alpha_n) * np.sin(gamma2) / np.sin(alpha_nw)
+        )
         gw2 = np.arcsin(sin_gw2)
         s1, s2 = np.sin(gw1), sin_gw2
         c1, c2 = np.cos(gw1), np.cos(gw2)
@@ -187,16 +189,34 @@ def _offset_of(xi, m_n, alpha_n, delta, n1, n2, beta1, gamma1, gamma2):
         D = np.where((D < 0) & (D > -1e-15), 0.0, D)
         rD = np.sqrt(D)
         cones_zero = (s1 == 0.0) & (s2 == 0.0)
-        q = np.where(cones_zero, 1.0, rD / np.sin(delta))  # sqrt(D)/sin(delta); exact 1 at the limits
+        q = np.where(
+            cones_zero, 1.0, rD / np.sin(delta)
+        )  # sqrt(D)/sin(delta); exact 1 at the limits
         s = np.arctan2(rD, s1 * s2 + np.cos(delta))  # beta_w1 + beta_w2, eq. (18)
         bw2 = s - bw1
         rw1 = m_n * n1 / (2.0 * xi * np.cos(bw1))
         rw2 = m_n * n2 / (2.0 * xi * np.cos(bw2))
         E = (rw1 / c1 + rw2 / c2) * q  # eq. (19)
-    return E, dict(alpha_nw=alpha_nw, gw1=gw1, gw2=gw2, bw1=bw1, bw2=bw2, rw1=rw1, rw2=rw2, q=q, D=D, s1=s1, s2=s2, c1=c1, c2=c2)
+    return E, dict(
+        alpha_nw=alpha_nw,
+        gw1=gw1,
+        gw2=gw2,
+        bw1=bw1,
+        bw2=bw2,
+        rw1=rw1,
+        rw2=rw2,
+        q=q,
+        D=D,
+        s1=s1,
+        s2=s2,
+        c1=c1,
+        c2=c2,
+    )
 
 
-def solve_pair_arrays(m_n, alpha_n, delta, offset, n1, n2, beta1, gamma1, gamma2, *, max_iter=MAX_ITER):
+def solve_pair_arrays(
+    m_n, alpha_n, delta, offset, n1, n2, beta1, gamma1, gamma2, *, max_iter=MAX_ITER
+):
     """Solve eqs (18)-(19) for xi_n and beta_2 over broadcast arrays of inputs.
 
     All angles in rad, lengths in m. Returns a dict of arrays (``xi_n``, ``beta2``,
@@ -204,7 +224,12 @@ def solve_pair_arrays(m_n, alpha_n, delta, offset, n1, n2, beta1, gamma1, gamma2
     array: converged, inside the domain) and ``iterations``. Entries without a
     solution are NaN with ``ok = False``; no warning is emitted.
     """
-    args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (m_n, alpha_n, delta, offset, n1, n2, beta1, gamma1, gamma2)))
+    args = np.broadcast_arrays(
+        *(
+            np.asarray(a, dtype=float)
+            for a in (m_n, alpha_n, delta, offset, n1, n2, beta1, gamma1, gamma2)
+        )
+    )
     m_n, alpha_n, delta, offset, n1, n2, beta1, gamma1, gamma2 = args
     xi = np.ones_like(m_n)
     # fixed-point start: E is nearly proportional to 1/xi
@@ -212,7 +237,7 @@ def solve_pair_arrays(m_n, alpha_n, delta, offset, n1, n2, beta1, gamma1, gamma2
     xi = np.clip(xi * E / offset, 0.2, 0.999 / np.cos(alpha_n))
     it = 0
     converged = np.zeros(xi.shape, dtype=bool)
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007 - the count is reported
         E, _ = _offset_of(xi, m_n, alpha_n, delta, n1, n2, beta1, gamma1, gamma2)
         g = np.log(E / offset)
         h = 1e-6 * xi
@@ -232,7 +257,12 @@ def solve_pair_arrays(m_n, alpha_n, delta, offset, n1, n2, beta1, gamma1, gamma2
     ok = np.isfinite(resid) & (resid <= 1e-13)
     # gear tool helix angle from its working helix angle (inverse of working_rack)
     with np.errstate(invalid="ignore"):
-        sin_b2 = np.sin(w["bw2"]) * np.cos(w["alpha_nw"]) * np.cos(w["gw2"]) / (np.cos(alpha_n) * np.cos(gamma2))
+        sin_b2 = (
+            np.sin(w["bw2"])
+            * np.cos(w["alpha_nw"])
+            * np.cos(w["gw2"])
+            / (np.cos(alpha_n) * np.cos(gamma2))
+        )
         beta2 = np.arcsin(sin_b2)
     fr1, fl1 = fpd_parts(w["alpha_nw"], w["bw1"], w["gw1"])
     fr2, fl2 = fpd_parts(w["alpha_nw"], w["bw2"], w["gw2"])
@@ -256,19 +286,86 @@ def _no_solution_error(spec: PairSpec) -> InputError:
     """Explain a failed xi_n solve: which offsets would have a solution."""
     pi, ge = spec.pinion, spec.gear
     xis = np.linspace(0.3, 0.9999 / math.cos(spec.normal_pressure_angle), 4000)
-    E, _ = _offset_of(xis, spec.normal_module, spec.normal_pressure_angle, spec.shaft_angle, pi.teeth, ge.teeth,
-                      pi.helix_angle, pi.cone_angle, ge.cone_angle)
+    E, _ = _offset_of(
+        xis,
+        spec.normal_module,
+        spec.normal_pressure_angle,
+        spec.shaft_angle,
+        pi.teeth,
+        ge.teeth,
+        pi.helix_angle,
+        pi.cone_angle,
+        ge.cone_angle,
+    )
     E = E[np.isfinite(E)]
     if E.size:
         rng = f"for these teeth, angles and module a solution needs roughly {E.min() * 1e3:.1f} <= offset_mm <= {E.max() * 1e3:.1f}"
-        return InputError(Problem("pair.offset_mm", spec.offset * 1e3, f"paper eqs (18)-(19) have no solution; {rng}"),
-                          "no design exists")
+        return InputError(
+            Problem(
+                "pair.offset_mm", spec.offset * 1e3, f"paper eqs (18)-(19) have no solution; {rng}"
+            ),
+            "no design exists",
+        )
     g_sum = math.degrees(pi.cone_angle + ge.cone_angle)
     return InputError(
-        Problem("pinion.cone_angle_deg + gear.cone_angle_deg", round(g_sum, 6),
-                f"paper eqs (18)-(19) have no solution: the working pitch cones cannot touch a common plane; "
-                f"the sum must stay below about the shaft angle ({math.degrees(spec.shaft_angle):g} deg)"),
-        "no design exists")
+        Problem(
+            "pinion.cone_angle_deg + gear.cone_angle_deg",
+            round(g_sum, 6),
+            f"paper eqs (18)-(19) have no solution: the working pitch cones cannot touch a common plane; "
+            f"the sum must stay below about the shaft angle ({math.degrees(spec.shaft_angle):g} deg)",
+        ),
+        "no design exists",
+    )
+
+
+XT_RANGE = (-1.5, 2.5)
+
+
+def _profile_shift_error(spec: PairSpec, xt2: float) -> InputError:
+    """The offset needs an impossible gear profile shift: say which offsets work."""
+    from dataclasses import replace
+
+    def xt2_at(E):
+        sol = solve_pair_arrays(
+            spec.normal_module,
+            spec.normal_pressure_angle,
+            spec.shaft_angle,
+            E,
+            spec.pinion.teeth,
+            spec.gear.teeth,
+            spec.pinion.helix_angle,
+            spec.pinion.cone_angle,
+            spec.gear.cone_angle,
+        )
+        return backlash_free_xt2(replace(spec, offset=E), float(sol["beta2"]), float(sol["xi_n"]))
+
+    # scan offsets around the sum of the reference pitch radii (zero working shift)
+    a0 = (
+        0.5
+        * spec.normal_module
+        * (spec.pinion.teeth / math.cos(spec.pinion.helix_angle) + spec.gear.teeth)
+    )
+    good = []
+    for E in np.linspace(0.8 * a0, 1.25 * a0, 181):
+        try:
+            x = xt2_at(E)
+        except (ValueError, ZeroDivisionError):
+            continue
+        if XT_RANGE[0] <= x <= XT_RANGE[1]:
+            good.append(E)
+    rng = (
+        f"about {min(good) * 1e3:.1f} <= offset_mm <= {max(good) * 1e3:.1f} keeps it in range"
+        if good
+        else "no offset near the reference centre distance keeps it in range"
+    )
+    return InputError(
+        Problem(
+            "pair.offset_mm",
+            spec.offset * 1e3,
+            f"gives a backlash-free gear profile shift x_t2 = {xt2:.3f}, outside [{XT_RANGE[0]}, {XT_RANGE[1]}]; {rng}",
+        ),
+        "no usable design",
+    )
 
 
 def _gear_design(g, helix, xt, xi, alpha_n, m_n, mounting, h_axial, fpd):
@@ -345,13 +442,24 @@ def design_pair(spec: PairSpec, *, with_checks: bool = True) -> PairDesign:
 
         spec = spec.with_pinion(cone_angle=solve_cone_angle_for_fpd(spec))
     pi, ge = spec.pinion, spec.gear
-    sol = solve_pair_arrays(spec.normal_module, spec.normal_pressure_angle, spec.shaft_angle, spec.offset,
-                            pi.teeth, ge.teeth, pi.helix_angle, pi.cone_angle, ge.cone_angle)
+    sol = solve_pair_arrays(
+        spec.normal_module,
+        spec.normal_pressure_angle,
+        spec.shaft_angle,
+        spec.offset,
+        pi.teeth,
+        ge.teeth,
+        pi.helix_angle,
+        pi.cone_angle,
+        ge.cone_angle,
+    )
     if not bool(sol["ok"]):
         raise _no_solution_error(spec)
     w = {k: float(v) for k, v in sol.items() if k not in ("fpd_parts", "ok", "iterations")}
     xi, beta2 = w["xi_n"], w["beta2"]
     xt2 = backlash_free_xt2(spec, beta2, xi) if spec.backlash_free else ge.profile_shift_xt
+    if spec.backlash_free and not XT_RANGE[0] <= xt2 <= XT_RANGE[1]:
+        raise _profile_shift_error(spec, xt2)
     P, normal, h1, h2, d1, d2 = _cone_construction(spec.offset, spec.shaft_angle, w)
     (fr1, fl1), (fr2, fl2) = (tuple(float(x) for x in part) for part in sol["fpd_parts"])
     a_n, m_n = spec.normal_pressure_angle, spec.normal_module

@@ -25,8 +25,17 @@ def inv(a):
     """
     a = np.asarray(a, dtype=float)
     a2 = a * a
-    series = a * a2 * (
-        _SERIES[0] + a2 * (_SERIES[1] + a2 * (_SERIES[2] + a2 * (_SERIES[3] + a2 * (_SERIES[4] + a2 * _SERIES[5]))))
+    series = (
+        a
+        * a2
+        * (
+            _SERIES[0]
+            + a2
+            * (
+                _SERIES[1]
+                + a2 * (_SERIES[2] + a2 * (_SERIES[3] + a2 * (_SERIES[4] + a2 * _SERIES[5])))
+            )
+        )
     )
     out = np.where(np.abs(a) < 0.05, series, np.tan(a) - a)
     return out if out.ndim else float(out)
@@ -55,4 +64,8 @@ def inv_inverse(y, *, tol: float = 1e-15, max_iter: int = 30):
         a = a_new
         if np.all(done):
             return a if a.ndim else float(a)
-    raise InputError(Problem("inv_inverse.y", y.tolist(), f"Newton iteration did not converge in {max_iter} steps"))
+    raise InputError(
+        Problem(
+            "inv_inverse.y", y.tolist(), f"Newton iteration did not converge in {max_iter} steps"
+        )
+    )

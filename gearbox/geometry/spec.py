@@ -93,16 +93,34 @@ class PairSpec:
         p = Problems()
         p.in_range("pair.normal_module_mm", self.normal_module * 1e3, 0, None, lo_open=True)
         p.in_range(
-            "pair.normal_pressure_angle_deg", math.degrees(self.normal_pressure_angle), 0, 45, lo_open=True, hi_open=True
+            "pair.normal_pressure_angle_deg",
+            math.degrees(self.normal_pressure_angle),
+            0,
+            45,
+            lo_open=True,
+            hi_open=True,
         )
         p.in_range("pair.shaft_angle_deg", math.degrees(self.shaft_angle), 0, 90, hi_open=True)
         p.in_range("pair.offset_mm", self.offset * 1e3, 0, None, lo_open=True)
-        p.check(self.design_mode in ("cone_angles", "target_fpd"), "pair.design_mode", self.design_mode,
-                "must be 'cone_angles' or 'target_fpd'")
-        p.check(self.target_flank in ("right", "left"), "pair.target_flank", self.target_flank,
-                "must be 'right' or 'left'")
+        p.check(
+            self.design_mode in ("cone_angles", "target_fpd"),
+            "pair.design_mode",
+            self.design_mode,
+            "must be 'cone_angles' or 'target_fpd'",
+        )
+        p.check(
+            self.target_flank in ("right", "left"),
+            "pair.target_flank",
+            self.target_flank,
+            "must be 'right' or 'left'",
+        )
         for name, g in (("pinion", self.pinion), ("gear", self.gear)):
-            p.check(isinstance(g.teeth, int) and g.teeth >= 5, f"{name}.teeth", g.teeth, "must be an integer >= 5")
+            p.check(
+                isinstance(g.teeth, int) and g.teeth >= 5,
+                f"{name}.teeth",
+                g.teeth,
+                "must be an integer >= 5",
+            )
             p.in_range(f"{name}.cone_angle_deg", math.degrees(g.cone_angle), 0, 30)
             p.in_range(f"{name}.face_width_mm", g.face_width * 1e3, 0, None, lo_open=True)
             if g.helix_angle is not None:
@@ -110,15 +128,23 @@ class PairSpec:
             if g.profile_shift_xt is not None:
                 p.in_range(f"{name}.profile_shift_xt", g.profile_shift_xt, -1.5, 2.5)
         p.check(self.pinion.helix_angle is not None, "pinion.helix_angle_deg", None, "is required")
-        p.check(self.pinion.profile_shift_xt is not None, "pinion.profile_shift_xt", None, "is required")
+        p.check(
+            self.pinion.profile_shift_xt is not None, "pinion.profile_shift_xt", None, "is required"
+        )
         if not self.backlash_free:
-            p.check(self.gear.profile_shift_xt is not None, "gear.profile_shift_xt", None,
-                    "is required when pair.backlash_free = false")
+            p.check(
+                self.gear.profile_shift_xt is not None,
+                "gear.profile_shift_xt",
+                None,
+                "is required when pair.backlash_free = false",
+            )
         if self.shaft_angle == 0.0 and (self.pinion.cone_angle > 0 or self.gear.cone_angle > 0):
-            p.add("pinion.cone_angle_deg / gear.cone_angle_deg",
-                  (math.degrees(self.pinion.cone_angle), math.degrees(self.gear.cone_angle)),
-                  "must both be 0 when pair.shaft_angle_deg = 0 (working pitch cones cannot "
-                  "touch a common plane otherwise)")
+            p.add(
+                "pinion.cone_angle_deg / gear.cone_angle_deg",
+                (math.degrees(self.pinion.cone_angle), math.degrees(self.gear.cone_angle)),
+                "must both be 0 when pair.shaft_angle_deg = 0 (working pitch cones cannot "
+                "touch a common plane otherwise)",
+            )
         p.raise_if_any("invalid gear pair specification")
         return self
 
@@ -144,7 +170,11 @@ class PairSpec:
             offset=pr["offset_mm"] * 1e-3,
             pinion=gear(pi, False),
             gear=gear(ge, True),
-            tool=ToolSpec(to["addendum_coefficient"], to["tip_radius_coefficient"], to["gear_addendum_coefficient"]),
+            tool=ToolSpec(
+                to["addendum_coefficient"],
+                to["tip_radius_coefficient"],
+                to["gear_addendum_coefficient"],
+            ),
             design_mode=pr["design_mode"],
             target_fpd_angle=_D(pr["target_fpd_angle_deg"]),
             target_flank=pr["target_flank"],

@@ -40,8 +40,12 @@ def design_summary(d: PairDesign) -> dict:
         "working_cone_angle_deg": [_deg(x.working_cone_angle) for x in g],
         "working_pitch_radius_mm": [x.working_pitch_radius * 1e3 for x in g],
         "reference_pitch_radius_mm": [x.reference_pitch_radius * 1e3 for x in g],
-        "transverse_pressure_angle_deg": [[_deg(a) for a in x.transverse_pressure_angle] for x in g],
-        "working_transverse_pressure_angle_deg": [[_deg(a) for a in x.working_transverse_pressure_angle] for x in g],
+        "transverse_pressure_angle_deg": [
+            [_deg(a) for a in x.transverse_pressure_angle] for x in g
+        ],
+        "working_transverse_pressure_angle_deg": [
+            [_deg(a) for a in x.working_transverse_pressure_angle] for x in g
+        ],
         "base_radius_mm": [[r * 1e3 for r in x.base_radius] for x in g],
         "base_helix_angle_deg": [[_deg(a) for a in x.base_helix_angle] for x in g],
         "fpd_part_deg": [[_deg(a) for a in x.fpd_part] for x in g],
@@ -61,8 +65,16 @@ def design_table(d: PairDesign) -> str:
     s = design_summary(d)
     rows = [
         ("normal angular factor xi_n", f"{s['normal_angular_factor']:.6f}", ""),
-        ("FPD angle xi_R / xi_L (deg)", f"{s['fpd_angle_right_deg']:.4f}", f"{s['fpd_angle_left_deg']:.4f}"),
-        ("working normal pressure angle (deg)", f"{s['working_normal_pressure_angle_deg']:.4f}", ""),
+        (
+            "FPD angle xi_R / xi_L (deg)",
+            f"{s['fpd_angle_right_deg']:.4f}",
+            f"{s['fpd_angle_left_deg']:.4f}",
+        ),
+        (
+            "working normal pressure angle (deg)",
+            f"{s['working_normal_pressure_angle_deg']:.4f}",
+            "",
+        ),
         ("working normal module (mm)", f"{s['working_normal_module_mm']:.5f}", ""),
     ]
     per_gear = [
@@ -79,12 +91,20 @@ def design_table(d: PairDesign) -> str:
     for label, key, fmt in per_gear:
         vals = [("inf" if v is None else fmt.format(v)) for v in s[key]]
         rows.append((label, *vals))
-    for label, key in (("transverse pressure angle R/L (deg)", "transverse_pressure_angle_deg"),
-                       ("base radius R/L (mm)", "base_radius_mm"), ("FPD part R/L (deg)", "fpd_part_deg")):
+    for label, key in (
+        ("transverse pressure angle R/L (deg)", "transverse_pressure_angle_deg"),
+        ("base radius R/L (mm)", "base_radius_mm"),
+        ("FPD part R/L (deg)", "fpd_part_deg"),
+    ):
         rows.append((label, *[" / ".join(f"{v:.4f}" for v in pair) for pair in s[key]]))
     w = max(len(r[0]) for r in rows) + 2
-    lines = [f"{'':{w}}{'pinion':>20}{'gear':>20}", *(f"{r[0]:{w}}{r[1]:>20}{(r[2] if len(r) > 2 else ''):>20}" for r in rows)]
+    lines = [
+        f"{'':{w}}{'pinion':>20}{'gear':>20}",
+        *(f"{r[0]:{w}}{r[1]:>20}{(r[2] if len(r) > 2 else ''):>20}" for r in rows),
+    ]
     lines += ["", "checks:"]
     for name, c in s["checks"].items():
-        lines.append(f"  {'ok  ' if c['ok'] else 'FAIL'} {name:34} margin {c['margin']:+.4g} {c['unit']:4} {c['detail']}")
+        lines.append(
+            f"  {'ok  ' if c['ok'] else 'FAIL'} {name:34} margin {c['margin']:+.4g} {c['unit']:4} {c['detail']}"
+        )
     return "\n".join(lines)

@@ -56,8 +56,16 @@ class Study:
         rows = [head]
         for i, c in enumerate(self.curves):
             for j, x in enumerate(self.x):
-                vals = (self.xi_n[i, j], self.fpd_right_deg[i, j], self.fpd_left_deg[i, j], self.gear_helix_deg[i, j])
-                rows.append(f"{c:.6g},{x:.6g}," + ",".join("" if not np.isfinite(v) else f"{v:.10g}" for v in vals))
+                vals = (
+                    self.xi_n[i, j],
+                    self.fpd_right_deg[i, j],
+                    self.fpd_left_deg[i, j],
+                    self.gear_helix_deg[i, j],
+                )
+                rows.append(
+                    f"{c:.6g},{x:.6g},"
+                    + ",".join("" if not np.isfinite(v) else f"{v:.10g}" for v in vals)
+                )
         return "\n".join(rows) + "\n"
 
 
@@ -72,7 +80,9 @@ def _inputs(spec: PairSpec):
     }
 
 
-def parameter_study(spec: PairSpec, x_name: str, x_values, curve_name: str, curve_values, *, name: str = "") -> Study:
+def parameter_study(
+    spec: PairSpec, x_name: str, x_values, curve_name: str, curve_values, *, name: str = ""
+) -> Study:
     """Solve the design over the grid ``curve_values x x_values`` (edge units)."""
     for n in (x_name, curve_name):
         if n not in VARIABLES:
@@ -85,17 +95,31 @@ def parameter_study(spec: PairSpec, x_name: str, x_values, curve_name: str, curv
     vals[x_name] = x[None, :] * VARIABLES[x_name][2]
     vals[curve_name] = c[:, None] * VARIABLES[curve_name][2]
     sol = solve_pair_arrays(
-        spec.normal_module, spec.normal_pressure_angle, vals["shaft_angle"], vals["offset"],
-        spec.pinion.teeth, spec.gear.teeth, vals["pinion_helix_angle"], vals["pinion_cone_angle"], vals["gear_cone_angle"],
+        spec.normal_module,
+        spec.normal_pressure_angle,
+        vals["shaft_angle"],
+        vals["offset"],
+        spec.pinion.teeth,
+        spec.gear.teeth,
+        vals["pinion_helix_angle"],
+        vals["pinion_cone_angle"],
+        vals["gear_cone_angle"],
     )
     shape = (c.size, x.size)
     b = lambda a: np.broadcast_to(a, shape).copy()  # noqa: E731
     return Study(
         name=name or f"{x_name}_vs_{curve_name}",
-        x_name=x_name, x_unit=VARIABLES[x_name][1], x=x,
-        curve_name=curve_name, curve_unit=VARIABLES[curve_name][1], curves=c,
-        xi_n=b(sol["xi_n"]), fpd_right_deg=b(np.degrees(sol["fpd_right"])), fpd_left_deg=b(np.degrees(sol["fpd_left"])),
-        gear_helix_deg=b(np.degrees(sol["beta2"])), ok=b(sol["ok"]),
+        x_name=x_name,
+        x_unit=VARIABLES[x_name][1],
+        x=x,
+        curve_name=curve_name,
+        curve_unit=VARIABLES[curve_name][1],
+        curves=c,
+        xi_n=b(sol["xi_n"]),
+        fpd_right_deg=b(np.degrees(sol["fpd_right"])),
+        fpd_left_deg=b(np.degrees(sol["fpd_left"])),
+        gear_helix_deg=b(np.degrees(sol["beta2"])),
+        ok=b(sol["ok"]),
     )
 
 
@@ -111,8 +135,36 @@ def PAPER_STUDIES(spec: PairSpec, n: int = 101) -> list[Study]:
     shafts = [9.0, 11.0, 13.0, 15.0]
     g2s = [0.2, 0.5, 0.8, 1.1]
     return [
-        parameter_study(spec, "pinion_cone_angle", g1, "shaft_angle", shafts, name="fig6a_fig7a_cone_angle_vs_shaft_angle"),
-        parameter_study(spec, "pinion_cone_angle", g1, "gear_cone_angle", g2s, name="fig6b_fig7b_cone_angle_vs_gear_cone_angle"),
-        parameter_study(spec, "pinion_helix_angle", b1, "shaft_angle", shafts, name="fig8a_fig9a_helix_angle_vs_shaft_angle"),
-        parameter_study(spec, "pinion_helix_angle", b1, "gear_cone_angle", g2s, name="fig8b_fig9b_helix_angle_vs_gear_cone_angle"),
+        parameter_study(
+            spec,
+            "pinion_cone_angle",
+            g1,
+            "shaft_angle",
+            shafts,
+            name="fig6a_fig7a_cone_angle_vs_shaft_angle",
+        ),
+        parameter_study(
+            spec,
+            "pinion_cone_angle",
+            g1,
+            "gear_cone_angle",
+            g2s,
+            name="fig6b_fig7b_cone_angle_vs_gear_cone_angle",
+        ),
+        parameter_study(
+            spec,
+            "pinion_helix_angle",
+            b1,
+            "shaft_angle",
+            shafts,
+            name="fig8a_fig9a_helix_angle_vs_shaft_angle",
+        ),
+        parameter_study(
+            spec,
+            "pinion_helix_angle",
+            b1,
+            "gear_cone_angle",
+            g2s,
+            name="fig8b_fig9b_helix_angle_vs_gear_cone_angle",
+        ),
     ]

@@ -22,8 +22,17 @@ __all__ = ["solve_cone_angle_for_fpd"]
 
 def _fpd(spec: PairSpec, gamma1):
     p, g = spec.pinion, spec.gear
-    sol = solve_pair_arrays(spec.normal_module, spec.normal_pressure_angle, spec.shaft_angle, spec.offset,
-                            p.teeth, g.teeth, p.helix_angle, gamma1, g.cone_angle)
+    sol = solve_pair_arrays(
+        spec.normal_module,
+        spec.normal_pressure_angle,
+        spec.shaft_angle,
+        spec.offset,
+        p.teeth,
+        g.teeth,
+        p.helix_angle,
+        gamma1,
+        g.cone_angle,
+    )
     return sol["fpd_right"] if spec.target_flank == "right" else sol["fpd_left"]
 
 
@@ -43,8 +52,21 @@ def solve_cone_angle_for_fpd(spec: PairSpec, *, n_grid: int = 600, xtol: float =
         return float(grid[exact[0]])
     if not idx.size:
         vals = np.degrees(f[ok] + spec.target_fpd_angle)
-        rng = f"achievable with these inputs: {vals.min():.4f} to {vals.max():.4f} deg" if vals.size else "no gamma_1 gives a design"
-        raise InputError(Problem("pair.target_fpd_angle_deg", math.degrees(spec.target_fpd_angle), rng),
-                         "no pinion cone angle meets the target FPD angle")
+        rng = (
+            f"achievable with these inputs: {vals.min():.4f} to {vals.max():.4f} deg"
+            if vals.size
+            else "no gamma_1 gives a design"
+        )
+        raise InputError(
+            Problem("pair.target_fpd_angle_deg", math.degrees(spec.target_fpd_angle), rng),
+            "no pinion cone angle meets the target FPD angle",
+        )
     i = idx[0]
-    return float(brentq(lambda g1: float(_fpd(spec, g1)) - spec.target_fpd_angle, grid[i], grid[i + 1], xtol=xtol))
+    return float(
+        brentq(
+            lambda g1: float(_fpd(spec, g1)) - spec.target_fpd_angle,
+            grid[i],
+            grid[i + 1],
+            xtol=xtol,
+        )
+    )

@@ -1,0 +1,120 @@
+"""The design and sweep verbs: JSON keys, bad input, files written."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gearbox.cli import main
+
+MODELS = Path(__file__).parents[1] / "models"
+REQUIRED = [
+    "normal_angular_factor",
+    "fpd_angle_right_deg",
+    "fpd_angle_left_deg",
+    "helix_angle_deg",
+    "cone_angle_deg",
+    "profile_shift_xt",
+    "working_normal_pressure_angle_deg",
+    "working_helix_angle_deg",
+    "working_cone_angle_deg",
+    "working_pitch_radius_mm",
+    "mounting_distance_mm",
+    "checks",
+]
+
+
+def test_design_json_has_the_documented_keys(capsys):
+    assert main(["design", str(MODELS / "case03.toml"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for k in REQUIRED:
+        assert k in out, k
+    assert len(out["helix_angle_deg"]) == 2
+    assert abs(out["fpd_angle_right_deg"] - 3.3511) < 1e-3
+    for c in out["checks"].values():
+        assert set(c) >= {"ok", "margin", "detail"}
+
+
+def test_design_table_prints(capsys):
+    assert main(["design", str(MODELS / "case01.toml")]) == 0
+    assert "FPD angle" in capsys.readouterr().out
+
+
+BAD = """schema = 1
+[pair]
+normal_module_mm = -6.0
+normal_pressure_angle_deg = 50.0
+shaft_angle_deg = 95.0
+offset_mm = 229.0
+colour = "red"
+[pinion]
+teeth = 3
+helix_angle_deg = 20.0
+cone_angle_deg = -1.0
+profile_shift_xt = 0.16
+[gear]
+teeth = 45
+cone_angle_deg = 0.8
+"""
+
+
+def test_bad_scene_lists_every_problem_exit_2_no_traceback(tmp_path):
+    p = tmp_path / "bad.toml"
+    p.write_text(BAD)
+    r = subprocess.run(
+        [sys.executable, "-m", "gearbox", "design", str(p)], capture_output=True, text=True
+    )
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr
+    for key in (
+        "pair.normal_module_mm",
+        "pair.normal_pressure_angle_deg",
+        "pair.shaft_angle_deg",
+        "pair.colour",
+        "pinion.teeth",
+        "pinion.cone_angle_deg",
+    ):
+        assert key in r.stderr, key
+    assert "(0, 45)" in r.stderr  # the valid range is named
+
+
+def test_offset_without_solution_names_the_offset_and_range(tmp_path, capsys):
+    text = (MODELS / "case03.toml").read_text().replace("offset_mm = 229.0", "offset_mm = 400.0")
+    p = tmp_path / "far.toml"
+    p.write_text(text)
+    assert main(["design", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert "pair.offset_mm = 400.0" in err and "offset_mm <=" in err
+    # and an offset that eqs (18)-(19) cannot meet at all
+    p.write_text(text.replace("offset_mm = 400.0", "offset_mm = 20.0"))
+    assert main(["design", str(p)]) == 2
+    assert "pair.offset_mm = 20.0" in capsys.readouterr().err
+
+
+def test_missing_file_is_an_input_error(capsys):
+    assert main(["design", "no/such/scene.toml"]) == 2
+    assert "cannot read scene" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("case", ["01", "02", "03", "04"])
+def test_every_paper_scene_designs(case, capsys):
+    assert main(["design", str(MODELS / f"case{case}.toml"), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["all_checks_ok"] is True
+
+
+def test_sweep_writes_csv_and_png(tmp_path, capsys):
+    assert (
+        main(["sweep", str(MODELS / "case03.toml"), "--out", str(tmp_path), "--points", "11"]) == 0
+    )
+    csvs = sorted(tmp_path.glob("*.csv"))
+    pngs = sorted(tmp_path.glob("*.png"))
+    assert len(csvs) == 4 and len(pngs) == 4
+    head, *rows = csvs[0].read_text().splitlines()
+    assert head.startswith("shaft_angle_deg,pinion_cone_angle_deg,normal_angular_factor")
+    assert len(rows) == 44
+    assert pngs[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not list(tmp_path.glob(".*.tmp"))  # nothing half-written left behind
