@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import Problems
 from ..meshtable import MeshTable, fourier_eval, fourier_fit
 
-__all__ = ["DrivetrainModel", "outputs", "rhs", "CHANNEL_UNITS"]
+__all__ = ["CHANNEL_UNITS", "DrivetrainModel", "energy", "outputs", "power", "rhs"]
 
 _DOF_NAMES = ("engine", "pinion", "gear", "propeller", "pinion_bearing", "gear_bearing")
 
@@ -412,6 +412,10 @@ class DrivetrainModel:
             "Ki": np.array(self.governor_ki if self.governor else 0.0),
             "qe0": np.array(x0[0]),
             "scale": self.state_scale(),
+            "M": self.mass_vector(),
+            "Wn": np.array([self.speed, self.speed, self.gear_speed, self.gear_speed, 0.0, 0.0])[
+                : self.n_dof
+            ],
         }
 
     def to_dict(self) -> dict[str, Any]:
@@ -496,6 +500,40 @@ def rhs(t, z, p, xp=np):
         unit = unit.at[0].set(te).at[3].set(-tp)
     a = (q + unit) * p["Minv"]
     return xp.concatenate([v, a]) / p["scale"]
+
+
+def energy(t, y, p, xp=np):
+    """Mechanical energy (J) of the unscaled state y: kinetic (absolute speeds), shaft and
+    bearing strain, mesh strain (1/2) k_f s_f^2 of the flanks in contact.
+
+    With zero damping, dE/dt = :func:`power` (energy-balance check).
+    """
+    n = y.shape[0] // 2
+    x, v = y[:n], y[n:]
+    w = p["Wn"] + v
+    theta1 = p["Omega"] * t + x[1] + p["phase"]
+    k, _, e, _ = mesh_laws(theta1, p, xp)
+    s = p["G"] @ x - e - p["bl"]
+    sp = xp.maximum(s, 0.0)
+    return 0.5 * xp.sum(p["M"] * w * w) + 0.5 * x @ (p["K"] @ x) + 0.5 * xp.sum(k * sp * sp)
+
+
+def power(t, y, p, xp=np):
+    """dE/dt (W) of an undamped run: engine and propeller power plus the parametric mesh
+    terms (1/2) k_f' s_f^2 theta1' - F_f e_f' theta1' (the time-varying mesh stores and
+    releases energy); exact when the rotation radii keep the tooth ratio
+    (lambda_1 Omega = lambda_2 Omega_2).
+    """
+    n = y.shape[0] // 2
+    x, v = y[:n], y[n:]
+    theta1 = p["Omega"] * t + x[1] + p["phase"]
+    dth = p["Omega"] + v[1]
+    k, dk, e, de = mesh_laws(theta1, p, xp)
+    f, s, _ = mesh_forces(t, x, v, p, xp)
+    sp = xp.maximum(s, 0.0)
+    te, tp = external_torques(t, x, v, p, xp)
+    ext = te * (p["Wn"][0] + v[0]) - tp * (p["Wn"][3] + v[3])
+    return ext + xp.sum(0.5 * dk * sp * sp * dth - f * de * dth)
 
 
 CHANNEL_UNITS = {
