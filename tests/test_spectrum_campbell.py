@@ -60,11 +60,31 @@ def test_excitation_orders_from_scene():
     # half_order_ripple = 0 in the scene: no half orders unless asked for.
     assert dt["half_order_ripple"] == 0.0
     assert not [e for e in ex if e.source == "engine-half"]
-    assert [
-        e
-        for e in excitation_orders_from_scene(scene, half_orders=True)
-        if e.source == "engine-half"
-    ]
+    with_halves = excitation_orders_from_scene(scene, half_orders=True)
+    # The half orders the drivetrain model drives: 0.5, 1, 1.5.
+    assert [e.order for e in with_halves if e.source == "engine-half"] == [0.5, 1.0, 1.5]
+
+
+def test_excitation_orders_of_a_six_cylinder_drive():
+    # An in-line six 4-stroke with 3 firing harmonics and 2 % half-order
+    # imbalance, one blade-pass harmonic, 3 blades, 29:45 (as
+    # models/marine_drive.toml): orders by hand below.
+    scene = load_scene(MODELS / "case03.toml").replaced(
+        drivetrain={
+            "engine_cylinders": 6,
+            "engine_harmonics": 3,
+            "half_order_ripple": 0.02,
+            "propeller_blades": 3,
+            "blade_pass_harmonics": 1,
+        }
+    )
+    by = {}
+    for e in excitation_orders_from_scene(scene):
+        by.setdefault(e.source, []).append(e.order)
+    assert by["engine"] == [3.0, 6.0, 9.0]
+    assert by["engine-half"] == [0.5, 1.0, 1.5]
+    assert by["propeller"] == pytest.approx([3 * 29 / 45])
+    assert by["mesh"] == [29.0, 58.0, 87.0]
 
 
 def test_constant_modes_cross_at_60f_over_order():

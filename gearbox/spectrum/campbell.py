@@ -153,6 +153,7 @@ def excitation_orders(
     mesh_harmonics: int = 3,
     firing_harmonics: int = 2,
     half_orders: bool = True,
+    max_half_order: float | None = None,
     blade_harmonics: int = 1,
     strokes: int = 4,
 ) -> tuple[ExcitationOrder, ...]:
@@ -170,6 +171,8 @@ def excitation_orders(
         Harmonics of each family (>= 1; 0 drops the family).
     half_orders : bool
         Add 0.5, 1.0, ... below the firing order that are not firing harmonics.
+    max_half_order : float or None
+        Highest half order added; None: up to the firing order.
     strokes : int
         4 (firing order z/2) or 2 (firing order z).
 
@@ -226,8 +229,9 @@ def excitation_orders(
             out.append(ExcitationOrder(lbl, h * bp, "propeller"))
     if cylinders is not None and half_orders:
         firing = cylinders * (2.0 / strokes)
+        top = firing if max_half_order is None else min(firing, max_half_order + 0.25)
         k = 1
-        while 0.5 * k < firing - 1e-9:
+        while 0.5 * k < top - 1e-9:
             out.append(ExcitationOrder(f"order {_fmt(0.5 * k)}", 0.5 * k, "engine-half"))
             k += 1
     seen: set[float] = set()
@@ -241,12 +245,23 @@ def excitation_orders(
 
 
 def excitation_orders_from_scene(scene, **options) -> tuple[ExcitationOrder, ...]:
-    """:func:`excitation_orders` from a scene: ``pinion.teeth``, ``gear.teeth``,
-    ``drivetrain.engine_cylinders`` (4-stroke), ``drivetrain.propeller_blades``.
-    Half orders are included when ``drivetrain.half_order_ripple`` > 0 unless
-    ``options`` say otherwise."""
+    """:func:`excitation_orders` of the orders a scene's drivetrain model excites.
+
+    Reads ``pinion.teeth``, ``gear.teeth``, ``drivetrain.engine_cylinders``
+    (4-stroke), ``drivetrain.propeller_blades``, and, where the scene has them,
+    ``drivetrain.engine_harmonics`` (firing harmonics) and
+    ``drivetrain.blade_pass_harmonics``. Half orders 0.5, 1, 1.5 (those the
+    drivetrain model drives) are included when ``drivetrain.half_order_ripple`` > 0.
+    ``options`` override any of these.
+    """
     dt = scene["drivetrain"]
+    fields = getattr(dt, "keys", lambda: ())()
     options.setdefault("half_orders", float(dt["half_order_ripple"]) > 0.0)
+    options.setdefault("max_half_order", 1.5)
+    if "engine_harmonics" in fields:
+        options.setdefault("firing_harmonics", int(dt["engine_harmonics"]))
+    if "blade_pass_harmonics" in fields:
+        options.setdefault("blade_harmonics", int(dt["blade_pass_harmonics"]))
     return excitation_orders(
         pinion_teeth=int(scene["pinion"]["teeth"]),
         gear_teeth=int(scene["gear"]["teeth"]),
