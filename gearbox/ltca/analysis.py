@@ -174,7 +174,7 @@ def ltca_cycle(
     *,
     options: LTCAOptions = LTCAOptions(),
     compliance: Compliance | None = None,
-    solver: ContactSolver = ContactSolver(),
+    solver: ContactSolver | None = None,
 ) -> CycleResult:
     """Loaded TCA over one mesh cycle for several torques.
 
@@ -190,6 +190,7 @@ def ltca_cycle(
         p.add("torques", [], "needs at least one torque level")
     p.raise_if_any("invalid loaded TCA input")
     compliance = compliance or FastCompliance()
+    solver = solver or ContactSolver()
     P = options.positions
     T = torques.size
     fractions = np.arange(P) / P

@@ -81,7 +81,8 @@ class ToothSections:
             probs.add(
                 f"{name}.radius[{i}]",
                 float(self.radius[i]),
-                f"load point must lie on the involute, above the base radius {self.base_radius[i]:g} m",
+                "load point must lie on the involute, above the base radius "
+                f"{self.base_radius[i]:g} m",
             )
         bad = ~(self.radius <= self.tip_radius * (1 + 1e-9))
         if bad.any():

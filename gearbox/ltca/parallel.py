@@ -20,8 +20,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..errors import Problems
-from ..geometry.involute import inv, inv_inverse
+from ..errors import InputError, Problem, Problems
+from ..geometry.involute import inv
 from .grid import ContactGrid, ToothSections
 
 __all__ = ["ParallelPair", "parallel_grid"]
@@ -116,12 +116,10 @@ class ParallelPair:
         if self.center_distance is None:
             z1, z2 = self.teeth
             at = self.transverse_pressure_angle
-            return float(
-                inv_inverse(
-                    inv(at)
-                    + 2 * math.tan(self.normal_pressure_angle) * sum(self.profile_shift) / (z1 + z2)
-                )
+            y = inv(at) + 2 * math.tan(self.normal_pressure_angle) * sum(self.profile_shift) / (
+                z1 + z2
             )
+            return _inv_inverse(y)
         return math.acos((self.base_radius(0) + self.base_radius(1)) / self.center_distance)
 
     @property
@@ -169,6 +167,15 @@ class ParallelPair:
         d["teeth"] = tuple(d["teeth"])
         d["profile_shift"] = tuple(d["profile_shift"])
         return cls(**d)
+
+
+def _inv_inverse(y: float) -> float:
+    """Angle a in (0, pi/2) with tan(a) - a = y > 0: bracketed root (scipy brentq)."""
+    from scipy.optimize import brentq
+
+    if not y > 0:
+        raise InputError(Problem("working pressure angle", y, "inv(alpha_wt) must be > 0"))
+    return float(brentq(lambda a: inv(a) - y, 1e-6, 1.5, xtol=1e-15, rtol=1e-15, maxiter=200))
 
 
 def parallel_grid(pair: ParallelPair, fraction: float, n_face: int = 40) -> ContactGrid:

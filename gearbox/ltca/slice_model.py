@@ -140,7 +140,8 @@ def hertz_half_width(line_load, curvature_radius, youngs_modulus, poisson_ratio)
 
 
 def hertz_pressure(line_load, curvature_radius, youngs_modulus, poisson_ratio):
-    """Maximum Hertz pressure p0 = 2 q / (pi a) (Pa) of a line contact (Johnson 1985, eq. (4.45))."""
+    """Maximum Hertz pressure p0 = 2 q / (pi a) (Pa) of a line contact
+    (Johnson 1985, eq. (4.45))."""
     a = hertz_half_width(line_load, curvature_radius, youngs_modulus, poisson_ratio)
     return np.where(
         a > 0, 2.0 * np.maximum(line_load, 0.0) / (np.pi * np.where(a > 0, a, 1.0)), 0.0

@@ -241,7 +241,8 @@ def solve_contact(
     scale = float(np.mean(np.diag(C))) * torque / float(np.mean(m))
     compl = float(np.max(np.abs(F * gap)) / (np.max(F) * scale)) if np.max(F) > 0 else 0.0
     msg = {
-        "converged": f"converged in {total_it} active-set iterations, {outer} fixed-point iterations",
+        "converged": f"converged in {total_it} active-set iterations, "
+        f"{outer} fixed-point iterations",
         "max_iter": f"active-set iteration cap {solver.max_iter} reached",
         "outer_max_iter": f"fixed-point cap {solver.max_outer} reached on the contact flattening",
     }[status]
