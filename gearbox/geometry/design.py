@@ -41,7 +41,7 @@ apex of working pitch cone i (positive towards the toe)::
 where the paper prints ``sin^2 g_w1 cos d`` for ``s1 s2 cos d`` in eq. (16) and
 ``sin^2 g_w2`` for ``s2`` in eq. (17). The printed forms put the cone apex tens of
 millimetres away from the apex of the cone that touches the common pitch plane at P
-(73 mm for case 01); the corrected forms agree with the construction to rounding
+(145 mm for d_1 and 73 mm for d_2 in case 01); the corrected forms agree with the construction to rounding
 (``tests/test_geometry_construction.py``).
 """
 
