@@ -43,10 +43,13 @@ class PipelineRun:
         return self.results[stage]
 
 
-def plan(requested: Iterable[str], stages: Mapping[str, Stage]) -> list[str]:
+def plan(
+    requested: Iterable[str], stages: Mapping[str, Stage], scene: Scene | None = None
+) -> list[str]:
     """The stages needed for ``requested``, upstream first (stable topological order).
 
     Unknown names raise :class:`InputError`; ``report`` needs no stage of its own.
+    With ``scene``, stages that route (:attr:`Stage.route`) take their upstream from it.
     """
     requested = list(requested)
     unknown = [r for r in requested if r not in stages and r not in FINAL_OUTPUTS]
@@ -65,7 +68,8 @@ def plan(requested: Iterable[str], stages: Mapping[str, Stage]) -> list[str]:
         if name in visiting:
             raise ValueError(f"stage graph has a cycle through {name!r}")
         visiting.add(name)
-        for dep in stages[name].depends:
+        req, opt = stages[name].upstream(scene)
+        for dep in (*req, *opt):
             visit(dep)
         visiting.discard(name)
         order.append(name)
@@ -143,7 +147,7 @@ def run_pipeline(
     if stages is None:
         from .stages import STAGES as stages
     requested = tuple(scene["outputs"]["requested"] if requested is None else requested)
-    names = plan(requested, stages)
+    names = plan(requested, stages, scene)
     validate(scene, names, stages)
     store = _as_cache(cache)
     started = datetime.now(UTC).isoformat(timespec="seconds")
@@ -157,13 +161,11 @@ def run_pipeline(
     for name in bar:
         st = stages[name]
         bar.set_postfix_str(name)
-        keys[name] = stage_key(
-            name,
-            read_values(scene, st.reads),
-            {d: keys[d] for d in st.depends},
-            st.code,
-        )
-        missing = [d for d in st.depends if d not in results]
+        req, opt = st.upstream(scene)
+        used = (*req, *(d for d in opt if d in results))
+        upstream = {d: keys[d] for d in used} | {d: "absent" for d in opt if d not in results}
+        keys[name] = stage_key(name, read_values(scene, st.reads), upstream, st.code)
+        missing = [d for d in req if d not in results]
         if missing:
             records.append(
                 StageRecord(name, "skipped", key=keys[name], detail=f"needs {', '.join(missing)}")
@@ -186,7 +188,7 @@ def run_pipeline(
         ctx = StageContext(
             name=name,
             scene=restricted_scene(scene, st.reads),
-            inputs=MappingProxyType({d: results[d] for d in st.depends}),
+            inputs=MappingProxyType({d: results[d] for d in used}),
             map=functools.partial(
                 map_items, executor=executor, jobs=jobs, progress=progress, desc=name
             ),
@@ -199,9 +201,7 @@ def run_pipeline(
                 StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc))
             )
             continue
-        except (KeyboardInterrupt, InputError):
-            raise
-        except Exception as exc:
+        except Exception as exc:  # InputError found mid-run too: recorded, run goes on
             msg = f"{type(exc).__name__}: {exc}"
             records.append(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
             continue

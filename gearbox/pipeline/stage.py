@@ -42,7 +42,15 @@ class Stage:
         Scene entries the stage reads: a section name (``"drivetrain"``) or one key
         (``"load.torques_Nm"``). They, and nothing else of the scene, enter its key.
     depends : tuple of str
-        Upstream stages whose results ``compute`` receives in ``ctx.inputs``.
+        Upstream stages whose results ``compute`` receives in ``ctx.inputs``; when
+        one of them produced no result, this stage is skipped.
+    optional : tuple of str
+        Upstream stages used when they produced a result (else absent from
+        ``ctx.inputs``); planned and run like ``depends``.
+    route : callable, optional
+        ``route(scene) -> (depends, optional)`` for a stage whose upstream depends on
+        a scene value (e.g. ``outputs.mesh_tables``); overrides the two fields. It
+        sees the whole scene, so what it reads must also be in ``reads``.
     code : tuple of str
         Modules or packages whose source enters the cache key, so that a changed
         implementation is recomputed even without a version bump.
@@ -59,10 +67,19 @@ class Stage:
     compute: Callable[[StageContext], Any]
     reads: tuple[str, ...] = ()
     depends: tuple[str, ...] = ()
+    optional: tuple[str, ...] = ()
+    route: Callable[[Scene], tuple[tuple[str, ...], tuple[str, ...]]] | None = None
     code: tuple[str, ...] = ()
     validate: Callable[[Scene], None] | None = None
     cacheable: bool = True
     doc: str = ""
+
+    def upstream(self, scene: Scene | None = None) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """(required, optional) upstream stages, for ``scene`` when the stage routes."""
+        if self.route is not None and scene is not None:
+            req, opt = self.route(scene)
+            return tuple(req), tuple(opt)
+        return tuple(self.depends), tuple(self.optional)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,338 @@
+"""Drivetrain stages: the operating point, its spectra, the speed sweep (waterfall) and
+the Campbell diagram (gearbox.drivetrain, gearbox.spectrum).
+
+Speed sweeps follow the propeller law: a fixed-pitch propeller absorbs a torque
+proportional to the square of its speed, so at engine speed n the mean pinion torque
+is ``T(n) = T_op (n / n_op)**2`` (engine power ``P(n) = P_op (n / n_op)**3``), with
+``T_op`` and ``n_op`` the scene's operating point (``drivetrain.engine_power_kW`` /
+``engine_speed_rpm``, else ``load.operating_torque_Nm``). The mesh tables must cover
+the torques of the sweep; :func:`validate_torques` says so before anything runs.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from ...errors import InputError, Problem
+from ...scene import Scene
+from ..stage import StageContext
+from ._require import require
+
+__all__ = [
+    "OperatingPoint",
+    "SpeedSweep",
+    "Spectra",
+    "compute_campbell",
+    "compute_dynamics",
+    "compute_spectra",
+    "compute_waterfall",
+    "operating_torque",
+    "sweep_speeds",
+    "validate_torques",
+]
+
+#: Channels analysed in spectra and waterfalls when the run has them.
+SPECTRUM_CHANNELS = (
+    "mesh_force_N",
+    "dynamic_transmission_error_m",
+    "pinion_bearing_force_N",
+    "gear_bearing_force_N",
+)
+
+#: Speeds of the Campbell diagram's mode curves (eigenvalues are cheap).
+CAMPBELL_SPEEDS = 61
+
+
+def operating_torque(scene: Scene) -> tuple[float, float]:
+    """(T_op (N m), n_op (rpm)): mean pinion torque and speed of the operating point."""
+    d = scene["drivetrain"]
+    n0 = float(d["engine_speed_rpm"])
+    if d["engine_power_kW"] is not None:
+        return d["engine_power_kW"] * 1e3 / (n0 * math.pi / 30.0), n0
+    return float(scene["load"]["operating_torque_Nm"]), n0
+
+
+def propeller_law_torque(scene: Scene, speed_rpm: float) -> float:
+    """Mean pinion torque (N m) at ``speed_rpm`` on the propeller law (module doc)."""
+    t0, n0 = operating_torque(scene)
+    return t0 * (speed_rpm / n0) ** 2
+
+
+def sweep_speeds(scene: Scene) -> np.ndarray:
+    """Engine speeds of the sweep (rpm), shape (simulation.sweep_speeds,)."""
+    lo, hi = scene["simulation"]["speed_sweep_rpm"][:2]
+    return np.linspace(lo, hi, scene["simulation"]["sweep_speeds"])
+
+
+def validate_torques(scene: Scene, *, sweep: bool = False) -> None:
+    """Raise InputError unless ``load.torques_Nm`` covers the torques the run needs."""
+    tq = scene["load"]["torques_Nm"]
+    lo, hi = min(tq), max(tq)
+    need = [operating_torque(scene)[0]]
+    what = "the operating torque"
+    if sweep:
+        s = scene["simulation"]["speed_sweep_rpm"]
+        need += [propeller_law_torque(scene, s[0]), propeller_law_torque(scene, s[-1])]
+        what = "the operating torque and the speed sweep's propeller-law torques"
+    a, b = min(need), max(need)
+    if a < lo * (1 - 1e-9) or b > hi * (1 + 1e-9):
+        raise InputError(
+            Problem(
+                "load.torques_Nm",
+                list(tq),
+                f"must cover {what}, [{a:.4g}, {b:.4g}] N m (mesh tables are not extrapolated)",
+            )
+        )
+    sim = scene["simulation"]["speed_sweep_rpm"]
+    if sweep and not sim[0] < sim[-1]:
+        raise InputError(
+            Problem("simulation.speed_sweep_rpm", list(sim), "must be [min, max], min < max")
+        )
+
+
+def _at_speed(scene: Scene, speed_rpm: float) -> Scene:
+    """The scene with the engine at ``speed_rpm`` on the propeller law."""
+    torque = propeller_law_torque(scene, speed_rpm)
+    d = dict(scene["drivetrain"])
+    d["engine_speed_rpm"] = float(speed_rpm)
+    d["engine_power_kW"] = torque * speed_rpm * math.pi / 30.0 / 1e3
+    data = dict(scene.data)
+    data["drivetrain"] = MappingProxyType(d)
+    return Scene(MappingProxyType(data), scene.path)
+
+
+def model_at(scene: Scene, table, speed_rpm: float | None = None):
+    """:class:`gearbox.drivetrain.DrivetrainModel` at ``speed_rpm`` (default: operating)."""
+    drivetrain = require("gearbox.drivetrain", "DrivetrainModel")
+    if speed_rpm is not None:
+        scene = _at_speed(scene, speed_rpm)
+    return drivetrain.DrivetrainModel.from_scene(scene, table)
+
+
+def solver_of(scene: Scene):
+    """The solver object named by ``simulation.solver`` with ``simulation.rtol``."""
+    sim = require("gearbox.drivetrain.simulate", "default_solver")
+    s = scene["simulation"]
+    return sim.default_solver(s["solver"], s["rtol"])
+
+
+def contact_metrics(series) -> dict[str, float]:
+    """Fractions of the record with the drive flank open (mesh force <= 0) and with
+    the coast flank in contact (mesh force < 0): contact loss and back-flank impacts."""
+    f = np.asarray(series["mesh_force_N"])
+    if f.size == 0:
+        return {"contact_loss_fraction": math.nan, "coast_contact_fraction": math.nan}
+    return {
+        "contact_loss_fraction": float(np.mean(f <= 0.0)),
+        "coast_contact_fraction": float(np.mean(f < 0.0)),
+    }
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """The drivetrain at the scene's operating point.
+
+    ``model``: DrivetrainModel (SI); ``series``: TimeSeries of the settled record;
+    ``metrics``: mesh-force RMS / mesh-order amplitude (N), contact fractions;
+    ``modes``: linear modes about the operating point; ``speed_rpm``, ``torque_Nm``.
+    """
+
+    speed_rpm: float
+    torque_Nm: float
+    model: Any
+    series: Any
+    metrics: Mapping[str, float]
+    modes: Any
+
+
+def _simulate(model, solver, sim: Mapping[str, Any]):
+    simulate = require("gearbox.drivetrain.simulate", "simulate", "mesh_force_metrics")
+    ts = simulate.simulate(
+        model,
+        solver,
+        settle_time=sim["settle_time_s"],
+        mesh_cycles=int(sim["settled_mesh_cycles"]),
+        samples_per_cycle=int(sim["samples_per_mesh_cycle"]),
+    )
+    metrics = dict(simulate.mesh_force_metrics(ts, model)) | contact_metrics(ts)
+    return ts, metrics
+
+
+def compute_dynamics(ctx: StageContext) -> OperatingPoint:
+    """Settled response at the operating point (gearbox.drivetrain.simulate)."""
+    linear = require("gearbox.drivetrain.linear", "modes")
+    scene = ctx.scene
+    model = model_at(scene, ctx.inputs["tables"])
+    ts, metrics = _simulate(model, solver_of(scene), scene["simulation"])
+    t0, n0 = operating_torque(scene)
+    return OperatingPoint(n0, t0, model, ts, dict(metrics), linear.modes(model))
+
+
+# -- spectra ----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Spectra:
+    """Order spectra (pinion orders) of the operating point's channels.
+
+    ``spectra``: channel -> :class:`gearbox.spectrum.OrderSpectrum`; ``excitations``:
+    the excitation orders of the drive (:func:`gearbox.spectrum.excitation_orders`).
+    """
+
+    speed_rpm: float
+    spectra: Mapping[str, Any]
+    excitations: tuple
+
+
+def _orders(model) -> tuple:
+    spectrum = require("gearbox.spectrum", "excitation_orders")
+    return spectrum.excitation_orders(
+        pinion_teeth=model.pinion_teeth,
+        gear_teeth=model.gear_teeth,
+        cylinders=model.engine_cylinders,
+        blades=model.propeller_blades,
+        half_orders=model.half_order_ripple > 0,
+    )
+
+
+def spectra_of(series, excitations) -> dict[str, Any]:
+    """Order spectra of :data:`SPECTRUM_CHANNELS` against the pinion angle.
+
+    Whole common periods of all excitation orders (rectangular window) when the
+    record holds at least one; else the whole record with a flat-top window.
+    """
+    spectrum = require("gearbox.spectrum", "order_spectrum", "common_period_revs")
+    angle = np.asarray(series["pinion_angle_rad"])
+    n = angle.size
+    # revolutions the samples stand for: n sample intervals (the record is periodic)
+    revs = (angle[-1] - angle[0]) / (2 * math.pi) * n / (n - 1) if n > 1 else 0.0
+    try:
+        period = spectrum.common_period_revs([e.order for e in excitations])
+    except InputError:
+        period = None
+    if period is not None and revs < period * (1 - 1e-3):
+        period = None
+    out = {}
+    for name in SPECTRUM_CHANNELS:
+        if name not in series.channels:
+            continue
+        args = (series.time, series[name])
+        opts = {"angle": angle, "name": name, "unit": series.units.get(name, "")}
+        try:
+            out[name] = spectrum.order_spectrum(*args, period_revs=period, **opts)
+        except InputError:  # the record holds slightly less than one period
+            out[name] = spectrum.order_spectrum(*args, period_revs=None, **opts)
+    return out
+
+
+def compute_spectra(ctx: StageContext) -> Spectra:
+    """Order spectra of the operating point (gearbox.spectrum.order_spectrum)."""
+    op = ctx.inputs["dynamics"]
+    if not op.series.success or op.series.time.size < 2:
+        raise RuntimeError(f"the dynamics run did not succeed ({op.series.status})")
+    exc = _orders(op.model)
+    return Spectra(op.speed_rpm, spectra_of(op.series, exc), tuple(exc))
+
+
+# -- speed sweep: waterfall ----------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SweepPoint:
+    """One speed of a sweep: spectra per channel, metrics, solver status and work."""
+
+    speed_rpm: float
+    torque_Nm: float
+    status: str
+    spectra: Mapping[str, Any]
+    metrics: Mapping[str, float]
+    nfev: int
+    wall_time: float
+
+
+def sweep_point(job: tuple) -> SweepPoint:
+    """Simulate one speed and keep its spectra (module level: runs in worker processes)."""
+    model, solver, sim, speed_rpm, torque = job
+    ts, metrics = _simulate(model, solver, sim)
+    spectra = spectra_of(ts, _orders(model)) if ts.success and ts.time.size > 1 else {}
+    return SweepPoint(
+        float(speed_rpm),
+        float(torque),
+        ts.status,
+        spectra,
+        metrics,
+        int(ts.nfev),
+        float(ts.wall_time),
+    )
+
+
+@dataclass(frozen=True)
+class SpeedSweep:
+    """A speed sweep on the propeller law.
+
+    ``points``: one :class:`SweepPoint` per speed; ``waterfalls``: channel ->
+    :class:`gearbox.spectrum.Waterfall` over the speeds that succeeded.
+    """
+
+    speeds_rpm: np.ndarray
+    points: tuple[SweepPoint, ...]
+    waterfalls: Mapping[str, Any] = field(default_factory=dict)
+
+
+def compute_waterfall(ctx: StageContext) -> SpeedSweep:
+    """Speed sweep through the run's executor, one simulation per speed."""
+    spectrum = require("gearbox.spectrum", "waterfall")
+    scene = ctx.scene
+    table = ctx.inputs["tables"]
+    speeds = sweep_speeds(scene)
+    solver = solver_of(scene)
+    sim = dict(scene["simulation"])
+    jobs = [
+        (model_at(scene, table, n), solver, sim, n, propeller_law_torque(scene, n)) for n in speeds
+    ]
+    points = tuple(ctx.map(sweep_point, jobs))
+    waterfalls = {}
+    for name in SPECTRUM_CHANNELS:
+        ok = [p for p in points if name in p.spectra]
+        if len(ok) < 2:
+            continue
+        specs = [p.spectra[name] for p in ok]
+        # one order resolution for all speeds: the shortest record's
+        revs = min(s.revs for s in specs)
+        if all(math.isclose(s.revs, revs, rel_tol=1e-9) for s in specs):
+            waterfalls[name] = spectrum.waterfall(specs, [p.speed_rpm for p in ok])
+    return SpeedSweep(speeds, points, waterfalls)
+
+
+# -- Campbell --------------------------------------------------------------------------
+
+
+def compute_campbell(ctx: StageContext):
+    """Campbell diagram: linear-model eigenfrequencies along the propeller law against
+    the excitation orders; crossings in the sweep's speed range flagged."""
+    spectrum = require("gearbox.spectrum", "campbell")
+    linear = require("gearbox.drivetrain.linear", "modes")
+    scene = ctx.scene
+    table = ctx.inputs["tables"]
+    lo, hi = scene["simulation"]["speed_sweep_rpm"][:2]
+    grid = np.linspace(lo, hi, CAMPBELL_SPEEDS)
+    freqs = np.array([linear.modes(model_at(scene, table, n)).frequencies for n in grid])
+    op_modes = linear.modes(model_at(scene, table))
+    kinds = [d.split(" mode")[0] for d in op_modes.descriptions()]
+    curves = {}
+    for i in range(freqs.shape[1]):
+        if np.all(freqs[:, i] < 1e-3):  # rigid-body rotation of the whole line
+            continue
+        curves[f"mode {i} ({kinds[i]})"] = (grid, freqs[:, i])
+    return spectrum.campbell(
+        curves,
+        _orders(model_at(scene, table)),
+        (lo, hi),
+        operating_range_rpm=(lo, hi),
+    )

@@ -1,0 +1,62 @@
+"""Contact stages: unloaded TCA (gearbox.tca), loaded TCA (gearbox.ltca) and the mesh
+tables the dynamics reads (gearbox.meshtable)."""
+
+from __future__ import annotations
+
+from ..stage import StageContext, StageUnavailable
+from ._require import require
+
+__all__ = ["compute_ltca", "compute_tables", "compute_tca", "tables_depends"]
+
+
+def compute_tca(ctx: StageContext):
+    """Unloaded TCA of the designed pair (gearbox.tca)."""
+    tca = require("gearbox.tca", "run_tca")
+    return tca.run_tca(ctx.inputs["design"], ctx.scene)
+
+
+def compute_ltca(ctx: StageContext):
+    """Loaded TCA over the mesh cycle, torque levels and flanks (gearbox.ltca)."""
+    ltca = require("gearbox.ltca", "beveloid_ltca")
+    return ltca.beveloid_ltca(ctx.inputs["design"], ctx.scene)
+
+
+def tables_depends(scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """(required, optional) upstream stages of ``tables`` for the scene's source."""
+    source = scene["outputs"]["mesh_tables"]
+    if source == "loaded_tca":
+        return ("design", "ltca"), ()
+    if source == "auto":
+        return ("design",), ("ltca",)
+    return ("design",), ()
+
+
+def _table_of(ltca_result):
+    table = getattr(ltca_result, "table", None)
+    if table is None:
+        raise StageUnavailable("the loaded TCA result carries no mesh table in this version")
+    return table
+
+
+def compute_tables(ctx: StageContext):
+    """The :class:`gearbox.meshtable.MeshTable` of the pair.
+
+    From the loaded TCA when ``outputs.mesh_tables`` is ``loaded_tca`` (or ``auto``
+    and the loaded TCA ran); else the analytical tables of
+    :func:`gearbox.mesh_analytical.analytical_table` (ISO 6336-1:2019 method B mean
+    stiffness, variation from the contact line length), whose ``attrs["method"]``
+    says so in the report.
+    """
+    if "ltca" in ctx.inputs:
+        return _table_of(ctx.inputs["ltca"])
+    if ctx.scene["outputs"]["mesh_tables"] == "loaded_tca":  # pragma: no cover - runner skips
+        raise StageUnavailable("the loaded TCA did not run")
+    ma = require("gearbox.mesh_analytical", "analytical_table", "pair_from_scene")
+    lt = ctx.scene["ltca"]
+    return ma.analytical_table(
+        ma.pair_from_scene(ctx.scene),
+        ctx.scene["load"]["torques_Nm"],
+        positions=max(int(lt["positions"]), 24),
+        flanks=tuple(lt["flanks"]),
+        scene=ctx.scene.name,
+    )
