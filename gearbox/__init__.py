@@ -11,5 +11,10 @@ exudyn, jax and FMU building are not imported by ``import gearbox``.
 __version__ = "0.1.0"
 
 from .errors import InputError as InputError
+from .geometry import GearSpec as GearSpec
+from .geometry import PairDesign as PairDesign
+from .geometry import PairSpec as PairSpec
+from .geometry import ToolSpec as ToolSpec
+from .geometry import design_pair as design_pair
 from .scene import Scene as Scene
 from .scene import load_scene as load_scene
