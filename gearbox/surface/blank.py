@@ -41,9 +41,9 @@ class ToothBlank:
         tool_addendum: tool addendum h_a0 (m), depth of the rack tip below its
             reference plane.
         tool_tip_radius: tool tip (edge) radius rho_a0 (m).
-        addendum: gear addendum h_a (m) above the rack reference line: tip radius
-            r_a(z) = r_p + X(z) + h_a (tip cone parallel to the rack reference plane in
-            the axial section).
+        addendum: gear addendum h_a (m) above the rack reference plane, measured
+            normal to it: the tip cone is parallel to the rack reference plane,
+            r_a(z) = r_p + X(z) + h_a / cos(gamma).
     """
 
     teeth: int
@@ -90,20 +90,40 @@ class ToothBlank:
         return self.profile_shift_xt * self.transverse_module + z * math.tan(self.cone_angle)
 
     def tip_radius(self, z):
-        """Tip-cone radius r_a(z) = r_p + X(z) + h_a (m)."""
-        return self.reference_pitch_radius + self.rack_shift(z) + self.addendum
+        """Tip-cone radius r_a(z) = r_p + X(z) + h_a / cos(gamma) (m)."""
+        return (
+            self.reference_pitch_radius
+            + self.rack_shift(z)
+            + self.addendum / math.cos(self.cone_angle)
+        )
 
     def root_radius(self, z):
-        """Root-cone radius r_f(z) = r_p + X(z) - h_a0 (m), cut by the rack tip line."""
-        return self.reference_pitch_radius + self.rack_shift(z) - self.tool_addendum
+        """Root-cone radius r_f(z) = r_p + X(z) - h_a0 / cos(gamma) (m), cut by the rack's
+        tip plane (parallel to its reference plane at normal distance h_a0)."""
+        return (
+            self.reference_pitch_radius
+            + self.rack_shift(z)
+            - self.tool_addendum / math.cos(self.cone_angle)
+        )
 
     def validate(self, where: str = "gear") -> ToothBlank:
         """Check every input; raise one InputError listing all problems."""
         p = Problems()
-        p.check(isinstance(self.teeth, int) and self.teeth >= 5, f"{where}.teeth", self.teeth, "must be an integer >= 5")
+        p.check(
+            isinstance(self.teeth, int) and self.teeth >= 5,
+            f"{where}.teeth",
+            self.teeth,
+            "must be an integer >= 5",
+        )
         p.in_range(f"{where}.normal_module_mm", self.normal_module * 1e3, 0, None, lo_open=True)
-        p.in_range(f"{where}.normal_pressure_angle_deg", math.degrees(self.normal_pressure_angle), 0, 45,
-                   lo_open=True, hi_open=True)
+        p.in_range(
+            f"{where}.normal_pressure_angle_deg",
+            math.degrees(self.normal_pressure_angle),
+            0,
+            45,
+            lo_open=True,
+            hi_open=True,
+        )
         p.in_range(f"{where}.helix_angle_deg", math.degrees(self.helix_angle), -60, 60)
         p.in_range(f"{where}.cone_angle_deg", math.degrees(self.cone_angle), 0, 30)
         p.in_range(f"{where}.face_width_mm", self.face_width * 1e3, 0, None, lo_open=True)
@@ -114,11 +134,21 @@ class ToothBlank:
             # the two tip roundings of one rack tooth must not overlap
             a, m, rho = self.normal_pressure_angle, self.normal_module, self.tool_tip_radius
             # centre of the rounding inside the rack tooth: s_c <= pi m_n / 2
-            rho_max = (math.cos(a) * math.pi * m / 4 - math.sin(a) * self.tool_addendum) / (1 - math.sin(a))
-            p.check(rho <= rho_max, f"{where}.tool_tip_radius_mm", rho * 1e3,
-                    f"must be in [0, {1e3 * rho_max:.4g}]: the rack tooth tip would be pointed")
-            p.check(self.tool_addendum > rho * (1 - math.sin(a)), f"{where}.tool_addendum_mm", self.tool_addendum * 1e3,
-                    "must exceed the tip rounding's height rho (1 - sin alpha_n)")
+            rho_max = (math.cos(a) * math.pi * m / 4 - math.sin(a) * self.tool_addendum) / (
+                1 - math.sin(a)
+            )
+            p.check(
+                rho <= rho_max,
+                f"{where}.tool_tip_radius_mm",
+                rho * 1e3,
+                f"must be in [0, {1e3 * rho_max:.4g}]: the rack tooth tip would be pointed",
+            )
+            p.check(
+                self.tool_addendum > rho * (1 - math.sin(a)),
+                f"{where}.tool_addendum_mm",
+                self.tool_addendum * 1e3,
+                "must exceed the tip rounding's height rho (1 - sin alpha_n)",
+            )
         p.raise_if_any(f"invalid tooth blank ({where})")
         return self
 

@@ -91,8 +91,12 @@ def _rack_profile(blank: ToothBlank, sigma: int, u: Jet):
     ms_r = sigma * sth
     mv_r = cth
     on_flank = u.val >= 0.0
-    return (where(on_flank, s_f, s_r), where(on_flank, v_f, v_r), where(on_flank, ms_f, ms_r),
-            where(on_flank, mv_f, mv_r))
+    return (
+        where(on_flank, s_f, s_r),
+        where(on_flank, v_f, v_r),
+        where(on_flank, ms_f, ms_r),
+        where(on_flank, mv_f, mv_r),
+    )
 
 
 def flank_jets(blank: ToothBlank, side: str, z, u):

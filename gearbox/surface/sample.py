@@ -41,13 +41,25 @@ def tip_parameter(blank: ToothBlank, side: str, z, *, tol: float = 1e-12) -> tup
         u = u - np.clip(step, -blank.normal_module, blank.normal_module)
         if np.all(np.abs(rad - ra) <= tol):
             return u, it
-    raise SolveFailure(Problem(f"tip_parameter[{side}]", float(np.max(np.abs(rad - ra))),
-                               f"Newton iteration for the tip cone did not reach {tol} m in {MAX_ITER} steps"),
-                       "flank limits")
+    raise SolveFailure(
+        Problem(
+            f"tip_parameter[{side}]",
+            float(np.max(np.abs(rad - ra))),
+            f"Newton iteration for the tip cone did not reach {tol} m in {MAX_ITER} steps",
+        ),
+        "flank limits",
+    )
 
 
-def flank_grid(blank: ToothBlank, side: str, n_z: int = 21, n_u: int = 31, *, fillet: bool = True,
-               n_fillet: int = 8) -> FlankPoints:
+def flank_grid(
+    blank: ToothBlank,
+    side: str,
+    n_z: int = 21,
+    n_u: int = 31,
+    *,
+    fillet: bool = True,
+    n_fillet: int = 8,
+) -> FlankPoints:
     """Flank of tooth 0 sampled on a grid, toe to heel and root to tip.
 
     Returns :class:`FlankPoints` of shape ``(n_z, n_u + n_fillet)`` (``n_fillet`` rows of
@@ -65,7 +77,9 @@ def flank_grid(blank: ToothBlank, side: str, n_z: int = 21, n_u: int = 31, *, fi
     return flank_points(blank, side, z[:, None], u)
 
 
-def tooth_grid(blank: ToothBlank, n_z: int = 21, n_u: int = 31, *, fillet: bool = True) -> dict[str, FlankPoints]:
+def tooth_grid(
+    blank: ToothBlank, n_z: int = 21, n_u: int = 31, *, fillet: bool = True
+) -> dict[str, FlankPoints]:
     """Both flanks of tooth 0: ``{"R": FlankPoints, "L": FlankPoints}``."""
     return {s: flank_grid(blank, s, n_z, n_u, fillet=fillet) for s in SIDES}
 
@@ -84,6 +98,8 @@ def tooth_csv(grid: dict[str, FlankPoints]) -> str:
             for j in range(nu_):
                 p, n, k = fp.position[i, j] * 1e3, fp.normal[i, j], fp.curvatures[i, j] * 1e-3
                 part = "fillet" if fp.on_fillet[i, j] else "involute"
-                out.write(f"{side},{i},{j},{part},{p[0]:.6f},{p[1]:.6f},{p[2]:.6f},"
-                          f"{n[0]:.9f},{n[1]:.9f},{n[2]:.9f},{k[0]:.9g},{k[1]:.9g}\n")
+                out.write(
+                    f"{side},{i},{j},{part},{p[0]:.6f},{p[1]:.6f},{p[2]:.6f},"
+                    f"{n[0]:.9f},{n[1]:.9f},{n[2]:.9f},{k[0]:.9g},{k[1]:.9g}\n"
+                )
     return out.getvalue()
