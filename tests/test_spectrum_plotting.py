@@ -93,3 +93,5 @@ def test_campbell_plot_marks_crossings(tmp_path):
     np.testing.assert_allclose(xy["crossing in operating range"], risk)
     np.testing.assert_allclose(xy["crossing"], safe)
     _png(ax, tmp_path / "campbell.png")
+    ax = plot_campbell(cd, log=True)
+    assert ax.get_yscale() == "log" and ax.get_ylim()[0] == pytest.approx(22.5)

@@ -88,7 +88,7 @@ def mode_table(
     frequencies_hz,
     names: Sequence[str] | None = None,
     *,
-    min_hz: float = 1e-6,
+    min_hz: float | None = None,
 ) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """Modes for :func:`gearbox.spectrum.campbell` from eigenfrequencies per speed.
 
@@ -101,8 +101,10 @@ def mode_table(
         row (modes are tracked by their rank).
     names : sequence of str, optional
         One per mode; default ``mode 1``, ``mode 2``, ...
-    min_hz : float
-        Modes below this at every speed (rigid-body modes) are left out.
+    min_hz : float, optional
+        Modes below this at every speed (rigid-body modes, whose computed
+        frequency is round-off) are left out; default 1e-6 x the highest
+        frequency in the table.
     """
     s = np.asarray(speeds_rpm, dtype=float)
     f = np.asarray(frequencies_hz, dtype=float)
@@ -119,4 +121,6 @@ def mode_table(
         p.check(len(names) == f.shape[1], "names", list(names), f"must have {f.shape[1]} names")
     p.raise_if_any("mode table")
     names = list(names) if names is not None else [f"mode {j + 1}" for j in range(f.shape[1])]
+    if min_hz is None:
+        min_hz = 1e-6 * float(np.max(f))
     return {names[j]: (s, f[:, j]) for j in range(f.shape[1]) if np.any(f[:, j] >= min_hz)}

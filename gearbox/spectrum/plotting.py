@@ -186,11 +186,13 @@ def plot_campbell(
     *,
     max_frequency_hz: float | None = None,
     label_orders: bool = True,
+    log: bool = False,
 ):
     """Campbell diagram: mode frequencies and order lines against speed.
 
     Crossings are marked with circles, those inside the operating range (the
     shaded band) filled red; the order lines are labelled at their right end.
+    ``log`` gives a log frequency axis (modes from tens of Hz to kHz on one plot).
     """
     ax = ax if ax is not None else _new_ax()
     n = cd.speeds_rpm
@@ -245,8 +247,13 @@ def plot_campbell(
             label="crossing in operating range",
         )
     ax.set_xlim(n[0], n[-1])
-    ax.set_ylim(0.0, top)
+    if log:
+        positive = cd.mode_frequencies_hz[cd.mode_frequencies_hz > 0]
+        ax.set_yscale("log")
+        ax.set_ylim(0.5 * float(positive.min()) if positive.size else 1.0, top)
+    else:
+        ax.set_ylim(0.0, top)
     ax.set_xlabel("pinion (engine) speed (rpm)")
     ax.set_ylabel("frequency (Hz)")
-    ax.legend(loc="upper left", fontsize=7)
+    ax.legend(loc="best", fontsize=7)
     return ax
