@@ -132,17 +132,12 @@ class CycleResult:
         Returns (x, share): x in mesh cycles from the first position where the pair
         can touch, shape (K P,), and its share of the normal load.
         """
-        P = self.fraction.size
-        xs, vs = [], []
-        for j, k in enumerate(self.pair_index[::-1]):
-            kk = self.pair_index.size - 1 - j
-            xs.append(self.fraction - k)
-            vs.append(self.pair_share[t, :, kk])
-        x = np.concatenate(xs)
-        v = np.concatenate(vs)
+        # pair k's contact line lies k base pitches further along the path: at
+        # position f it is the tooth that entered f + k cycles earlier
+        x = np.concatenate([self.fraction + k for k in self.pair_index])
+        v = np.concatenate([self.pair_share[t, :, kk] for kk in range(self.pair_index.size)])
         o = np.argsort(x)
-        del P
-        return x[o], v[o]
+        return x[o] - x.min(), v[o]
 
     def to_dict(self) -> dict:
         d = {}

@@ -1,0 +1,208 @@
+"""Loaded TCA of parallel-axis spur and helical pairs: closed forms, ISO 6336-1,
+grid convergence, bad input."""
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+import pytest
+
+from gearbox.errors import InputError
+from gearbox.ltca import (
+    FastCompliance,
+    LTCAOptions,
+    ParallelPair,
+    iso_mesh_stiffness,
+    ltca_cycle,
+    parallel_grid,
+    solve_contact,
+)
+from gearbox.ltca.compliance import _pasternak_block
+
+SPUR = ParallelPair(
+    normal_module=0.004,
+    normal_pressure_angle=math.radians(20),
+    helix_angle=0.0,
+    teeth=(30, 45),
+    face_width=0.03,
+)
+HELICAL = replace(SPUR, helix_angle=math.radians(15))
+
+
+@dataclass(frozen=True)
+class UniformSlices:
+    """Test double: independent slices of constant compliance c (m per N/m)."""
+
+    c: float = 5e-11
+    name: str = "uniform"
+    load_dependent: bool = False
+
+    def tooth_matrix(self, grid):
+        return np.diag(self.c / grid.width)
+
+    def matrix(self, grid, line_load=None):
+        return self.tooth_matrix(grid)
+
+
+def _cycle(pair, torques=(400.0,), positions=24, n_face=20, compliance=None):
+    return ltca_cycle(
+        lambda f: parallel_grid(pair, f, n_face),
+        list(torques),
+        options=LTCAOptions(positions=positions),
+        compliance=compliance,
+    )
+
+
+def test_uniform_slices_give_the_closed_form_stiffness():
+    # n pairs of line contacts of length b and compliance c per unit length:
+    # k = n b / c exactly; the double-contact share of the cycle is eps_alpha - 1
+    c = 5e-11
+    r = _cycle(SPUR, positions=48, compliance=UniformSlices(c))
+    npairs = (r.pair_share[0] > 0).sum(axis=1)
+    assert np.allclose(r.stiffness[0], npairs * SPUR.face_width / c, rtol=1e-10)
+    # linear compliance, unchanged active set: tangent = secant
+    assert np.allclose(r.tangent_stiffness[0], r.stiffness[0], rtol=1e-8)
+    # geometry: fraction of positions with two pairs, within one position step
+    assert abs(np.mean(npairs == 2) - (SPUR.transverse_contact_ratio - 1)) <= 1 / 48
+
+
+@pytest.mark.parametrize("pair", [SPUR, HELICAL], ids=["spur", "helical"])
+def test_equilibrium_and_secant_times_lte_is_the_normal_load(pair):
+    r = _cycle(pair, torques=(200.0, 400.0))
+    arm = pair.base_radius(0) * math.cos(pair.base_helix_angle)
+    for t, tq in enumerate(r.torque):
+        # the normal load balances the torque on the involute arm r_b1 cos(beta_b)
+        assert np.allclose(r.normal_load[t] * arm, tq, rtol=1e-10)
+        elastic = r.lte[t] - r.lte_unloaded
+        assert np.allclose(r.stiffness[t] * elastic, r.normal_load[t], rtol=1e-12)
+    assert r.success
+    assert np.all(r.gap_residual < 1e-12)
+
+
+def test_contact_flattening_stiffens_with_load():
+    # Weber's approach grows like q ln(1/sqrt(q)): the tangent stiffness exceeds
+    # the secant one and the secant stiffness grows with the torque
+    r = _cycle(HELICAL, torques=(100.0, 400.0))
+    assert np.all(r.tangent_stiffness >= r.stiffness * (1 - 1e-9))
+    assert r.stiffness[1].mean() > r.stiffness[0].mean()
+
+
+def _iso_ratio(pair, torque):
+    r = _cycle(pair, torques=(torque,), n_face=20)
+    # ISO's c' and c_gamma are transverse: load F_n cos(beta_b) per face width over
+    # the transverse deflection LTE / cos(beta_b)
+    k_iso_def = r.stiffness[0].mean() * math.cos(pair.base_helix_angle) ** 2 / pair.face_width
+    iso = iso_mesh_stiffness(
+        teeth=pair.teeth,
+        helix_angle=pair.helix_angle,
+        normal_pressure_angle=pair.normal_pressure_angle,
+        profile_shift=pair.profile_shift,
+        transverse_contact_ratio=pair.transverse_contact_ratio,
+        load_per_width=torque / pair.pitch_radius(0) / pair.face_width,
+    )
+    return k_iso_def / iso.c_gamma_alpha, r
+
+
+def test_mean_mesh_stiffness_against_iso_6336_1_spur():
+    ratio, r = _iso_ratio(SPUR, 400.0)
+    # measured: 0.795 (the fast level is 20 % softer than ISO's c_gamma_alpha for
+    # this spur pair; docs/ltca.md). The band guards that statement.
+    assert 0.75 < ratio < 0.85, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
+    # shape: ISO's c_gamma_alpha = c' (0.75 eps_alpha + 0.25) relates the cycle mean
+    # to the single-pair maximum c'; the fast level's own ratio agrees within 3 %
+    npairs = (r.pair_share[0] > 0).sum(axis=1)
+    single_max = r.stiffness[0][npairs == 1].max()
+    iso_shape = 0.75 * SPUR.transverse_contact_ratio + 0.25
+    assert r.stiffness[0].mean() / single_max == pytest.approx(iso_shape, rel=0.03)
+
+
+def test_mean_mesh_stiffness_against_iso_6336_1_helical():
+    ratio, _ = _iso_ratio(HELICAL, 400.0)
+    # measured: 0.92 for this helical pair (docs/ltca.md)
+    assert 0.87 < ratio < 0.97, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
+
+
+def test_integer_overlap_ratio_flattens_the_stiffness():
+    # with eps_beta = 1 the total contact-line length is constant over the cycle
+    # (ISO 21771), so only the compliance along the profile varies: the relative
+    # peak-to-peak stiffness falls well below that of eps_beta = 0.5
+    def rel_p2p(eps_beta):
+        beta = math.asin(eps_beta * math.pi * SPUR.normal_module / SPUR.face_width)
+        r = _cycle(replace(SPUR, helix_angle=beta), n_face=40)
+        k = r.stiffness[0]
+        return (k.max() - k.min()) / k.mean()
+
+    assert rel_p2p(1.0) < 0.5 * rel_p2p(0.5)
+
+
+def test_grid_convergence_of_the_contact_solution():
+    # face slices 10 / 20 / 40 / 80: the mean stiffness settles; the change from
+    # 40 to 80 slices is below 0.5 % and below the change from 10 to 20
+    means = [_cycle(HELICAL, n_face=n).stiffness[0].mean() for n in (10, 20, 40, 80)]
+    d1 = abs(means[1] - means[0]) / means[3]
+    d3 = abs(means[3] - means[2]) / means[3]
+    assert d3 < 5e-3
+    assert d3 < d1
+    # the load distribution converges too: peak slice line load within 3 %
+    peaks = []
+    for n in (40, 80):
+        g = parallel_grid(HELICAL, 0.3, n)
+        s = solve_contact(g, FastCompliance(), 400.0)
+        peaks.append(float(np.max(s.load / g.line_length)))
+    assert peaks[0] == pytest.approx(peaks[1], rel=0.03)
+
+
+def test_shear_layer_coupling_is_the_exponential_influence_function():
+    # a point load in the middle of a long uniform tooth: deflections decay like
+    # exp(-|y| / lambda) (Pasternak foundation Green's function)
+    m, width, c, lam = 401, 1e-4, 5e-11, 4e-3
+    C = _pasternak_block(np.full(m, c), width, lam)
+    col = C[:, m // 2]
+    y = (np.arange(m) - m // 2) * width
+    sel = np.abs(y) < 3 * lam
+    expected = col[m // 2] * np.exp(-np.abs(y[sel]) / lam)
+    # discretisation h / lambda = 0.025: 1 % of the peak
+    assert np.max(np.abs(col[sel] - expected)) < 0.01 * col[m // 2]
+    # a uniform line load gives the uncoupled slice deflection everywhere
+    w = C @ np.full(m, 1000.0 * width)
+    assert np.allclose(w, c * 1000.0, rtol=1e-9)
+
+
+def test_bad_input_is_refused_or_flagged():
+    with pytest.raises(InputError, match="positions"):
+        LTCAOptions(positions=3)
+    with pytest.raises(InputError, match="torques"):
+        _cycle(SPUR, torques=(0.0,))
+    with pytest.raises(InputError, match="torque"):
+        solve_contact(parallel_grid(SPUR, 0.1, 10), FastCompliance(), -5.0)
+    # a grid whose load points leave the flank (above the tip) is refused by name
+    g = parallel_grid(SPUR, 0.1, 10)
+    t1 = replace(g.tooth1, radius=g.tooth1.radius + 0.01)
+    with pytest.raises(InputError, match="leaves the flank"):
+        replace(g, tooth1=t1)
+    # a grid that does not reach the active flank at all
+    with pytest.raises(InputError, match="empty"):
+        replace(
+            g,
+            **{
+                name: getattr(g, name)[:0]
+                for name in (
+                    "pair",
+                    "slot",
+                    "face",
+                    "width",
+                    "line_length",
+                    "separation",
+                    "arm",
+                    "transverse_projection",
+                    "curvature_radius",
+                    "profile",
+                    "edge",
+                    "position",
+                    "normal",
+                )
+            },
+        )
+    # perfect spur involutes load the tip edge at the start of mesh: flagged
+    r = _cycle(SPUR)
+    assert r.edge_contact[0]
