@@ -23,6 +23,8 @@ VERBS = {
     "design": "gearbox.commands.design",
     "sweep": "gearbox.commands.sweep",
     "simulate": "gearbox.commands.simulate",
+    "fmu": "gearbox.commands.fmu",
+    "cosim": "gearbox.commands.cosim",
     "scene-doc": "gearbox.commands.scene_doc",
 }
 

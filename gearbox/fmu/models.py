@@ -23,7 +23,14 @@ import numpy as np
 
 from .spec import FmuModel, Variable
 
-__all__ = ["drivetrain_fmu", "engine_fmu", "gearbox_fmu", "mesh_resources", "propeller_fmu"]
+__all__ = [
+    "drivetrain_fmu",
+    "engine_fmu",
+    "gearbox_fmu",
+    "mesh_resources",
+    "model_from_scene",
+    "propeller_fmu",
+]
 
 _DOFS = ("engine", "pinion", "gear", "propeller", "pinion_bearing", "gear_bearing")
 
@@ -604,3 +611,25 @@ def _readme(kind: str, identifier: str, description: str) -> str:
         .replace("@DESCRIPTION@", description)
         .replace("@KIND@", kind)
     )
+
+
+def model_from_scene(scene, *, table_path=None, speed_rpm: float | None = None):
+    """(DrivetrainModel, MeshTable) of a scene: the table from a netCDF file (``gearbox
+    ltca``) or, by default, the analytical ISO 6336-1 table; speed_rpm overrides the
+    scene's engine speed."""
+    import math
+
+    from ..drivetrain.model import DrivetrainModel
+    from ..errors import InputError, Problem
+    from ..mesh_analytical import analytical_table, pair_from_scene
+    from ..meshtable import MeshTable
+
+    if table_path:
+        table = MeshTable.from_netcdf(table_path)
+    else:
+        table = analytical_table(
+            pair_from_scene(scene), scene["load"]["torques_Nm"], scene=scene.name
+        )
+    if speed_rpm is not None and not (math.isfinite(speed_rpm) and speed_rpm > 0):
+        raise InputError(Problem("--speed-rpm", speed_rpm, "must be > 0 rpm"))
+    return DrivetrainModel.from_scene(scene, table, speed_rpm=speed_rpm), table
