@@ -58,11 +58,20 @@ __all__ = [
 
 _METHODS = ("RK67", "RK44")
 _STEPS_PER_PERIOD = {"RK67": 12.0, "RK44": 35.0}
-# Largest |lambda h| on the negative real axis for which the method is stable
-# (Hairer, Norsett, Wanner, Solving ODEs I, Sec. IV.2 stability regions): RK44 2.785
-# on the real axis, 2.83 on the imaginary axis; the explicit solvers are used here on
-# lightly damped oscillations, so the imaginary-axis bound governs.
-_IMAG_STABILITY = {"RK44": 2.83, "RK67": 3.0}
+# Stability polynomials R(z) = sum c_k z^k of exudyn's explicit methods: one step of
+# y' = lambda y multiplies y by R(h lambda). RK44: the classical RK4 (Hairer, Norsett,
+# Wanner, Solving ODEs I, Sec. II.1). RK67: 6th order, so c_0..c_6 = 1/k!; c_7 was
+# measured from exudyn 1.13.6's one-step map of linear oscillators (a least-squares
+# fit, residual 1e-14; tests/test_drivetrain_exudyn.py repeats the measurement).
+# RK67 has no stability interval on the imaginary axis (|R(i y)| = 1 + 5e-4 at y = 1):
+# it relies on the model's damping.
+_STABILITY = {
+    "RK44": (1.0, 1.0, 1 / 2, 1 / 6, 1 / 24),
+    "RK67": (1.0, 1.0, 1 / 2, 1 / 6, 1 / 24, 1 / 120, 1 / 720, -4.494538857633401e-04),
+}
+# Accepted growth per step of a mode, |R(h lambda)| <= 1 + _GROWTH: 1e-8 per step
+# amplifies an undamped mode by 1 % only after 1e6 steps.
+_GROWTH = 1e-8
 
 
 # ----------------------------------------------------------------------------- settings
@@ -685,19 +694,41 @@ def _structural(plan: _Plan) -> tuple[np.ndarray, np.ndarray]:
 
 
 # ------------------------------------------------------------------ step choice
-def _max_frequency(plan: _Plan) -> tuple[float, float]:
-    """(highest eigenfrequency, highest significant mesh harmonic frequency) (Hz).
+def _linearised(plan: _Plan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """M (diagonal, shape (n,)), K, C (shape (n, n)) about the operating point.
 
-    Eigenfrequencies of det(K - w^2 M) = 0 with the drive flank at its *largest*
-    stiffness (a0 + sum R_k, an upper bound of k(theta)); mesh harmonics count when
-    their amplitude is >= 5 % of the largest harmonic of the drive stiffness or error.
+    The drive flank enters with its *largest* stiffness a0 + sum R_k (an upper bound of
+    k(theta)) and its damping; the propeller load adds its speed derivative
+    dT_p/dv = 2 kappa Omega_2 as damping (docs/drivetrain.md §3, §6).
     """
-    K, _ = _structural(plan)
+    K, C = _structural(plan)
     fl = plan.flanks[0]
     kmax = float(fl.k.a0) + sum(R for _, R, _ in fl.k_harmonics)
     K = K + kmax * np.outer(fl.G, fl.G)
-    w2 = np.linalg.eigvals(K / plan.inertia[:, None]).real
-    f_mode = math.sqrt(max(float(w2.max()), 0.0)) / (2 * math.pi)
+    C = C + fl.c * np.outer(fl.G, fl.G)
+    C[plan.prop_index, plan.prop_index] += 2.0 * plan.prop_kappa * plan.omega2
+    return plan.inertia.astype(float), K, C
+
+
+def _eigenvalues(plan: _Plan) -> np.ndarray:
+    """Eigenvalues (1/s) of the linearised first-order system, shape (2 n,)."""
+    m, K, C = _linearised(plan)
+    n = plan.n
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -K / m[:, None]
+    A[n:, n:] = -C / m[:, None]
+    return np.linalg.eigvals(A)
+
+
+def _max_frequency(plan: _Plan) -> tuple[float, float]:
+    """(highest eigenfrequency, highest significant mesh harmonic frequency) (Hz).
+
+    Eigenfrequencies from :func:`_eigenvalues`; mesh harmonics count when their
+    amplitude is >= 5 % of the largest harmonic of the drive stiffness or error.
+    """
+    f_mode = float(np.abs(_eigenvalues(plan)).max()) / (2 * math.pi)
+    fl = plan.flanks[0]
     w_mesh = 0.0
     for hs in (fl.k_harmonics, fl.e_harmonics):
         if hs:
@@ -706,23 +737,54 @@ def _max_frequency(plan: _Plan) -> tuple[float, float]:
     return f_mode, w_mesh * plan.omega / (2 * math.pi)
 
 
+def _step_limit(plan: _Plan, method: str) -> float:
+    lam = _eigenvalues(plan)
+    lam = lam[np.abs(lam) > 0]
+    c = np.array(_STABILITY[method])
+
+    def ok(h: float) -> bool:
+        z = h * lam
+        R = np.polyval(c[::-1], z)
+        return bool(np.all(np.abs(R) <= 1.0 + _GROWTH))
+
+    hi = 6.0 / float(np.abs(lam).max())
+    grid = np.linspace(0.0, hi, 241)[1:]
+    good = [ok(h) for h in grid]
+    if all(good):
+        return float(hi)
+    i = good.index(False)
+    lo = float(grid[i - 1]) if i > 0 else 0.0
+    up = float(grid[i])
+    for _ in range(50):
+        mid = 0.5 * (lo + up)
+        if ok(mid):
+            lo = mid
+        else:
+            up = mid
+    return lo
+
+
 def stability_step_limit(model, method: str = "RK67") -> float:
     """Largest stable fixed step (s) of ``method`` on the linearised model.
 
-    h_max = rho / omega_max, omega_max from :func:`_max_frequency` and rho the
-    method's stability bound on the imaginary axis (lightly damped modes): 2 sqrt(2)
-    for RK44 (Hairer, Wanner, Solving ODEs II, Sec. IV.2); for exudyn's RK67 the value
-    measured in docs/exudyn.md.
+    The largest h with |R(h lambda_j)| <= 1 + 1e-8 for every eigenvalue lambda_j of the
+    linearised, damped first-order system (drive mesh at its largest stiffness), R the
+    method's stability polynomial (Hairer, Wanner, Solving ODEs II, Sec. IV.2). The
+    nonlinear contact (impacts, loss of contact) is not covered: divergence is still
+    checked after the run.
     """
-    f_mode, _ = _max_frequency(_plan_from_model(model))
-    return _IMAG_STABILITY[method] / (2 * math.pi * f_mode)
+    p = Problems()
+    p.check(method in _METHODS, "method", method, f"must be one of {_METHODS}")
+    p.raise_if_any("invalid method")
+    return _step_limit(_plan_from_model(model), method)
 
 
 def _target_step(plan: _Plan, solver: ExudynSolver) -> float:
     if solver.step is not None:
         return float(solver.step)
     f_mode, f_mesh = _max_frequency(plan)
-    return 1.0 / (solver.target_steps_per_period * max(f_mode, f_mesh))
+    h = 1.0 / (solver.target_steps_per_period * max(f_mode, f_mesh))
+    return min(h, 0.8 * _step_limit(plan, solver.method))
 
 
 # --------------------------------------------------------------------- integration
@@ -853,7 +915,7 @@ def integrate_exudyn(model, y0, t_eval, solver: ExudynSolver = ExudynSolver(), *
     system = build_exudyn_system(model, solver, y0=y0)
     plan = _plan_from_model(model)
     h_target = _target_step(plan, solver)
-    h_lim = stability_step_limit(model, solver.method)
+    h_lim = _step_limit(plan, solver.method)
     if h_target > h_lim:
         q = Problems()
         q.add(
