@@ -460,7 +460,8 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
         if (!ok) {
             gbx_log(m, fmi2Error, "logStatusError",
                     "fmi2SetReal: %s = %g is invalid: must be in %s%g, %g%s", v->name, x,
-                    v->min_open ? "(" : "[", v->min, v->max, v->max_open ? ")" : "]");
+                    v->min_open || isinf(v->min) ? "(" : "[", v->min, v->max,
+                    v->max_open || isinf(v->max) ? ")" : "]");
             return fmi2Error;
         }
     }
