@@ -43,13 +43,13 @@ def fake_series(n_rpm=1800.0, revs=6.0, spr=29 * 32):
 def test_timeseries_spectra_track_the_pinion_angle():
     # Tracking the (wobbling) pinion angle recovers the amplitudes defined in its
     # revolutions within the 0.5 %; the record starts one sample after
-    # t = 0, so 5 of its 6 revolutions are whole (revolutions between first and
-    # last sample).
+    # t = 0 (as a simulation writes it), and its 6 revolutions all count: the last
+    # sample step is closed by periodicity.
     ts = fake_series()
     sp = timeseries_spectra(ts)
     assert list(sp) == ["mesh_force_N", "dynamic_transmission_error_m"]
     f = sp["mesh_force_N"]
-    assert f.unit == "N" and f.method == "angle-resampled" and f.n_periods == 5
+    assert f.unit == "N" and f.method == "angle-resampled" and f.n_periods == 6
     assert f.amplitude_at(29) == pytest.approx(100.0, rel=5e-3)
     assert f.amplitude_at(4) == pytest.approx(25.0, rel=5e-3)
     assert f.amplitude_at(0) == pytest.approx(3600.0, rel=1e-9)

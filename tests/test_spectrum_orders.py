@@ -152,6 +152,28 @@ def test_rectangular_window_off_grid_order_is_refused():
         spec.amplitude_at(5000.0)
 
 
+def test_record_short_by_one_sample_is_closed_periodically():
+    # Samples at k dt, k = 1..n (as a simulation writes them), tracked by angle:
+    # the n samples span n - 1 intervals, one step short of 6 whole revolutions.
+    # The periodic closure counts all 6; the samples sit on the resampling grid, so
+    # the result is exact up to round-off (bound 1e-9).
+    spr = 29 * 32
+    rev = np.arange(1, 6 * spr + 1) / spr
+    t = rev * 60.0 / 1800.0
+    x = 2.0 * np.cos(2 * np.pi * 29 * rev + 0.3) + 0.5 * np.cos(2 * np.pi * 4 * rev)
+    spec = order_spectrum(t, x, angle=2 * np.pi * rev)
+    assert spec.method == "angle-resampled" and spec.n_periods == 6
+    assert spec.samples == 6 * spr
+    assert spec.amplitude_at(29) == pytest.approx(2.0, rel=1e-9)
+    assert spec.amplitude_at(4) == pytest.approx(0.5, rel=1e-9)
+    assert spec.mean_speed_rpm == pytest.approx(1800.0, rel=1e-9)
+    # Phase at the first sample (rev = 1 / spr).
+    assert spec.phases[6 * 29] == pytest.approx(0.3 + 2 * np.pi * 29 / spr, abs=1e-9)
+    # Two samples short is not closed: 5 whole revolutions.
+    spec5 = order_spectrum(t[:-1], x[:-1], angle=2 * np.pi * rev[:-1])
+    assert spec5.n_periods == 5
+
+
 def test_record_of_non_whole_revolutions_uses_the_last_whole_ones():
     # 10.37 revolutions: the spectrum must use the last 10 only; the stray 0.37
     # revolution would leak a rectangular-window spectrum by several percent.

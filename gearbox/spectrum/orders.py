@@ -11,7 +11,10 @@ tracking", Mech. Syst. Signal Process. 11(2), 1997):
 1. The reference shaft's revolutions rev(t) come from its angle (rad) or from its
    speed (rpm, constant or sampled, integrated by the trapezoidal rule).
 2. The analysed record is the *last* ``n_periods`` whole periods of
-   ``period_revs`` revolutions each (the settled part of a simulation).
+   ``period_revs`` revolutions each (the settled part of a simulation). Samples
+   stand for the intervals after them: a record ending less than 1.5 sample steps
+   short of a whole period (samples at k dt, k = 1..n, as a simulation writes
+   them) counts that period, closed by periodicity, x(rev_0 + record) = x(rev_0).
 3. When the speed is constant, the sampling uniform and one period an integer number
    of samples, the samples are used as they are ("fft"). Otherwise the signal is
    resampled at equal angle steps by a cubic spline through (rev_i, x_i)
@@ -332,7 +335,11 @@ def order_spectrum(
         n_use = 1
         record = x.size * h * float(speed_rpm) / 60.0 if plain else total
     else:
-        available = int(math.floor(total / period_revs + 1e-9))
+        # A record that ends less than 1.5 sample steps short of another whole
+        # period (n samples standing for n intervals, as a simulation records
+        # k dt for k = 1..n) is closed periodically below: x(record) = x(0).
+        reach = total if plain else total + 1.5 * float(revs[-1] - revs[-2])
+        available = int(math.floor(reach / period_revs + 1e-9))
         n_use = available if n_periods is None else int(n_periods)
         if available < 1 or n_use > available:
             p = Problems()
@@ -359,7 +366,7 @@ def order_spectrum(
         else:
             spr = float(samples_per_rev)
         per_period = int(
-            math.ceil(spr * (period_revs if period_revs is not None else record) - 1e-9)
+            math.ceil(spr * (period_revs if period_revs is not None else record) * (1 - 1e-9))
         )
         n = per_period * n_use
         if n > MAX_SAMPLES:
@@ -368,10 +375,20 @@ def order_spectrum(
             p.raise_if_any("order spectrum")
         from scipy.interpolate import CubicSpline
 
-        grid = start + np.arange(n) * (record / n)
-        xs = CubicSpline(revs, x)(grid)
-        start_time = float(np.interp(start, revs, t))
-        duration = float(t[-1]) - start_time
+        if start >= -1e-12 * record:
+            grid = start + np.arange(n) * (record / n)
+            xs = CubicSpline(revs, x)(grid)
+            start_time = float(np.interp(start, revs, t))
+            duration = float(t[-1]) - start_time
+        else:
+            # Periodic closure: the whole record is one stretch of whole periods
+            # whose last sample lies less than 1.5 steps before the end; a
+            # periodic spline through (rev_i, x_i) and (record, x_0) bridges it.
+            gap = record - total
+            grid = np.arange(n) * (record / n)
+            xs = CubicSpline(np.r_[revs, record], np.r_[x, x[0]], bc_type="periodic")(grid)
+            start_time = float(t[0])
+            duration = float(t[-1] - t[0]) + gap * float(t[-1] - t[-2]) / float(revs[-1] - revs[-2])
         method = "angle-resampled"
 
     w = make_window(win, n)

@@ -212,7 +212,7 @@ def runup_waterfall(
     revs = revolutions(t, speed_rpm=s)
     if axis == "order":
         spr = samples_per_rev if samples_per_rev is not None else 1.0 / float(np.diff(revs).min())
-        per_block = int(math.ceil(spr * block - 1e-9))
+        per_block = int(math.ceil(spr * block * (1 - 1e-9)))  # round-off in spr
         from scipy.interpolate import CubicSpline
 
         n_total = int(math.floor(revs[-1] * per_block / block + 1e-9))
