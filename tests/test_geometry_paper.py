@@ -180,3 +180,21 @@ def test_target_fpd_mode_recovers_case03_cone_angle():
     # xi_R printed to 1e-4 deg; d(xi_R)/d(gamma_1) ~ -0.8, so gamma_1 is known to ~1e-4 deg
     assert abs(math.degrees(d.spec.pinion.cone_angle) - 1.0) < 2e-4
     assert abs(math.degrees(d.fpd_angle_right) - ROWS["03"]["fpd_angle_right_deg"]) < 1e-9
+
+
+@pytest.mark.parametrize("i, case", list(enumerate(["01", "02", "03", "04"])))
+def test_line_of_action_and_pitch_point_against_table3(i, case):
+    """Paper Table 3: line of action n and mesh point P (loaded, at 300 N m) in Sf.
+
+    The design's right-flank line of action at the pitch point, with z negated (the
+    paper's Sf is ours mirrored in z, see docs/geometry.md), agrees with the printed
+    n to 0.002 per component (printed to 3 decimals; the loaded mesh point is not
+    exactly the pitch point). The mesh point's x, y agree to 2 mm; its z depends on
+    where the paper put the origin along the pinion axis, which it does not say.
+    """
+    row = DATA["table3"][i]
+    d = design_pair(PairSpec.from_scene(load_scene(MODELS / f"case{case}.toml")))
+    n = np.array(d.line_of_action[0]) * [1, 1, -1]
+    assert np.abs(n - row["line_of_action"]).max() < 2e-3, (n, row["line_of_action"])
+    assert np.abs(np.array(d.pitch_point[:2]) - row["mesh_point_m"][:2]).max() < 2e-3
+    assert abs(np.linalg.norm(d.line_of_action[1]) - 1) < 1e-14

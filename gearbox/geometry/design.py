@@ -118,6 +118,10 @@ class PairDesign:
         pitch_point: P in Sf (m), shape (3,).
         pitch_plane_normal: unit normal of the common rack's pitch plane in Sf.
         gear_axis: unit direction of the gear axis in Sf (the pinion axis is z_f).
+        line_of_action: unit normals of the common rack's right and left flanks at P
+            in Sf, shape (2, 3): the lines of action of the drive (R) and coast (L)
+            sides at the pitch point. Oriented as the paper's Table 3 (which gives
+            ``(n_x, n_y, -n_z)`` of the right one: its Sf is ours mirrored in z).
         iterations: Newton iterations of the xi_n solve; ``residual``: |E(xi_n)/E - 1|.
         checks: name -> :class:`Check` (filled by :mod:`gearbox.geometry.checks`).
     """
@@ -133,6 +137,7 @@ class PairDesign:
     pitch_point: tuple[float, float, float]
     pitch_plane_normal: tuple[float, float, float]
     gear_axis: tuple[float, float, float]
+    line_of_action: tuple[tuple[float, float, float], tuple[float, float, float]]
     iterations: int
     residual: float
     checks: dict[str, Check] = field(default_factory=dict)
@@ -430,6 +435,25 @@ def _cone_construction(E, delta, w):
     return P, normal, float(h1), float(h2), float(d1), float(d2)
 
 
+def _lines_of_action(P, alpha_nw, beta_w1, gamma_w1):
+    """Unit normals of the working rack's R and L flanks at P in Sf (module docstring of rack.py)."""
+    a1 = np.array([0.0, 0.0, 1.0])
+    e1 = np.array([P[0], P[1], 0.0]) / math.hypot(P[0], P[1])
+    t1 = np.cross(a1, e1)
+    sa, ca = math.sin(alpha_nw), math.cos(alpha_nw)
+    sb, cb = math.sin(beta_w1), math.cos(beta_w1)
+    sg, cg = math.sin(gamma_w1), math.cos(gamma_w1)
+    out = []
+    for sign in (1.0, -1.0):  # R, L
+        n = (
+            sign * ca * cb * t1
+            + (sa * cg - sign * ca * sb * sg) * e1
+            + (sa * sg + sign * ca * sb * cg) * a1
+        )
+        out.append(tuple(float(x) for x in -n))
+    return tuple(out)
+
+
 def design_pair(spec: PairSpec, *, with_checks: bool = True) -> PairDesign:
     """Design a crossed beveloid pair (paper Fig. 5); see the module docstring.
 
@@ -478,6 +502,7 @@ def design_pair(spec: PairSpec, *, with_checks: bool = True) -> PairDesign:
         pitch_point=P,
         pitch_plane_normal=normal,
         gear_axis=(0.0, sd, cd),
+        line_of_action=_lines_of_action(P, w["alpha_nw"], w["bw1"], w["gw1"]),
         iterations=int(sol["iterations"]),
         residual=w["residual"],
     )

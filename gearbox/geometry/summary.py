@@ -52,6 +52,8 @@ def design_summary(d: PairDesign) -> dict:
         "mounting_distance_mm": [_mm(x.mounting_distance) for x in g],
         "pitch_point_axial_mm": [x.pitch_point_axial * 1e3 for x in g],
         "pitch_point_mm": [p * 1e3 for p in d.pitch_point],
+        "line_of_action_right": list(d.line_of_action[0]),
+        "line_of_action_left": list(d.line_of_action[1]),
         "offset_mm": d.offset * 1e3,
         "shaft_angle_deg": _deg(d.shaft_angle),
         "iterations": d.iterations,
