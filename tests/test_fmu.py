@@ -1,0 +1,378 @@
+"""FMU export: build with gcc, fmpy validation, both interfaces against the Python
+reference solver, robustness through the FMI API (docs/fmu.md).
+
+The reference is the project's scipy solver (DOP853 on the numpy right-hand side of
+docs/drivetrain.md) at rtol 1e-10: an independent integrator and an independent
+implementation of the same equations (numpy vs the generated C).
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import xml.etree.ElementTree as ET
+import zipfile
+from ctypes import byref
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+
+from gearbox import load_scene  # noqa: E402
+from gearbox.drivetrain.model import outputs  # noqa: E402
+from gearbox.drivetrain.scipy_backend import ScipySolver, integrate_scipy  # noqa: E402
+from gearbox.fmu import build_fmu, drivetrain_fmu, engine_fmu, gearbox_fmu, propeller_fmu  # noqa: E402
+from gearbox.fmu.models import model_from_scene  # noqa: E402
+from gearbox.fmu.run import ac_relative_error, simulate_fmu  # noqa: E402
+from gearbox.fmu.spec import FmuModel  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENE = ROOT / "models" / "marine_drive.toml"  # the default scene of `gearbox run`
+STOP = 0.02  # s: 34 mesh cycles at 3500 rpm; keeps the scipy reference near 2 s
+
+pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+
+
+@pytest.fixture(scope="module")
+def model_table():
+    return model_from_scene(load_scene(SCENE))
+
+
+@pytest.fixture(scope="module")
+def built(model_table, tmp_path_factory):
+    model, table = model_table
+    out = tmp_path_factory.mktemp("fmu")
+    return {
+        "drivetrain": build_fmu(drivetrain_fmu(model, table), out),
+        "gearbox": build_fmu(gearbox_fmu(model, table), out),
+        "engine": build_fmu(engine_fmu(model), out),
+        "propeller": build_fmu(propeller_fmu(model), out),
+    }
+
+
+@pytest.fixture(scope="module")
+def reference(model_table):
+    """scipy DOP853, rtol 1e-10, sampled every 1e-4 s."""
+    model, _ = model_table
+    t = np.linspace(0.0, STOP, int(round(STOP / 1e-4)) + 1)
+    tt, y, info = integrate_scipy(model, model.static_state(), t, ScipySolver(rtol=1e-10))
+    assert info["status"] == "success"
+    return tt, outputs(model, tt, y)
+
+
+def test_build_is_warning_free_and_fmu_is_complete(built):
+    for b in built.values():
+        assert b.compiler_output == "", b.compiler_output
+        assert "-Werror" in b.command
+        names = set(zipfile.ZipFile(b.fmu).namelist())
+        assert "modelDescription.xml" in names
+        assert f"binaries/linux64/{b.identifier}.so" in names
+        assert {"sources/fmi2_runtime.c", "sources/model.c", "sources/config.h"} <= names
+    names = set(zipfile.ZipFile(built["drivetrain"].fmu).namelist())
+    assert {
+        "resources/mesh_meta.txt",
+        "resources/mesh_torque.txt",
+        "resources/mesh_samples.txt",
+    } <= names
+
+
+def test_warnings_are_errors(tmp_path, model_table):
+    """A generated model with an unused variable must not compile (-Wall -Wextra -Werror)."""
+    model, _ = model_table
+    good = engine_fmu(model)
+    bad = FmuModel(
+        good.identifier,
+        good.description,
+        good.variables,
+        good.c_data,
+        good.c_code + "\nstatic int unused_helper(void) { int x; return 0; }\n",
+    )
+    with pytest.raises(RuntimeError, match="unused"):
+        build_fmu(bad, tmp_path)
+
+
+@pytest.mark.parametrize("kind", ["drivetrain", "gearbox", "engine", "propeller"])
+def test_fmpy_validation_reports_no_problem(built, kind):
+    from fmpy.validation import validate_fmu
+
+    assert validate_fmu(built[kind].fmu) == []
+
+
+def test_model_description_declares_units_ranges_and_starts(built):
+    root = ET.fromstring(zipfile.ZipFile(built["drivetrain"].fmu).read("modelDescription.xml"))
+    units = {u.get("name") for u in root.iter("Unit")}
+    seen = 0
+    for sv in root.iter("ScalarVariable"):
+        real = sv.find("Real")
+        assert sv.get("description"), sv.get("name")
+        if sv.get("causality") == "parameter":
+            seen += 1
+            assert real.get("start") is not None and real.get("unit") in units, sv.get("name")
+            assert real.get("min") is not None, sv.get("name")
+    assert seen >= 20
+    assert root.find("ModelExchange") is not None and root.find("CoSimulation") is not None
+
+
+def test_co_simulation_matches_python_reference(built, reference):
+    t_ref, ref = reference
+    t, ch, _ = simulate_fmu(
+        built["drivetrain"].fmu,
+        stop_time=STOP,
+        step=1e-4,
+        rtol=1e-8,
+        outputs=["mesh.force", "engine.w", "mesh.dte", "input_shaft.torque"],
+    )
+    # Same equations, DOPRI5 at rtol 1e-8 vs DOP853 at 1e-10: measured 8e-7 of the AC
+    # RMS over 0.1 s; 1e-5 leaves room for the accumulated phase error, and is still
+    # 100x below the 1e-3 that a wrong term (one harmonic, a damping factor) gives.
+    assert ac_relative_error(t, ch["mesh.force"], t_ref, ref["mesh_force_N"]) < 1e-5
+    assert ac_relative_error(t, ch["mesh.dte"], t_ref, ref["dynamic_transmission_error_m"]) < 1e-4
+    assert (
+        ac_relative_error(t, ch["input_shaft.torque"], t_ref, ref["input_shaft_torque_Nm"]) < 1e-5
+    )
+    assert (
+        np.max(np.abs(np.interp(t_ref, t, ch["engine.w"]) - ref["engine_speed_rad_per_s"])) < 1e-6
+    )
+
+
+def test_model_exchange_matches_python_reference(built, reference):
+    t_ref, ref = reference
+    t, ch, _ = simulate_fmu(
+        built["drivetrain"].fmu,
+        interface="ModelExchange",
+        stop_time=STOP,
+        step=1e-4,
+        rtol=1e-8,
+        outputs=["mesh.force"],
+    )
+    # fmpy's CVode (BDF) at rtol 1e-8, atol rtol x nominal: measured 2e-6 over 0.1 s.
+    assert ac_relative_error(t, ch["mesh.force"], t_ref, ref["mesh_force_N"]) < 5e-5
+
+
+def test_tunable_parameter_changes_the_run_and_fixed_one_is_guarded(built, model_table):
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    path = built["drivetrain"].fmu
+    md = read_model_description(path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    d = extract(path)
+    try:
+        fmu = FMU2Slave(
+            guid=md.guid,
+            unzipDirectory=d,
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName="tune",
+        )
+        fmu.instantiate()
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        for i in range(20):
+            fmu.doStep(i * 1e-4, 1e-4)
+        fmu.setReal([vr["mesh.damping_ratio"]], [0.1])  # tunable: accepted during the run
+        assert fmu.getReal([vr["mesh.damping_ratio"]]) == [0.1]
+        with pytest.raises(Exception, match="fmi2SetReal"):
+            fmu.setReal([vr["engine.nominal_speed"]], [100.0])  # fixed after initialization
+        fmu.terminate()
+        fmu.freeInstance()
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+
+
+class _Log:
+    """fmi2 callbacks with a Python logger behind fmpy's varargs-formatting proxy."""
+
+    def __init__(self):
+        from fmpy.fmi2 import (
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
+        from fmpy.logging import addLoggerProxy
+
+        self.messages = []
+
+        def log(env, name, status, category, message):
+            self.messages.append((status, message.decode()))
+
+        from fmpy import calloc, free
+
+        self.callbacks = fmi2CallbackFunctions()
+        self.callbacks.logger = fmi2CallbackLoggerTYPE(log)
+        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(self.callbacks))
+
+
+def _slave(path_dir, md, name="robust"):
+    from fmpy.fmi2 import FMU2Slave
+
+    return FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=path_dir,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName=name,
+    )
+
+
+@pytest.mark.parametrize(
+    "name, value",
+    [
+        ("pinion.inertia", -0.05),
+        ("input_shaft.stiffness", 0.0),
+        ("mesh.damping_ratio", float("nan")),
+        ("mesh.backlash", -1e-4),
+    ],
+)
+def test_invalid_parameter_is_an_error_with_a_message(built, name, value):
+    from fmpy import extract, read_model_description
+
+    path = built["drivetrain"].fmu
+    md = read_model_description(path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    d = extract(path)
+    log = _Log()
+    try:
+        fmu = _slave(d, md)
+        fmu.instantiate(callbacks=log.callbacks)
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        old = fmu.getReal([vr[name]])[0]
+        with pytest.raises(Exception, match="fmi2SetReal"):
+            fmu.setReal([vr[name]], [value])
+        errors = [m for s, m in log.messages if s >= 3]
+        assert errors and name in errors[-1] and "is invalid" in errors[-1], log.messages
+        assert fmu.getReal([vr[name]])[0] == old  # the rejected value changed nothing
+        fmu.exitInitializationMode()
+        fmu.doStep(0.0, 1e-3)
+        assert np.isfinite(fmu.getReal([vr["mesh.force"]])[0])
+        fmu.terminate()
+        fmu.freeInstance()
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+
+
+def test_mean_torque_outside_the_table_fails_initialization(built, model_table):
+    from fmpy import extract, read_model_description
+
+    _, table = model_table
+    path = built["drivetrain"].fmu
+    md = read_model_description(path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    d = extract(path)
+    log = _Log()
+    try:
+        fmu = _slave(d, md)
+        fmu.instantiate(callbacks=log.callbacks)
+        fmu.setReal([vr["engine.mean_torque"]], [2.0 * float(table.torque[-1])])
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        with pytest.raises(Exception, match="fmi2ExitInitializationMode"):
+            fmu.exitInitializationMode()
+        assert any("torque range" in m for _, m in log.messages), log.messages
+        fmu.freeInstance()
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+
+
+@pytest.mark.parametrize(
+    "damage, expect",
+    [
+        ("delete", "cannot open resource table"),
+        ("nan", "not a finite number"),
+        ("truncate", "numbers found"),
+        ("header", "first line"),
+        ("negative_stiffness", "stiffness must be > 0"),
+    ],
+)
+def test_missing_or_corrupt_resource_fails_at_instantiation(built, damage, expect):
+    from fmpy import extract, read_model_description
+
+    path = built["drivetrain"].fmu
+    md = read_model_description(path)
+    d = extract(path)
+    log = _Log()
+    try:
+        f = Path(d) / "resources" / "mesh_samples.txt"
+        lines = f.read_text().splitlines()
+        if damage == "delete":
+            f.unlink()
+        elif damage == "nan":
+            lines[5] = "nan " + lines[5].split(" ", 1)[1]
+        elif damage == "truncate":
+            lines = lines[: len(lines) // 2]
+        elif damage == "header":
+            lines[0] = "gearbox-table 7 1 1"
+        elif damage == "negative_stiffness":
+            lines[5] = "-1 " + lines[5].split(" ", 1)[1]
+        if damage != "delete":
+            f.write_text("\n".join(lines) + "\n")
+        fmu = _slave(d, md)
+        with pytest.raises(Exception, match="instantiate"):
+            fmu.instantiate(callbacks=log.callbacks)
+        assert any(expect in m for _, m in log.messages), log.messages
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+
+
+def _harness(built, tmp_path, cycles, valgrind=False):
+    from fmpy import extract, read_model_description
+
+    b = built["drivetrain"]
+    md = read_model_description(b.fmu)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    d = Path(extract(b.fmu, unzipdir=tmp_path / "unzipped"))
+    exe = tmp_path / "fmu_harness"
+    subprocess.run(
+        [
+            "gcc",
+            "-std=c11",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-I",
+            str(d / "sources"),
+            str(ROOT / "fmus" / "harness" / "fmu_harness.c"),
+            "-ldl",
+            "-o",
+            str(exe),
+        ],
+        check=True,
+    )
+    cmd = [
+        str(exe),
+        str(d),
+        b.identifier,
+        md.guid,
+        str(vr["mesh.force"]),
+        str(vr["pinion.inertia"]),
+        str(cycles),
+    ]
+    if valgrind:
+        cmd = [
+            "valgrind",
+            "-q",
+            "--leak-check=full",
+            "--show-leak-kinds=definite,indirect",
+            "--error-exitcode=9",
+            *cmd,
+        ]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+
+
+def test_many_cycles_and_several_instances_in_one_process(built, tmp_path):
+    proc = _harness(built, tmp_path, cycles=500)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "cycles 500" in proc.stdout and "PASSED" in proc.stdout
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(shutil.which("valgrind") is None, reason="needs valgrind")
+def test_valgrind_finds_no_leak_or_invalid_access(built, tmp_path):
+    proc = _harness(built, tmp_path, cycles=3, valgrind=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert proc.stderr.strip() == "", proc.stderr
