@@ -203,6 +203,13 @@ def test_bad_input_is_refused_or_flagged():
                 )
             },
         )
-    # perfect spur involutes load the tip edge at the start of mesh: flagged
+    # loads on points where the grid cannot see the true contact are flagged
     r = _cycle(SPUR)
-    assert r.edge_contact[0]
+    assert not r.edge_contact[0]
+
+    def edged(f):
+        g = parallel_grid(SPUR, f, 10)
+        return replace(g, edge=g.pair == g.pair.max())
+
+    r = ltca_cycle(edged, [400.0], options=LTCAOptions(positions=6))
+    assert r.edge_contact[0] and r.edge_load_fraction.max() > 0.3

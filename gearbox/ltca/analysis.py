@@ -146,21 +146,26 @@ class CycleResult:
         return d
 
 
-def _pattern(raster, profile_range, face_range, prof, face, half, pressure):
-    """Mark cells of the raster (U, V) covered by intervals prof +- half at face."""
+def _pattern(raster, profile_range, face_range, prof, face, half, width, pressure):
+    """Mark the cells of the raster (U, V) covered by the rectangles
+    [prof +- half] x [face +- width/2] (at least the cell of the point itself) with
+    the largest pressure met."""
     U, V = raster.shape
     p0, p1 = profile_range
     f0, f1 = face_range
     du = (p1 - p0) / U
+    dv = (f1 - f0) / V
     uc = p0 + du * (np.arange(U) + 0.5)
-    iv = np.clip(((face - f0) / (f1 - f0) * V).astype(int), 0, V - 1)
+    vc = f0 + dv * (np.arange(V) + 0.5)
     for j in range(prof.size):
-        sel = np.abs(uc - prof[j]) <= half[j] + 0.5 * du * 0.0
-        if not sel.any():
-            sel = np.zeros(U, bool)
-            sel[np.clip(int((prof[j] - p0) / du), 0, U - 1)] = True
-        col = raster[:, iv[j]]
-        np.maximum(col, np.where(sel, pressure[j], 0.0), out=col)
+        su = np.abs(uc - prof[j]) <= half[j]
+        if not su.any():
+            su[np.clip(int((prof[j] - p0) / du), 0, U - 1)] = True
+        sv = np.abs(vc - face[j]) <= 0.5 * width[j]
+        if not sv.any():
+            sv[np.clip(int((face[j] - f0) / dv), 0, V - 1)] = True
+        block = raster[np.ix_(su, sv)]
+        raster[np.ix_(su, sv)] = np.maximum(block, pressure[j])
 
 
 def ltca_cycle(
@@ -282,7 +287,7 @@ def ltca_cycle(
             loa[t, j] = nv / np.linalg.norm(nv)
             out["edge_load_fraction"][t, j] = float(F[grid.edge].sum()) / Fn
             a = hertz_half_width(q, grid.curvature_radius, E, nu) / grid.transverse_projection
-            samples[t].append((grid.profile, grid.face, F > 0, a, p0, grid.slot))
+            samples[t].append((grid.profile, grid.face, F > 0, a, p0, grid.slot, grid.width))
             if bar is not None:
                 bar.update(1)
     if bar is not None:
@@ -298,6 +303,7 @@ def ltca_cycle(
         a = np.concatenate([s[3] for s in samples[t]])
         p0 = np.concatenate([s[4] for s in samples[t]])
         slot = np.concatenate([s[5] for s in samples[t]])
+        width = np.concatenate([s[6] for s in samples[t]])
         half = a.copy()
         for sl in np.unique(slot):
             m = slot == sl
@@ -311,6 +317,7 @@ def ltca_cycle(
             prof[loaded],
             face[loaded],
             half[loaded],
+            width[loaded],
             p0[loaded],
         )
         area[t] = float(np.mean(pattern[t] > 0))

@@ -217,8 +217,10 @@ def parallel_grid(pair: ParallelPair, fraction: float, n_face: int = 40) -> Cont
     r1 = np.sqrt(rb1**2 + xi**2)
     r2 = np.sqrt(rb2**2 + (lam - xi) ** 2)
     rho = xi * (lam - xi) / lam / cb  # relative radius of curvature, normal section
-    xa_e, xe_e = xa + 1e-9 * pb, xe - 1e-9 * pb
-    edge = (xi <= xa_e + 0.5 * dy * tb) | (xi >= xe_e - 0.5 * dy * tb)
+    # the contact lines are exact and end on the tip edges: the true contact never
+    # lies beyond this grid (corner contact outside the path of contact, from
+    # deflections, is not modelled by the fast level)
+    edge = np.zeros(n, dtype=bool)
     teeth1 = ToothSections.uniform(
         n,
         radius=r1,

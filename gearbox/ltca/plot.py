@@ -1,0 +1,127 @@
+"""Figures of the loaded TCA in the manner of the paper's Figs. 12-16.
+
+Each function draws on an optional matplotlib ``ax`` and returns it; nothing calls
+``show()``. ``results`` is a mapping label -> :class:`~gearbox.ltca.CycleResult`
+(e.g. one entry per flank or per scene) and ``t`` the torque index.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "plot_contact_pattern",
+    "plot_lte",
+    "plot_mesh_stiffness",
+    "plot_root_stress_face",
+    "save_figures",
+]
+
+
+def _axes(ax):
+    if ax is None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots(figsize=(6, 4))
+    return ax
+
+
+def plot_contact_pattern(res, t: int = 0, ax=None, title: str = ""):
+    """Contact pattern and pressure (MPa) over the active flank (Figs. 12-13): face
+    width (mm) across, profile coordinate (mm) up."""
+    ax = _axes(ax)
+    p = res.pattern_pressure[t] / 1e6
+    f0, f1 = res.face_range
+    u0, u1 = res.profile_range
+    masked = np.ma.masked_where(p <= 0, p)
+    im = ax.imshow(
+        masked,
+        origin="lower",
+        aspect="auto",
+        extent=(f0 * 1e3, f1 * 1e3, u0 * 1e3, u1 * 1e3),
+        cmap="viridis",
+    )
+    ax.figure.colorbar(im, ax=ax, label="max contact pressure (MPa)")
+    ax.set_xlabel("face width (mm)")
+    ax.set_ylabel("profile (mm)")
+    frac = res.pattern_area_fraction[t]
+    ax.set_title(f"{title} {res.torque[t]:g} N m: pattern {100 * frac:.0f} % of the flank".strip())
+    return ax
+
+
+def plot_mesh_stiffness(results, t: int = 0, ax=None, tangent: bool = False):
+    """Mesh stiffness (MN/m) over one mesh cycle (Fig. 14)."""
+    ax = _axes(ax)
+    for label, res in results.items():
+        k = res.tangent_stiffness[t] if tangent else res.stiffness[t]
+        ax.plot(res.fraction, k / 1e6, marker="o", ms=3, label=label)
+    ax.set_xlabel("pinion position (mesh cycles)")
+    ax.set_ylabel(("tangent" if tangent else "secant") + " mesh stiffness (MN/m)")
+    ax.legend()
+    return ax
+
+
+def plot_lte(results, t: int = 0, ax=None):
+    """Loaded transmission error along the line of action (um) over one mesh cycle (Fig. 16)."""
+    ax = _axes(ax)
+    for label, res in results.items():
+        ax.plot(res.fraction, res.lte[t] * 1e6, marker="o", ms=3, label=label)
+    ax.set_xlabel("pinion position (mesh cycles)")
+    ax.set_ylabel("LTE along the line of action (um)")
+    ax.legend()
+    return ax
+
+
+def plot_root_stress_face(results, t: int = 0, ax=None):
+    """Largest root stress (MPa) over the cycle along the face width (Fig. 15(b))."""
+    ax = _axes(ax)
+    for label, res in results.items():
+        S = res.root_stress_face_pinion.shape[1]
+        f0, f1 = res.face_range
+        y = (f0 + (np.arange(S) + 0.5) * (f1 - f0) / S) * 1e3
+        ax.plot(y, res.root_stress_face_pinion[t] / 1e6, label=f"{label} pinion")
+        ax.plot(y, res.root_stress_face_gear[t] / 1e6, ls="--", label=f"{label} gear")
+    ax.set_xlabel("face width (mm)")
+    ax.set_ylabel("root stress (MPa)")
+    ax.legend()
+    return ax
+
+
+def save_figures(results, out_dir, t: int = 0) -> list:
+    """Write the figures of ``results`` (label -> CycleResult) as PNG files; return paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import io
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+
+    from ..commands._common import write_atomic
+
+    out = Path(out_dir)
+    paths = []
+
+    def save(fig, name):
+        buf = io.BytesIO()
+        fig.tight_layout()
+        fig.savefig(buf, format="png", dpi=110)
+        plt.close(fig)
+        paths.append(write_atomic(out / name, buf.getvalue()))
+
+    fig, axs = plt.subplots(1, len(results), figsize=(5 * len(results), 4), squeeze=False)
+    for ax, (label, res) in zip(axs[0], results.items(), strict=True):
+        plot_contact_pattern(res, t, ax=ax, title=label)
+    save(fig, "contact_pattern.png")
+    for name, fn in (
+        ("mesh_stiffness.png", plot_mesh_stiffness),
+        ("lte.png", plot_lte),
+        ("root_stress.png", plot_root_stress_face),
+    ):
+        fig, ax = plt.subplots(figsize=(6, 4))
+        fn(results, t, ax=ax)
+        save(fig, name)
+    return paths

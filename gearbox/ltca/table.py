@@ -1,0 +1,215 @@
+"""Mesh tables from the loaded TCA: :class:`~gearbox.meshtable.MeshTable` and the
+scene-level entry points.
+
+``drive`` is the paper's R flank and ``coast`` its L flank (project convention, see
+docs/ltca.md); a table holds both when the scene asks for both.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .. import __version__
+from ..errors import Problems
+from ..meshtable import MeshTable
+from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle
+from .compliance import compliance_for
+from .parallel import ParallelPair, parallel_grid
+
+__all__ = [
+    "LTCAResult",
+    "mesh_table",
+    "parallel_ltca",
+    "parallel_pair_from_design",
+    "scene_ltca",
+]
+
+
+@dataclass(frozen=True)
+class LTCAResult:
+    """Loaded TCA of a pair: per flank a :class:`CycleResult`, and the mesh table.
+
+    flanks: mapping flank name -> CycleResult; table: the MeshTable (SI); attrs:
+    provenance (scene, method, fidelity, gearbox version, frame).
+    """
+
+    flanks: dict
+    table: MeshTable
+    attrs: dict = field(default_factory=dict)
+
+    def summary(self) -> dict:
+        """JSON-ready summary: per flank, per torque (N m as key), the mean and
+        peak-to-peak mesh stiffness and LTE, mean P and n, pattern area fraction,
+        edge-contact flag and solver status."""
+        out = {"attrs": dict(self.attrs), "flanks": {}}
+        for name, res in self.flanks.items():
+            rows = cycle_summary(res)["torques"]
+            out["flanks"][name] = {f"{r['torque_Nm']:g}": r for r in rows}
+        return out
+
+
+def mesh_table(
+    flanks: dict,
+    *,
+    pinion_teeth: int,
+    gear_teeth: int,
+    pinion_axis,
+    gear_axis,
+    attrs: dict,
+    angle0: float = 0.0,
+) -> MeshTable:
+    """Assemble a MeshTable from per-flank :class:`CycleResult` (same torques and positions).
+
+    pinion_axis, gear_axis: shape (2, 3) [unit axis in the driving sense, point] in Sf.
+    """
+    names = [f for f in ("drive", "coast") if f in flanks]
+    first = flanks[names[0]]
+    P = first.fraction.size
+    angle = angle0 + first.fraction * (2 * math.pi / pinion_teeth)
+
+    def stack(attr):
+        return np.stack([getattr(flanks[f], attr) for f in names])
+
+    share_max = np.stack([flanks[f].pair_share.max(axis=2) for f in names])
+    area = np.stack([np.repeat(flanks[f].pattern_area_fraction[:, None], P, axis=1) for f in names])
+    return MeshTable(
+        pinion_teeth=pinion_teeth,
+        gear_teeth=gear_teeth,
+        angle=angle,
+        torque=first.torque,
+        flanks=tuple(names),
+        stiffness=stack("stiffness"),
+        tangent_stiffness=stack("tangent_stiffness"),
+        lte=stack("lte"),
+        mesh_point=stack("mesh_point"),
+        line_of_action=stack("line_of_action"),
+        pinion_axis=np.asarray(pinion_axis, dtype=float),
+        gear_axis=np.asarray(gear_axis, dtype=float),
+        extra={
+            "max_contact_pressure_Pa": stack("max_pressure"),
+            "pattern_area_fraction": area,
+            "load_sharing": share_max,
+            "root_stress_pinion_Pa": stack("root_stress_pinion"),
+            "root_stress_gear_Pa": stack("root_stress_gear"),
+            "edge_load_fraction": stack("edge_load_fraction"),
+        },
+        attrs=attrs,
+    )
+
+
+def parallel_pair_from_design(design, scene) -> ParallelPair:
+    """The :class:`ParallelPair` of a design with shaft angle 0 and cone angles 0."""
+    p = Problems()
+    p.check(
+        abs(design.shaft_angle) < 1e-12,
+        "pair.shaft_angle_deg",
+        math.degrees(design.shaft_angle),
+        "must be 0 for a parallel-axis pair",
+    )
+    for name, g in (("pinion", design.pinion), ("gear", design.gear)):
+        p.check(
+            abs(g.cone_angle) < 1e-12,
+            f"{name}.cone_angle_deg",
+            math.degrees(g.cone_angle),
+            "must be 0 for a parallel-axis pair",
+        )
+    p.raise_if_any("not a parallel-axis pair")
+    tool = scene["tool"]
+    mat = scene["material"]
+    return ParallelPair(
+        normal_module=design.normal_module,
+        normal_pressure_angle=design.normal_pressure_angle,
+        helix_angle=design.pinion.helix_angle,
+        teeth=(design.pinion.teeth, design.gear.teeth),
+        profile_shift=(design.pinion.normal_profile_shift, design.gear.normal_profile_shift),
+        face_width=min(design.pinion.face_width, design.gear.face_width),
+        center_distance=design.offset,
+        addendum_coefficient=tool["gear_addendum_coefficient"],
+        dedendum_coefficient=tool["addendum_coefficient"],
+        root_radius_coefficient=tool["tip_radius_coefficient"],
+        youngs_modulus=mat["youngs_modulus_GPa"] * 1e9,
+        poisson_ratio=mat["poisson_ratio"],
+    )
+
+
+def _mirror(res: CycleResult) -> CycleResult:
+    """The coast flank of a symmetric parallel pair: the drive contact mirrored in the
+    plane through both axes (transverse y -> -y; the normal's axial part flips with
+    its tangential part, rack flank normals n_L of the surfaces convention)."""
+    P = res.mesh_point.copy()
+    P[..., 1] *= -1
+    n = res.line_of_action.copy()
+    n[..., 1] *= -1
+    n[..., 2] *= -1
+    return replace(res, mesh_point=P, line_of_action=n)
+
+
+def parallel_ltca(
+    pair: ParallelPair,
+    torques,
+    *,
+    flanks=("drive", "coast"),
+    options: LTCAOptions | None = None,
+    fidelity: str = "fast",
+    n_face: int = 40,
+    scene_name: str = "",
+) -> LTCAResult:
+    """Loaded TCA and mesh table of a parallel-axis pair.
+
+    Frame: pinion axis along z through the origin, gear axis through (a, 0, 0); the
+    drive contact lies at y < 0 near the pitch point (r_w1, 0, 0). Symmetric tooth
+    profiles: the coast flank is the drive flank mirrored.
+    """
+    options = options or LTCAOptions()
+    compliance = compliance_for(fidelity)
+    drive = ltca_cycle(
+        lambda f: parallel_grid(pair, f, n_face), torques, options=options, compliance=compliance
+    )
+    res = {}
+    if "drive" in flanks:
+        res["drive"] = drive
+    if "coast" in flanks:
+        res["coast"] = _mirror(drive)
+    a = pair.working_center_distance
+    attrs = {
+        "scene": scene_name,
+        "method": "loaded TCA, parallel-axis involute pair (plane of action, closed form)",
+        "fidelity": fidelity,
+        "gearbox_version": __version__,
+        "frame": "pinion axis z through origin, gear axis through (a, 0, 0); drive = R flank",
+    }
+    table = mesh_table(
+        res,
+        pinion_teeth=pair.teeth[0],
+        gear_teeth=pair.teeth[1],
+        pinion_axis=[[0.0, 0.0, -1.0], [0.0, 0.0, 0.0]],
+        gear_axis=[[0.0, 0.0, 1.0], [a, 0.0, 0.0]],
+        attrs=attrs,
+    )
+    return LTCAResult(flanks=res, table=table, attrs=attrs)
+
+
+def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResult:
+    """Loaded TCA of a scene's pair: parallel-axis pairs (shaft angle and cone angles
+    0) in closed form; crossed beveloid pairs through :func:`beveloid_ltca`."""
+    lt = scene["ltca"]
+    options = options or LTCAOptions(positions=lt["positions"])
+    parallel = abs(design.shaft_angle) < 1e-12 and all(
+        abs(g.cone_angle) < 1e-12 for g in (design.pinion, design.gear)
+    )
+    if parallel:
+        return parallel_ltca(
+            parallel_pair_from_design(design, scene),
+            scene["load"]["torques_Nm"],
+            flanks=tuple(lt["flanks"]),
+            options=options,
+            fidelity=lt["fidelity"],
+            n_face=lt["grid_face"],
+            scene_name=scene.name,
+        )
+    from .beveloid import beveloid_ltca
+
+    return beveloid_ltca(design, scene, options=options)

@@ -1,0 +1,64 @@
+"""The ``gearbox ltca`` verb on the parallel reference scene (shortened)."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearbox.cli import main
+from gearbox.meshtable import MeshTable
+
+SCENE = Path(__file__).parent / "data" / "ltca_parallel_helical.toml"
+
+
+def test_ltca_writes_table_summary_and_figures(tmp_path, capsys):
+    out = tmp_path / "out"
+    rc = main(["ltca", str(SCENE), "--out", str(out), "--json", "--positions", "8"])
+    assert rc == 0
+    summary = json.loads(capsys.readouterr().out)
+    for name in (
+        "mesh_table.nc",
+        "mesh_table.csv",
+        "ltca_summary.json",
+        "contact_pattern.png",
+        "mesh_stiffness.png",
+        "lte.png",
+        "root_stress.png",
+    ):
+        assert (out / name).stat().st_size > 0, name
+    row = summary["flanks"]["drive"]["300"]
+    for key in (
+        "mean_mesh_stiffness_N_per_m",
+        "mesh_stiffness_peak_to_peak_N_per_m",
+        "lte_mean_m",
+        "lte_peak_to_peak_m",
+        "mesh_point_m",
+        "line_of_action",
+        "contact_pattern_area_fraction",
+    ):
+        assert key in row
+    assert row["solver_converged"] and not row["edge_contact"]
+    # the table reads back losslessly and its numbers are the summary's
+    t = MeshTable.from_netcdf(out / "mesh_table.nc")
+    assert t.flanks == ("drive", "coast") and t.n_positions == 8
+    i = int(np.argmin(abs(t.torque - 300.0)))
+    assert t.stiffness[0, i].mean() == pytest.approx(row["mean_mesh_stiffness_N_per_m"], rel=1e-12)
+    # involute helical pair: rotation radius r_b1 cos(beta_b) on the drive flank
+    lam1, _ = t.rotation_radii("drive", 300.0)
+    rb1 = (
+        0.5
+        * 29
+        * 6e-3
+        / math.cos(math.radians(20))
+        * math.cos(math.atan(math.tan(math.radians(20)) / math.cos(math.radians(20))))
+    )
+    bb = math.asin(math.sin(math.radians(20)) * math.cos(math.radians(20)))
+    assert lam1 == pytest.approx(rb1 * math.cos(bb), rel=1e-9)
+
+
+def test_ltca_bad_input_exits_2(tmp_path, capsys):
+    rc = main(["ltca", str(SCENE), "--out", str(tmp_path), "--positions", "3"])
+    assert rc == 2
+    assert "positions" in capsys.readouterr().err
