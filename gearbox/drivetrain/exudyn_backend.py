@@ -195,6 +195,12 @@ class _Plan:
     def n(self) -> int:
         return len(self.names)
 
+    @property
+    def flank_arrays(self) -> list:
+        if "_arrays" not in self.__dict__:
+            object.__setattr__(self, "_arrays", [_flank_arrays(fl) for fl in self.flanks])
+        return self.__dict__["_arrays"]
+
 
 def _series(coef: np.ndarray, teeth: int):
     """FourierSeries from the model's coefficient row [a0, a_1..a_h, b_1..b_h]."""
@@ -301,57 +307,69 @@ def _fourier_derivative_terms(series, harmonics, theta, sin):
     return f
 
 
-def _mesh_generalised(plan: _Plan, pos: dict[int, int], t, q, q_t, symbolic: bool) -> dict:
-    """Generalised mesh forces -sum_f G_f F_f (N or N m) per model coordinate.
+def _flank_arrays(fl: _Flank):
+    """numpy arrays (w, R, phi) of the stiffness and error series (python path)."""
+    out = []
+    for hs in (fl.k_harmonics, fl.e_harmonics):
+        arr = np.array(hs, dtype=float).reshape(-1, 3)
+        out.append((arr[:, 0].copy(), arr[:, 1].copy(), arr[:, 2].copy()))
+    return out
+
+
+def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, symbolic: bool):
+    """Generalised mesh forces -sum_f G_f F_f (N or N m), a vector of length ``size``.
 
     ``pos`` maps a model coordinate to its index in the user function's q, q_t.
     Contact law (docs/drivetrain.md §3): s_f = G_f x - e_f(theta_1) - b_f,
     sdot_f = G_f v - e_f'(theta_1) (Omega + v_1), F_f = H(s_f) max(0, k_f s_f + c_f sdot_f),
-    theta_1 = Omega t + q_1 + theta_10. Symbolic: an exudyn expression per coordinate
-    (``IfThenElse`` evaluates only the taken branch, so a flank out of contact costs
-    no stiffness series); python: floats.
+    theta_1 = Omega t + q_1 + theta_10.
+
+    Symbolic: an exudyn vector expression ``sum_f (-G_f) * F_f``: each flank force is one
+    sub-expression, evaluated once per call (a list of per-coordinate expressions would
+    evaluate it once per coordinate); ``IfThenElse`` evaluates only the taken branch, so
+    a flank out of contact costs only its gap. Python: a numpy array.
     """
+    ip = pos[1]
+    theta = plan.omega * t + q[ip] + plan.theta10
     if symbolic:
         import exudyn as exu
 
         esym = exu.symbolic
-        cos, sin = esym.cos, esym.sin
         zero = esym.Real(0.0)
-    else:
-        cos, sin = math.cos, math.sin
-    ip = pos[1]
-    theta = plan.omega * t + q[ip] + plan.theta10
-    forces = []
-    for fl in plan.flanks:
-        delta = 0.0
-        ddelta = 0.0
-        for dof, j in pos.items():
-            g = float(fl.G[dof])
-            if g != 0.0:
-                delta = delta + g * q[j]
-                ddelta = ddelta + g * q_t[j]
-        e = _fourier_terms(fl.e, fl.e_harmonics, theta, cos)
-        de = _fourier_derivative_terms(fl.e, fl.e_harmonics, theta, sin)
-        s = delta - e - fl.b
-        if symbolic:
-            k = _fourier_terms(fl.k, fl.k_harmonics, theta, cos)
+        total = None
+        for fl in plan.flanks:
+            delta = 0.0
+            ddelta = 0.0
+            gv = [0.0] * size
+            for dof, j in pos.items():
+                g = float(fl.G[dof])
+                if g != 0.0:
+                    delta = delta + g * q[j]
+                    ddelta = ddelta + g * q_t[j]
+                    gv[j] = -g
+            e = _fourier_terms(fl.e, fl.e_harmonics, theta, esym.cos)
+            de = _fourier_derivative_terms(fl.e, fl.e_harmonics, theta, esym.sin)
+            k = _fourier_terms(fl.k, fl.k_harmonics, theta, esym.cos)
+            s = delta - e - fl.b
             sdot = ddelta - de * (plan.omega + q_t[ip])
             F = esym.IfThenElse(s > 0.0, esym.max(zero, k * s + fl.c * sdot), zero)
-        elif s > 0.0:
-            k = _fourier_terms(fl.k, fl.k_harmonics, theta, cos)
-            sdot = ddelta - de * (plan.omega + q_t[ip])
-            F = max(0.0, k * s + fl.c * sdot)
-        else:
-            F = 0.0
-        forces.append((fl, F))
-    out = {}
-    for dof in pos:
-        r = 0.0
-        for fl, F in forces:
-            g = float(fl.G[dof])
-            if g != 0.0:
-                r = r - g * F
-        out[dof] = r
+            term = F * esym.Vector(gv)
+            total = term if total is None else total + term
+        return total
+    out = np.zeros(size)
+    qa = np.asarray(q, dtype=float)
+    va = np.asarray(q_t, dtype=float)
+    idx = np.array(list(pos.values()))
+    dofs = np.array(list(pos.keys()))
+    for fl, ((wk, Rk, pk), (we, Re, pe)) in zip(plan.flanks, plan.flank_arrays, strict=True):
+        G = fl.G[dofs]
+        arg = we * theta - pe
+        s = float(G @ qa[idx]) - (fl.e.a0 + float(Re @ np.cos(arg))) - fl.b
+        if s > 0.0:
+            k = fl.k.a0 + float(Rk @ np.cos(wk * theta - pk))
+            de = -float((we * Re) @ np.sin(arg))
+            sdot = float(G @ va[idx]) - de * (plan.omega + va[ip])
+            out[idx] -= G * max(0.0, k * s + fl.c * sdot)
     return out
 
 
@@ -407,10 +425,11 @@ def _propeller_force(plan: _Plan, symbolic: bool):
 def _mesh_force(plan: _Plan, mesh_dofs: list[int], symbolic: bool):
     """Force user function of the mesh object (generic ODE2 over ``mesh_dofs``)."""
     pos = {d: j for j, d in enumerate(mesh_dofs)}
+    size = len(mesh_dofs)
 
     def mesh(mbs, t, itemNumber, q, q_t):
-        out = _mesh_generalised(plan, pos, t, q, q_t, symbolic)
-        return [out[d] for d in mesh_dofs]
+        out = _mesh_generalised(plan, pos, size, t, q, q_t, symbolic)
+        return out if symbolic else out.tolist()
 
     return mesh
 
@@ -423,15 +442,25 @@ def _all_forces(plan: _Plan, symbolic: bool):
     """
     sin = _sin(symbolic)
     pos = {d: d for d in range(plan.n)}
+    n = plan.n
     gov = sum(k * off for name, i, j, k, c, off in plan.springs if name == "governor")
+    ue = [0.0] * n
+    ue[plan.engine_index] = 1.0
+    up = [0.0] * n
+    up[plan.prop_index] = -1.0
 
     def forces(mbs, t, itemNumber, q, q_t):
-        out = _mesh_generalised(plan, pos, t, q, q_t, symbolic)
-        out[plan.engine_index] = out[plan.engine_index] + _engine_torque(plan, t, sin) + gov
-        out[plan.prop_index] = out[plan.prop_index] - _propeller_torque(
-            plan, t, q_t[plan.prop_index], sin
-        )
-        return [out[d] for d in range(plan.n)]
+        out = _mesh_generalised(plan, pos, n, t, q, q_t, symbolic)
+        te = _engine_torque(plan, t, sin) + gov
+        tp = _propeller_torque(plan, t, q_t[plan.prop_index], sin)
+        if symbolic:
+            import exudyn as exu
+
+            esym = exu.symbolic
+            return out + te * esym.Vector(ue) + tp * esym.Vector(up)
+        out[plan.engine_index] += te
+        out[plan.prop_index] -= tp
+        return out.tolist()
 
     return forces
 
@@ -479,7 +508,9 @@ def _record_symbolic(mbs, fn, kind: str, vector_size: int = 0):
             types = ["MainSystem", "Real", "Real"]
             item, uname = "LoadCoordinate", "loadUserFunction"
         ret = fn(*args)
-        if isinstance(ret, list):
+        if isinstance(ret, esym.Vector):
+            rtype = "StdVector"
+        elif isinstance(ret, list):
             ret = esym.Vector([esym.Real(float(r)) if isinstance(r, float) else r for r in ret])
             rtype = "StdVector"
         else:
