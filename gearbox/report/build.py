@@ -18,9 +18,20 @@ __all__ = ["RENDERERS", "build_report", "scene_toml", "write_report"]
 
 
 def _renderers() -> dict[str, Callable]:
-    from . import design
+    from . import design, dynamics, geometry_sweep, tables
+    from .generic import render_generic
 
-    return {"design": design.render}
+    return {
+        "design": design.render,
+        "sweep": geometry_sweep.render,
+        "tca": render_generic("Unloaded tooth contact analysis", "tca"),
+        "ltca": render_generic("Loaded tooth contact analysis", "ltca"),
+        "tables": tables.render,
+        "dynamics": dynamics.render_dynamics,
+        "spectra": dynamics.render_spectra,
+        "waterfall": dynamics.render_waterfall,
+        "campbell": dynamics.render_campbell,
+    }
 
 
 #: stage name -> ``render(result, run) -> Section | list[Section]``, in report order.

@@ -1,0 +1,305 @@
+"""Report sections of the drivetrain: parameters, modes, time traces, spectra,
+waterfall and Campbell diagram, with their warnings (contact loss, resonances)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .html import ReportWarning, Section, esc, figure, fmt, new_figure, table
+
+__all__ = ["render_campbell", "render_dynamics", "render_spectra", "render_waterfall"]
+
+_RPM = 30.0 / math.pi
+#: At most this many crossings are listed one by one in the warnings.
+MAX_LISTED = 12
+
+
+def _contact_warnings(source: str, metrics, where: str) -> list[ReportWarning]:
+    out = []
+    loss = metrics.get("contact_loss_fraction", 0.0)
+    coast = metrics.get("coast_contact_fraction", 0.0)
+    if loss and loss > 0:
+        out.append(
+            ReportWarning(
+                source,
+                f"contact loss {where}: the drive flank is open during "
+                f"{100 * loss:.2f} % of the record",
+            )
+        )
+    if coast and coast > 0:
+        out.append(
+            ReportWarning(
+                source,
+                f"back-flank impacts {where}: the coast flank carries load "
+                f"during {100 * coast:.2f} % of the record",
+            )
+        )
+    return out
+
+
+def _parameters(m) -> list[tuple]:
+    rows = [
+        ("engine (= pinion) speed (rpm)", m.speed * _RPM),
+        ("mean pinion torque (N m)", m.torque),
+        ("mesh frequency (Hz)", m.mesh_frequency),
+        ("teeth N_1 / N_2", f"{m.pinion_teeth} / {m.gear_teeth}"),
+        ("engine inertia (kg m^2)", m.engine_inertia),
+        ("pinion inertia (kg m^2)", m.pinion_inertia),
+        ("gear inertia (kg m^2)", m.gear_inertia),
+        ("propeller inertia incl. water (kg m^2)", m.propeller_inertia),
+        ("input shaft / coupling stiffness (N m/rad)", m.input_stiffness),
+        ("input shaft damping ratio", m.input_damping_ratio),
+        ("output shaft stiffness (N m/rad)", m.output_stiffness),
+        ("output shaft damping ratio", m.output_damping_ratio),
+        ("mean drive-flank mesh stiffness (N/m)", m.drive.mean_stiffness),
+        (
+            "drive-flank rotation radii lambda_1 / lambda_2 (mm)",
+            f"{fmt(m.drive.lambda1 * 1e3)} / {fmt(m.drive.lambda2 * 1e3)}",
+        ),
+        ("mesh damping (N s/m)", m.drive.damping),
+        (
+            "backlash along the line of action (mm)",
+            (m.coast.backlash * 1e3) if m.coast is not None else "no coast flank",
+        ),
+        ("engine cylinders (4-stroke)", m.engine_cylinders),
+        ("firing-order torque ripple / mean", m.firing_ripple),
+        ("half-order ripple / mean", m.half_order_ripple),
+        ("propeller blades", m.propeller_blades),
+        ("blade-pass torque ripple / mean", m.blade_pass_ripple),
+        ("bearing translations", m.bearing_dofs),
+    ]
+    return rows
+
+
+def _traces(ts, model):
+    t = ts.time
+    tm = 1.0 / model.mesh_frequency
+    rev = 2 * math.pi / model.speed
+    fig, ax = new_figure(3, 1, size=(9, 7.5))
+    last = t >= t[-1] - 2 * rev
+    zoom = t >= t[-1] - 4 * tm
+    a = ax[0, 0]
+    a.plot(t[last], ts["mesh_force_N"][last] / 1e3, lw=0.6)
+    a.set(ylabel="mesh force (kN)", title="last two pinion revolutions")
+    a = ax[1, 0]
+    a.plot(t[zoom] * 1e3, ts["mesh_force_N"][zoom] / 1e3, label="mesh force (kN)")
+    a2 = a.twinx()
+    a2.plot(t[zoom] * 1e3, ts["dynamic_transmission_error_m"][zoom] * 1e6, "C1", label="DTE (um)")
+    a.set(xlabel="time (ms)", ylabel="mesh force (kN)", title="last four mesh cycles")
+    a2.set_ylabel("dynamic transmission error (um)", color="C1")
+    a = ax[2, 0]
+    for name, lab in (
+        ("input_shaft_torque_Nm", "input shaft"),
+        ("output_shaft_torque_Nm", "output shaft"),
+    ):
+        if name in ts.channels:
+            a.plot(t[last], ts[name][last], lw=0.8, label=lab)
+    a.set(xlabel="time (s)", ylabel="torque (N m)", title="shaft torques")
+    a.legend(fontsize=7)
+    for a in ax[:, 0]:
+        a.grid(True, alpha=0.3)
+    return fig
+
+
+def render_dynamics(op, run) -> Section:
+    """Drivetrain parameters, linear modes, response metrics and time traces."""
+    m, ts = op.model, op.series
+    warnings = []
+    if not ts.success:
+        f = ts.failure
+        msg = f"{f.kind} at t = {f.time:.4g} s: {f.message}" if f is not None else ts.status
+        warnings.append(ReportWarning("dynamics", f"the simulation did not finish: {msg}"))
+    warnings += _contact_warnings("dynamics", op.metrics, f"at {op.speed_rpm:.0f} rpm")
+    modes_rows = [
+        (i, f, d.split(",")[0], 100 * e)
+        for i, (f, d, e) in enumerate(
+            zip(
+                op.modes.frequencies,
+                op.modes.descriptions(),
+                op.modes.mesh_energy_fraction,
+                strict=True,
+            )
+        )
+    ]
+    metric_rows = [(k, v) for k, v in op.metrics.items()]
+    attrs = ts.attrs
+    solver_rows = [
+        ("solver", attrs.get("solver", "")),
+        ("settings", attrs.get("settings", "")),
+        ("status", ts.status),
+        ("right-hand-side evaluations", ts.nfev),
+        ("steps / rejected", f"{ts.steps} / {ts.rejected}"),
+        ("integration wall time (s)", ts.wall_time),
+        ("compile time (s)", attrs.get("compile_time_s", 0.0)),
+        ("settling time simulated first (s)", attrs.get("settle_time_s")),
+        ("recorded mesh cycles", attrs.get("mesh_cycles")),
+        (
+            "settling check: change of mesh-order amplitude between record halves",
+            attrs.get("settling_change"),
+        ),
+    ]
+    body = (
+        "<h3>Drivetrain parameters (SI)</h3>"
+        + table(["parameter", "value"], _parameters(m))
+        + f'<p class="muted">Mesh table: {esc(m.meta.get("table_method", ""))}</p>'
+        + "<h3>Linear modes about the operating point</h3>"
+        + table(["mode", "frequency (Hz)", "kind", "mesh strain energy (%)"], modes_rows)
+        + "<h3>Response at the operating point</h3>"
+        + table(["quantity", "value"], metric_rows)
+        + table(["solver", "value"], solver_rows)
+    )
+    if ts.time.size > 1:
+        body += figure(
+            _traces(ts, m),
+            f"Time traces at {op.speed_rpm:.0f} rpm, {op.torque_Nm:.0f} N m (settled record)",
+        )
+    return Section("Drivetrain dynamics", body, tuple(warnings), anchor="dynamics")
+
+
+def render_spectra(sp, run) -> Section:
+    """Order spectra with the excitation orders marked; amplitudes at those orders."""
+    from ..spectrum.plotting import plot_order_spectrum
+
+    parts = []
+    mesh_order = max((e.order for e in sp.excitations if e.source == "mesh"), default=None)
+    top = 1.1 * mesh_order if mesh_order else None
+    for name, s in sp.spectra.items():
+        fig, ax = new_figure(1, 1, size=(9, 3.4))
+        plot_order_spectrum(s, ax[0, 0], max_order=top, excitations=sp.excitations)
+        parts.append(
+            figure(
+                fig,
+                f"Order spectrum of {name} ({s.window} window, "
+                f"{s.n_periods} period(s) of {fmt(s.period_revs)} rev)",
+            )
+        )
+        rows = []
+        for e in sp.excitations:
+            try:
+                a = s.amplitude_at(e.order)
+            except Exception:  # an order off the bins of this record or beyond Nyquist
+                continue
+            rows.append((e.label, e.order, e.source, a))
+        parts.append(table(["excitation", "order", "source", f"amplitude ({s.unit})"], rows))
+    intro = (
+        '<p class="muted">Single-sided peak amplitudes against pinion orders (cycles per '
+        "pinion revolution), from the pinion angle (order tracking) over whole common "
+        "periods of the excitation orders when the record holds one (rectangular "
+        "window), else a flat-top window.</p>"
+    )
+    return Section("Order spectra", intro + "".join(parts), anchor="spectra")
+
+
+def render_waterfall(sw, run) -> Section:
+    """Waterfall map of the mesh force and a table per speed."""
+    from ..spectrum.plotting import plot_waterfall
+
+    warnings = []
+    rows = []
+    for p in sw.points:
+        m = p.metrics
+        ok = p.status == "success"
+        rows.append(
+            (
+                p.speed_rpm,
+                p.torque_Nm,
+                (p.status, "" if ok else "bad"),
+                m.get("mesh_force_dynamic_rms_N"),
+                m.get("mesh_force_mesh_order_amplitude_N"),
+                100 * m.get("contact_loss_fraction", 0.0),
+                p.nfev,
+                p.wall_time,
+            )
+        )
+        if not ok:
+            warnings.append(
+                ReportWarning("waterfall", f"{p.speed_rpm:.0f} rpm: simulation status {p.status}")
+            )
+        warnings += _contact_warnings("waterfall", m, f"at {p.speed_rpm:.0f} rpm")
+    parts = [
+        '<p class="muted">Speed sweep on the propeller law: mean torque T(n) = T_op '
+        "(n / n_op)^2; one settled simulation per speed, run in parallel.</p>"
+    ]
+    for name, wf in sw.waterfalls.items():
+        fig, ax = new_figure(1, 1, size=(9, 4.2))
+        plot_waterfall(wf, ax[0, 0])
+        parts.append(figure(fig, f"Waterfall of {name}: order spectra against speed"))
+    parts.append(
+        table(
+            [
+                "speed (rpm)",
+                "torque (N m)",
+                "status",
+                "dynamic mesh force RMS (N)",
+                "mesh-order amplitude (N)",
+                "contact loss (% of record)",
+                "RHS evaluations",
+                "wall time (s)",
+            ],
+            rows,
+        )
+    )
+    return Section("Speed sweep and waterfall", "".join(parts), tuple(warnings), anchor="waterfall")
+
+
+def render_campbell(cd, run) -> Section:
+    """Campbell diagram (full and low-frequency view) and the crossings."""
+    from ..spectrum.plotting import plot_campbell
+
+    risks = cd.risks
+    warnings = []
+    for c in risks[:MAX_LISTED]:
+        warnings.append(
+            ReportWarning(
+                "campbell",
+                f"resonance risk: {c.mode} at {c.frequency_hz:.4g} Hz meets "
+                f"{c.excitation} (order {c.order:.4g}) at {c.speed_rpm:.0f} rpm",
+            )
+        )
+    if len(risks) > MAX_LISTED:
+        warnings.append(
+            ReportWarning(
+                "campbell",
+                f"{len(risks) - MAX_LISTED} more crossings in the operating range "
+                "(see the Campbell section)",
+            )
+        )
+    fig, ax = new_figure(1, 2, size=(11, 4.4))
+    plot_campbell(cd, ax[0, 0])
+    low = [f for f in np.atleast_2d(cd.mode_frequencies_hz).max(axis=1) if f < 500]
+    if low:
+        plot_campbell(cd, ax[0, 1], max_frequency_hz=1.3 * max(low))
+        ax[0, 1].set_title("shaft modes", fontsize=9)
+    rows = [
+        (
+            c.mode,
+            c.excitation,
+            c.order,
+            c.source,
+            c.speed_rpm,
+            c.frequency_hz,
+            ("yes", "bad") if c.in_operating_range else "no",
+        )
+        for c in cd.crossings
+    ]
+    body = (
+        '<p class="muted">Eigenfrequencies of the linearised drivetrain (mean mesh '
+        "stiffness at the propeller-law torque of each speed) against engine speed, with "
+        "the excitation orders; crossing speeds solved by root finding.</p>"
+        + figure(fig, "Campbell diagram")
+        + table(
+            [
+                "mode",
+                "excitation",
+                "order",
+                "source",
+                "speed (rpm)",
+                "frequency (Hz)",
+                "in operating range",
+            ],
+            rows,
+        )
+    )
+    return Section("Campbell diagram", body, tuple(warnings), anchor="campbell")
