@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import fields
+
 import numpy as np
 
 from ..errors import Problems
@@ -20,6 +22,45 @@ def window(name: str, n: int) -> np.ndarray:
     from scipy.signal import windows
 
     return getattr(windows, name)(n, sym=False)
+
+
+def peak_spectrum(y: np.ndarray, window_name: str) -> tuple[np.ndarray, np.ndarray]:
+    """Single-sided peak amplitudes and cosine phases of records along the last axis.
+
+    ``y``: shape (..., n). Returns (amplitudes, phases), shape (..., n // 2 + 1):
+    A_k = 2 |X_k| / (n mean(w)) for 0 < k < n/2, |X_k| / (n mean(w)) at k = 0 and at
+    the Nyquist bin (n even); phase = arg X_k.
+    """
+    n = y.shape[-1]
+    w = window(window_name, n)
+    spec = np.fft.rfft(y * w, axis=-1) / (n * float(w.mean()))
+    amps = 2.0 * np.abs(spec)
+    amps[..., 0] *= 0.5
+    if n % 2 == 0:
+        amps[..., -1] *= 0.5
+    return amps, np.angle(spec)
+
+
+class ArrayRecord:
+    """Mixin for frozen dataclasses with ndarray fields named in ``_arrays``:
+    ``to_dict()`` (plain JSON: arrays as lists) and ``from_dict()``."""
+
+    _arrays: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict:
+        """Plain-JSON form (lists and numbers)."""
+        d = {f.name: getattr(self, f.name) for f in fields(self)}
+        for k in self._arrays:
+            d[k] = d[k].tolist()
+        return d
+
+    @classmethod
+    def from_dict(cls, data):
+        """Inverse of :meth:`to_dict`."""
+        d = dict(data)
+        for k in cls._arrays:
+            d[k] = np.asarray(d[k], dtype=float)
+        return cls(**d)
 
 
 def real_1d(problems: Problems, path: str, value, *, min_len: int = 2) -> np.ndarray | None:

@@ -37,12 +37,18 @@ import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import ClassVar
 
 import numpy as np
 
 from ..errors import InputError, Problems
-from ._arrays import WINDOWS, real_1d, strictly_increasing
-from ._arrays import window as make_window
+from ._arrays import (
+    WINDOWS,
+    ArrayRecord,
+    peak_spectrum,
+    real_1d,
+    strictly_increasing,
+)
 
 __all__ = ["OrderSpectrum", "common_period_revs", "order_spectra", "order_spectrum", "revolutions"]
 
@@ -52,7 +58,7 @@ MAX_SAMPLES = 2**24
 
 
 @dataclass(frozen=True, eq=False)
-class OrderSpectrum:
+class OrderSpectrum(ArrayRecord):
     """Single-sided order spectrum of one signal.
 
     Attributes
@@ -99,6 +105,8 @@ class OrderSpectrum:
     samples: int
     method: str
 
+    _arrays: ClassVar[tuple[str, ...]] = ("orders", "amplitudes", "phases")
+
     @property
     def resolution(self) -> float:
         """Order spacing of the bins, 1 / revs."""
@@ -127,21 +135,6 @@ class OrderSpectrum:
             return float(self.amplitudes[i])
         lo, hi = max(i - 1, 0), min(i + 2, self.orders.size)
         return float(self.amplitudes[lo:hi].max())
-
-    def to_dict(self) -> dict:
-        """Plain-JSON form (lists and numbers)."""
-        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
-        for k in ("orders", "amplitudes", "phases"):
-            d[k] = d[k].tolist()
-        return d
-
-    @classmethod
-    def from_dict(cls, data: Mapping) -> OrderSpectrum:
-        """Inverse of :meth:`to_dict`."""
-        d = dict(data)
-        for k in ("orders", "amplitudes", "phases"):
-            d[k] = np.asarray(d[k], dtype=float)
-        return cls(**d)
 
 
 def _order_error(order, max_order) -> InputError:
@@ -391,17 +384,11 @@ def order_spectrum(
             duration = float(t[-1] - t[0]) + gap * float(t[-1] - t[-2]) / float(revs[-1] - revs[-2])
         method = "angle-resampled"
 
-    w = make_window(win, n)
-    cg = float(w.mean())
-    spec = np.fft.rfft(w * xs) / (n * cg)
-    amps = 2.0 * np.abs(spec)
-    amps[0] *= 0.5
-    if n % 2 == 0:
-        amps[-1] *= 0.5
+    amps, phases = peak_spectrum(xs, win)
     return OrderSpectrum(
-        orders=np.arange(spec.size) / record,
+        orders=np.arange(amps.size) / record,
         amplitudes=amps,
-        phases=np.angle(spec),
+        phases=phases,
         unit=unit,
         name=name,
         window=win,

@@ -225,27 +225,14 @@ def plot_campbell(
         ax.plot(n, cd.mode_frequencies_hz[j], lw=1.6, color="k")
         ax.annotate(name, (n[0], cd.mode_frequencies_hz[j, 0]), fontsize=7, va="bottom")
     shown = [c for c in cd.crossings if c.frequency_hz <= top]
-    safe = [c for c in shown if not c.in_operating_range]
-    risk = [c for c in shown if c.in_operating_range]
-    if safe:
-        ax.plot(
-            [c.speed_rpm for c in safe],
-            [c.frequency_hz for c in safe],
-            "o",
-            mfc="none",
-            mec="k",
-            ms=5,
-            label="crossing",
-        )
-    if risk:
-        ax.plot(
-            [c.speed_rpm for c in risk],
-            [c.frequency_hz for c in risk],
-            "o",
-            color="tab:red",
-            ms=5,
-            label="crossing in operating range",
-        )
+    styles = (
+        (False, {"mfc": "none", "mec": "k", "label": "crossing"}),
+        (True, {"color": "tab:red", "label": "crossing in operating range"}),
+    )
+    for risk, style in styles:
+        pts = [(c.speed_rpm, c.frequency_hz) for c in shown if c.in_operating_range == risk]
+        if pts:
+            ax.plot(*np.array(pts).T, "o", ms=5, **style)
     ax.set_xlim(n[0], n[-1])
     if log:
         positive = cd.mode_frequencies_hz[cd.mode_frequencies_hz > 0]

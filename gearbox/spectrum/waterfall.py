@@ -15,14 +15,20 @@ Amplitudes are single-sided peak amplitudes (see :mod:`gearbox.spectrum.orders`)
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from ..errors import Problems
-from ._arrays import WINDOWS, real_1d, strictly_increasing
-from ._arrays import window as make_window
+from ._arrays import (
+    WINDOWS,
+    ArrayRecord,
+    peak_spectrum,
+    real_1d,
+    strictly_increasing,
+)
 from .orders import OrderSpectrum, revolutions
 
 __all__ = ["Waterfall", "runup_waterfall", "waterfall"]
@@ -31,7 +37,7 @@ AXES = ("order", "frequency")
 
 
 @dataclass(frozen=True, eq=False)
-class Waterfall:
+class Waterfall(ArrayRecord):
     """Spectra against speed.
 
     Attributes
@@ -54,6 +60,8 @@ class Waterfall:
     unit: str
     name: str
     window: str
+
+    _arrays: ClassVar[tuple[str, ...]] = ("speeds_rpm", "bins", "amplitudes")
 
     def frequencies_hz(self) -> np.ndarray:
         """Frequency (Hz) of every cell, shape (n_speeds, n_bins)."""
@@ -85,21 +93,6 @@ class Waterfall:
             lo, hi = max(k - 1, 0), min(k + 2, self.bins.size)
             out[i] = self.amplitudes[i, lo:hi].max() if lo < hi else np.nan
         return out
-
-    def to_dict(self) -> dict:
-        """Plain-JSON form."""
-        d = {k: getattr(self, k) for k in self.__dataclass_fields__}
-        for k in ("speeds_rpm", "bins", "amplitudes"):
-            d[k] = d[k].tolist()
-        return d
-
-    @classmethod
-    def from_dict(cls, data: Mapping) -> Waterfall:
-        """Inverse of :meth:`to_dict`."""
-        d = dict(data)
-        for k in ("speeds_rpm", "bins", "amplitudes"):
-            d[k] = np.asarray(d[k], dtype=float)
-        return cls(**d)
 
 
 def waterfall(
@@ -234,14 +227,8 @@ def runup_waterfall(
             "block", block, f"is longer than the record ({y.size} samples, {per_block} per block)"
         )
         p.raise_if_any("run-up waterfall")
-    w = make_window(window, per_block)
-    cg = float(w.mean())
     idx = starts[:, None] + np.arange(per_block)[None, :]
-    spec = np.fft.rfft(y[idx] * w, axis=1) / (per_block * cg)
-    amps = 2.0 * np.abs(spec)
-    amps[:, 0] *= 0.5
-    if per_block % 2 == 0:
-        amps[:, -1] *= 0.5
+    amps, _ = peak_spectrum(y[idx], window)
     # Speed of a block: the speed at its middle, where the (symmetric) window puts
     # its weight; the middle revolution (order axis) or the middle time (frequency).
     if axis == "order":
@@ -249,5 +236,5 @@ def runup_waterfall(
     else:
         t_mid = t[starts] + 0.5 * span
     speeds = np.interp(t_mid, t, s)
-    bins = np.arange(spec.shape[1]) / span
+    bins = np.arange(amps.shape[1]) / span
     return Waterfall(speeds, axis, bins, amps, unit, name, window)
