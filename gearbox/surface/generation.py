@@ -67,7 +67,7 @@ def profile_range(blank: ToothBlank) -> tuple[float, float]:
     return -blank.tool_tip_radius * (0.5 * math.pi - blank.normal_pressure_angle), 0.0
 
 
-def _rack_profile(blank: ToothBlank, sigma: int, u: Jet):
+def _rack_profile(blank: ToothBlank, sigma: int, u: Jet, involute_only: bool = False):
     """Normal-section rack profile (s, v, m_s, m_v) as jets in u (m, unit normal)."""
     a = blank.normal_pressure_angle
     m = blank.normal_module
@@ -82,7 +82,7 @@ def _rack_profile(blank: ToothBlank, sigma: int, u: Jet):
     v_f = vt + ca * u
     ms_f = 0.0 * u + sigma * ca
     mv_f = 0.0 * u + sa
-    if rho <= 0.0:
+    if rho <= 0.0 or involute_only:
         return s_f, v_f, ms_f, mv_f
     th = u / rho + (0.5 * math.pi - a)
     sth, cth = th.sin(), th.cos()
@@ -99,7 +99,7 @@ def _rack_profile(blank: ToothBlank, sigma: int, u: Jet):
     )
 
 
-def flank_jets(blank: ToothBlank, side: str, z, u):
+def flank_jets(blank: ToothBlank, side: str, z, u, *, normal_jets: bool = False, involute_only: bool = False):
     """Generated flank point of tooth 0 as jets, and its unit normal.
 
     Args:
@@ -107,11 +107,16 @@ def flank_jets(blank: ToothBlank, side: str, z, u):
         side: ``"R"`` or ``"L"``.
         z: axial position in the gear frame (m), array.
         u: rack-profile arc length (m), array broadcastable with z.
+        normal_jets: return the normal as 3 jets too (its derivatives are exact).
+        involute_only: continue the involute part (straight rack flank) for u < 0
+            instead of switching to the root fillet; the contact solver iterates on
+            this smooth continuation and checks the limits afterwards.
 
     Returns:
         ``(r, n, phi)``: ``r`` a list of 3 :class:`Jet` (x, y, z of the point, with
         derivatives in (z, u)); ``n`` ndarray shape ``(3,) + shape``, the unit normal
-        pointing out of the tooth material; ``phi`` the generating roll angle (rad).
+        pointing out of the tooth material (a list of 3 jets with ``normal_jets``);
+        ``phi`` the generating roll angle (rad).
     """
     sigma = side_sign(side)
     z, u = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(u, dtype=float))
@@ -121,7 +126,7 @@ def flank_jets(blank: ToothBlank, side: str, z, u):
     rp = blank.reference_pitch_radius
     y0 = rp + blank.profile_shift_xt * blank.transverse_module
 
-    s, v, ms, mv = _rack_profile(blank, sigma, U)
+    s, v, ms, mv = _rack_profile(blank, sigma, U, involute_only)
     # position along the tooth line so that the point lies in section z (step 2)
     e = (Z + v * sg - s * (sb * cg)) / (cb * cg)
     pu = s * cb - e * sb
@@ -143,6 +148,8 @@ def flank_jets(blank: ToothBlank, side: str, z, u):
     cphi, sphi = phi.cos(), phi.sin()
     rx = cphi * qx + sphi * py
     ry = cphi * py - sphi * qx
+    if normal_jets:
+        return [rx, ry, pz], [cphi * nx + sphi * ny, cphi * ny - sphi * nx, nz + 0.0 * Z], phi.val
     c0, s0 = cphi.val, sphi.val
     n = np.stack([c0 * nx.val + s0 * ny.val, c0 * ny.val - s0 * nx.val, nz.val])
     return [rx, ry, pz], n, phi.val
@@ -232,7 +239,7 @@ def principal_curvatures(r: list[Jet], n: np.ndarray):
     return k, d
 
 
-def flank_points(blank: ToothBlank, side: str, z, u) -> FlankPoints:
+def flank_points(blank: ToothBlank, side: str, z, u, *, involute_only: bool = False) -> FlankPoints:
     """Generated flank of tooth 0 at parameters (z, u): points, normals, curvatures.
 
     Args:
@@ -241,11 +248,12 @@ def flank_points(blank: ToothBlank, side: str, z, u) -> FlankPoints:
         z: axial positions in the gear frame (m), array.
         u: rack-profile arc length (m), array broadcastable with z; see
             :func:`profile_range`.
+        involute_only: continue the involute for u < 0 (see :func:`flank_jets`).
 
     Returns:
         :class:`FlankPoints`; tooth k is tooth 0 turned by ``2 pi k / N`` about z.
     """
-    r, n, phi = flank_jets(blank, side, z, u)
+    r, n, phi = flank_jets(blank, side, z, u, involute_only=involute_only)
     k, d = principal_curvatures(r, n)
     R = np.stack([c.d for c in r], axis=-1)
     zz, uu = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(u, dtype=float))
@@ -260,5 +268,5 @@ def flank_points(blank: ToothBlank, side: str, z, u) -> FlankPoints:
         curvatures=k,
         directions=d,
         roll_angle=phi,
-        on_fillet=uu < 0.0,
+        on_fillet=(uu < 0.0) & (not involute_only),
     )
