@@ -29,11 +29,18 @@ def peak_spectrum(y: np.ndarray, window_name: str) -> tuple[np.ndarray, np.ndarr
 
     ``y``: shape (..., n). Returns (amplitudes, phases), shape (..., n // 2 + 1):
     A_k = 2 |X_k| / (n mean(w)) for 0 < k < n/2, |X_k| / (n mean(w)) at k = 0 and at
-    the Nyquist bin (n even); phase = arg X_k.
+    the Nyquist bin (n even); phase = arg X_k. With a window other than
+    ``rectangular`` the order-0 bin is the record's mean.
     """
     n = y.shape[-1]
     w = window(window_name, n)
-    spec = np.fft.rfft(y * w, axis=-1) / (n * float(w.mean()))
+    # With a tapering window the mean is taken out first and reported at order 0
+    # as it is: its leakage would otherwise cover the lowest orders (a flat top's
+    # main lobe spans +-5 bins), where a mesh force's large mean swamps them.
+    mean = y.mean(axis=-1, keepdims=True) if window_name != "rectangular" else 0.0
+    spec = np.fft.rfft((y - mean) * w, axis=-1) / (n * float(w.mean()))
+    if window_name != "rectangular":
+        spec[..., :1] = mean
     amps = 2.0 * np.abs(spec)
     amps[..., 0] *= 0.5
     if n % 2 == 0:
