@@ -28,7 +28,8 @@ Window: ``rectangular`` for whole periods (every periodic component with a whole
 number of cycles in the record falls exactly on a bin: no leakage, exact amplitude);
 ``flattop`` when the period is not known (``period_revs=None``): a tone between two
 bins then keeps its amplitude within about 0.12 % (scipy's 5-term flat top window,
-D'Antona and Ferrero, "Digital Signal Processing for Measurement Systems", 2006, p. 70).
+D'Antona and Ferrero, "Digital Signal Processing for Measurement Systems", 2006, p. 70);
+the mean is taken out before a tapering window and reported at order 0.
 """
 
 from __future__ import annotations
