@@ -2,7 +2,7 @@
 
 HELP = "Co-simulate engine, gearbox and propeller FMUs on libcosim (OSP system structure)."
 EXAMPLES = """  gearbox cosim models/marine_drive.toml
-  gearbox cosim models/marine_drive.toml --step 1e-5 --stop-time 0.2 --out out/cosim
+  gearbox cosim models/marine_drive.toml --step 2e-5 --stop-time 0.2 --out out/cosim
   gearbox cosim models/marine_drive.toml --compare --json   coupling error vs one FMU
 """
 
@@ -13,7 +13,7 @@ def add_arguments(parser):
         "--out", default=None, metavar="DIR", help="output folder (default out/<scene>/cosim)"
     )
     parser.add_argument(
-        "--step", type=float, default=1e-5, help="communication step (s), default 1e-5"
+        "--step", type=float, default=5e-5, help="communication step (s), default 5e-5"
     )
     parser.add_argument(
         "--stop-time", type=float, default=0.1, help="simulated time (s), default 0.1"
@@ -26,6 +26,11 @@ def add_arguments(parser):
     )
     parser.add_argument(
         "--speed-rpm", type=float, default=None, help="engine speed (rpm), overrides the scene"
+    )
+    parser.add_argument(
+        "--hold",
+        action="store_true",
+        help="zero-order hold of the exchanged values (default: extrapolate with their rates)",
     )
     parser.add_argument(
         "--compare",
@@ -47,7 +52,13 @@ def run(args) -> int:
     model, table = model_from_scene(scene, table_path=args.table, speed_rpm=args.speed_rpm)
     out = Path(args.out or Path("out") / scene.name / "cosim")
     res = cosim_drivetrain(
-        model, table, out, step=args.step, stop_time=args.stop_time, solver_rtol=args.rtol
+        model,
+        table,
+        out,
+        step=args.step,
+        stop_time=args.stop_time,
+        solver_rtol=args.rtol,
+        extrapolate=not args.hold,
     )
     force = res["mesh_force_N"]
     summary = {
@@ -55,6 +66,7 @@ def run(args) -> int:
         "status": res.status,
         "message": res.message,
         "step_s": res.step,
+        "coupling": "zero-order hold" if args.hold else "extrapolated with rates",
         "steps": res.steps,
         "stop_time_s": args.stop_time,
         "wall_time_s": res.wall_time,

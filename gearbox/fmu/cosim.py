@@ -33,6 +33,7 @@ from .models import engine_fmu, gearbox_fmu, propeller_fmu
 
 __all__ = [
     "CONNECTIONS",
+    "RATE_CONNECTIONS",
     "CHANNELS",
     "CosimResult",
     "build_cosim_fmus",
@@ -49,6 +50,15 @@ CONNECTIONS = (
     (("gearbox", "output_shaft.torque"), ("propeller", "output_shaft.torque")),
     (("propeller", "propeller.phi"), ("gearbox", "output_flange.phi")),
     (("propeller", "propeller.w"), ("gearbox", "output_flange.w")),
+)
+
+#: Rates that let each FMU extrapolate its inputs linearly over a communication step
+#: (speeds with accelerations, torques with torque rates): second-order coupling.
+RATE_CONNECTIONS = (
+    (("engine", "engine.a"), ("gearbox", "input_flange.a")),
+    (("gearbox", "input_shaft.torque_rate"), ("engine", "input_shaft.torque_rate")),
+    (("gearbox", "output_shaft.torque_rate"), ("propeller", "output_shaft.torque_rate")),
+    (("propeller", "propeller.a"), ("gearbox", "output_flange.a")),
 )
 
 #: result channel -> (simulator, variable); channel names as gearbox.drivetrain.model.outputs
@@ -160,11 +170,14 @@ def system_structure(
     step: float,
     *,
     initial_values: dict[str, dict[str, float]] | None = None,
+    extrapolate: bool = True,
 ) -> str:
     """OSP system structure (``OspSystemStructure.xml``) text coupling the three FMUs.
 
     fmus: simulator name -> FMU path (relative to the structure file, or absolute);
-    step: communication step (s); initial_values: simulator -> variable -> value.
+    step: communication step (s); initial_values: simulator -> variable -> value;
+    extrapolate: also connect :data:`RATE_CONNECTIONS` (second-order coupling),
+    otherwise every exchanged value is held over a step (zero-order hold).
     """
     initial_values = initial_values or {}
     lines = [
@@ -192,7 +205,7 @@ def system_structure(
             lines.append("            </InitialValues>")
         lines.append("        </Simulator>")
     lines += ["    </Simulators>", "    <Connections>"]
-    for (s1, v1), (s2, v2) in CONNECTIONS:
+    for (s1, v1), (s2, v2) in CONNECTIONS + (RATE_CONNECTIONS if extrapolate else ()):
         lines += [
             "        <VariableConnection>",
             f"            <Variable simulator={quoteattr(s1)} name={quoteattr(v1)}/>",
@@ -272,12 +285,14 @@ def cosim_drivetrain(
     stop_time: float = 0.1,
     solver_rtol: float = 1e-8,
     builds: dict[str, FmuBuild] | None = None,
+    extrapolate: bool = True,
 ) -> CosimResult:
     """Build the three FMUs (unless ``builds`` are given), write the system structure
     and run it on libcosim.
 
     step: communication step (s), > 0; stop_time (s), a multiple of the step;
-    solver_rtol: tolerance of each FMU's internal integrator.
+    solver_rtol: tolerance of each FMU's internal integrator; extrapolate: second-order
+    coupling (inputs extrapolated with their rates) or zero-order hold.
     """
     p = Problems()
     p.in_range("step", step, 0, 0.01, lo_open=True)
@@ -297,7 +312,8 @@ def cosim_drivetrain(
     fmus = {name: Path(b.fmu).resolve() for name, b in builds.items()}
     init = {name: {"solver.rtol": solver_rtol, "solver.max_step": step} for name in fmus}
     structure = write_atomic(
-        out_dir / "OspSystemStructure.xml", system_structure(fmus, step, initial_values=init)
+        out_dir / "OspSystemStructure.xml",
+        system_structure(fmus, step, initial_values=init, extrapolate=extrapolate),
     )
     return run_system(structure, stop_time, step)
 

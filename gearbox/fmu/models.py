@@ -343,6 +343,10 @@ def _gearbox_outputs(model) -> list[Variable]:
             "Input shaft torque T_in (on the pinion; the engine feels -T_in)",
         ),
         _out("output_shaft.torque", "N.m", "Output shaft torque T_out (on the propeller)"),
+        _out("input_shaft.torque_rate", "N.m/s", "d T_in / dt (for extrapolation by the engine)"),
+        _out(
+            "output_shaft.torque_rate", "N.m/s", "d T_out / dt (for extrapolation by the propeller)"
+        ),
         _out(
             "mesh.force", "N", "Dynamic mesh force F_drive - F_coast along the drive line of action"
         ),
@@ -471,7 +475,19 @@ def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuMode
                 rate="input_flange.w",
             ),
             Variable(
-                "input_flange.w", "input", "rad/s", "Engine-side flange speed", start=model.speed
+                "input_flange.w",
+                "input",
+                "rad/s",
+                "Engine-side flange speed",
+                start=model.speed,
+                rate="input_flange.a",
+            ),
+            Variable(
+                "input_flange.a",
+                "input",
+                "rad/s2",
+                "Engine-side flange acceleration (extrapolates the speed; 0: hold)",
+                start=0.0,
             ),
             Variable(
                 "output_flange.phi",
@@ -487,6 +503,14 @@ def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuMode
                 "rad/s",
                 "Propeller-side flange speed",
                 start=model.gear_speed,
+                rate="output_flange.a",
+            ),
+            Variable(
+                "output_flange.a",
+                "input",
+                "rad/s2",
+                "Propeller-side flange acceleration (extrapolates the speed; 0: hold)",
+                start=0.0,
             ),
         ]
         + _gearbox_outputs(model)
@@ -536,7 +560,16 @@ def engine_fmu(model, *, identifier: str = "MarineEngine") -> FmuModel:
             "N.m",
             "Input shaft torque T_in (load on the engine)",
             start=model.torque,
+            rate="input_shaft.torque_rate",
         ),
+        Variable(
+            "input_shaft.torque_rate",
+            "input",
+            "N.m/s",
+            "d T_in / dt (extrapolates T_in over a communication step; 0: hold)",
+            start=0.0,
+        ),
+        _out("engine.a", "rad/s2", "Engine acceleration"),
         _out("engine.phi", "rad", "Engine angle (absolute)"),
         _out("engine.w", "rad/s", "Engine speed"),
         _out("engine.torque", "N.m", "Engine torque T_e incl. governor"),
@@ -581,7 +614,16 @@ def propeller_fmu(model, *, identifier: str = "Propeller") -> FmuModel:
             "N.m",
             "Output shaft torque T_out (drives the propeller)",
             start=tp0,
+            rate="output_shaft.torque_rate",
         ),
+        Variable(
+            "output_shaft.torque_rate",
+            "input",
+            "N.m/s",
+            "d T_out / dt (extrapolates T_out over a communication step; 0: hold)",
+            start=0.0,
+        ),
+        _out("propeller.a", "rad/s2", "Propeller acceleration"),
         _out("propeller.phi", "rad", "Propeller angle (absolute)"),
         _out("propeller.w", "rad/s", "Propeller speed"),
         _out("propeller.torque", "N.m", "Propeller load torque T_p"),
