@@ -114,7 +114,7 @@ def test_resampled_constant_speed_non_integer_samples_per_period():
 def test_order_tracking_through_a_speed_ramp(given_as):
     # Speed ramps 1200 -> 2100 rpm in 3 s: frequencies move by 75 %, but orders
     # stay put after angle resampling. The truth: rev(t) = (1200 t + 150 t^2) / 60.
-    # With the speed sampled, revolutions come from the trapezoidal rule, exact for
+    # With the speed sampled, revolutions come from Simpson's rule, exact for
     # a linear ramp. Bound: 0.5 % (the issue's), phase 1e-2 rad.
     t = np.linspace(0.0, 3.0, 60001)
     rev = (1200.0 * t + 150.0 * t**2) / 60.0
@@ -246,10 +246,22 @@ def test_too_few_revolutions_names_the_parameter():
 
 def test_revolutions_from_speed_and_angle_agree():
     t = np.linspace(0.0, 2.0, 2001)
-    speed = 600.0 + 120.0 * t  # linear: the trapezoidal rule is exact
+    speed = 600.0 + 120.0 * t  # linear: Simpson's rule is exact
     r_speed = revolutions(t, speed_rpm=speed)
     r_angle = revolutions(t, angle=2 * np.pi * (600.0 * t + 60.0 * t**2) / 60.0 + 1.0)
     np.testing.assert_allclose(r_speed, r_angle, rtol=0, atol=1e-9)
+
+
+def test_revolutions_from_a_rippling_speed():
+    # Speed 1800 rpm with a 50 rpm ripple at 870 Hz (the mesh frequency of a
+    # 29-tooth pinion at 1800 rpm), 20 kHz sampling: the integral is analytic.
+    # Simpson's rule is O(dt^4): measured 3.5e-8 revolutions worst over 1 s
+    # (the trapezoidal rule: 1.9e-6); bound 1e-7.
+    w = 2 * np.pi * 870.0
+    t = np.linspace(0.0, 1.0, 20001)
+    exact = (1800.0 * t + 50.0 * (1.0 - np.cos(w * t)) / w) / 60.0
+    r = revolutions(t, speed_rpm=1800.0 + 50.0 * np.sin(w * t))
+    np.testing.assert_allclose(r, exact, rtol=0, atol=1e-7)
 
 
 def test_round_trip_through_json():

@@ -9,7 +9,7 @@ Method (computed order tracking, Fyfe and Munck, "Analysis of computed order
 tracking", Mech. Syst. Signal Process. 11(2), 1997):
 
 1. The reference shaft's revolutions rev(t) come from its angle (rad) or from its
-   speed (rpm, constant or sampled, integrated by the trapezoidal rule).
+   speed (rpm, constant, or sampled and integrated by Simpson's rule).
 2. The analysed record is the *last* ``n_periods`` whole periods of
    ``period_revs`` revolutions each (the settled part of a simulation). Samples
    stand for the intervals after them: a record ending less than 1.5 sample steps
@@ -194,8 +194,10 @@ def revolutions(t, *, speed_rpm=None, angle=None) -> np.ndarray:
     t : array, shape (n,)
         Time (s), strictly increasing.
     speed_rpm : float or array, shape (n,)
-        Reference speed (rpm), > 0; a sampled speed is integrated by the trapezoidal
-        rule (error O(dt^2 d2n/dt2)).
+        Reference speed (rpm), > 0; a sampled speed is integrated by the cumulative
+        Simpson rule (``scipy.integrate.cumulative_simpson``, error O(dt^4); exact
+        for a speed cubic in time), the trapezoidal rule where scipy is older than
+        1.12 or there are only 2 samples.
     angle : array, shape (n,)
         Reference angle (rad), strictly increasing. Give exactly one of the two.
     """
@@ -206,6 +208,12 @@ def revolutions(t, *, speed_rpm=None, angle=None) -> np.ndarray:
     s = np.asarray(speed_rpm, dtype=float)
     if s.ndim == 0:
         return float(s) / 60.0 * (t - t[0])
+    try:
+        from scipy.integrate import cumulative_simpson
+    except ImportError:  # scipy < 1.12
+        cumulative_simpson = None
+    if cumulative_simpson is not None and s.size >= 3:
+        return cumulative_simpson(s / 60.0, x=t, initial=0.0)
     from scipy.integrate import cumulative_trapezoid
 
     return cumulative_trapezoid(s / 60.0, t, initial=0.0)
