@@ -271,7 +271,7 @@ def excitation_orders_from_scene(scene, **options) -> tuple[ExcitationOrder, ...
     )
 
 
-def _mode_function(p: Problems, name: str, spec, lo: float, hi: float):
+def _mode_function(p: Problems, name: str, spec, lo: float, hi: float, interpolation: str):
     """A vectorised f(n_rpm) -> Hz from a constant, a callable or a table."""
     path = f"modes[{name!r}]"
     if callable(spec):
@@ -293,6 +293,10 @@ def _mode_function(p: Problems, name: str, spec, lo: float, hi: float):
                 f"must cover the speed range [{lo:g}, {hi:g}] rpm",
             )
             return None
+        if interpolation == "cubic" and n.size >= 4:
+            from scipy.interpolate import CubicSpline
+
+            return CubicSpline(n, f)
         return lambda s: np.interp(s, n, f)
     try:
         c = float(spec)
@@ -318,6 +322,7 @@ def campbell(
     operating_range_rpm: tuple[float, float] | None = None,
     n_grid: int = 2001,
     xtol_rpm: float = 1e-9,
+    table_interpolation: str = "linear",
 ) -> CampbellDiagram:
     """Campbell diagram with every crossing speed solved by root finding.
 
@@ -326,7 +331,7 @@ def campbell(
     modes : mapping name -> mode
         Each mode's frequency (Hz) against pinion speed (rpm): a constant, a
         vectorised callable ``f(speed_rpm) -> Hz``, or a table
-        ``(speeds_rpm, frequencies_hz)`` (linear interpolation; must cover the
+        ``(speeds_rpm, frequencies_hz)`` (``table_interpolation``; must cover the
         speed range), e.g. eigenfrequencies of the linearised drivetrain.
     excitations : sequence of ExcitationOrder
         From :func:`excitation_orders`.
@@ -338,6 +343,9 @@ def campbell(
         Speeds of the bracketing grid (and of the sampled curves).
     xtol_rpm : float
         Absolute tolerance of the crossing speeds (rpm).
+    table_interpolation : str
+        ``linear`` or ``cubic`` (not-a-knot cubic spline, for tables of a few
+        speeds; needs 4 or more) between the speeds of tabulated modes.
     """
     from scipy.optimize import brentq
 
@@ -366,12 +374,21 @@ def campbell(
         except (TypeError, ValueError):
             p.add("operating_range_rpm", operating_range_rpm, "must be (lo, hi) in rpm or None")
     p.check(isinstance(n_grid, int) and n_grid >= 2, "n_grid", n_grid, "must be an integer >= 2")
+    p.check(
+        table_interpolation in ("linear", "cubic"),
+        "table_interpolation",
+        table_interpolation,
+        "must be 'linear' or 'cubic'",
+    )
     p.check(len(modes) >= 1, "modes", dict(modes), "must name at least one mode")
     for i, e in enumerate(excitations):
         if not isinstance(e, ExcitationOrder) or not (math.isfinite(e.order) and e.order > 0):
             p.add(f"excitations[{i}]", e, "must be an ExcitationOrder with order > 0")
     p.raise_if_any("campbell diagram")
-    funcs = {name: _mode_function(p, name, spec, lo, hi) for name, spec in modes.items()}
+    funcs = {
+        name: _mode_function(p, name, spec, lo, hi, table_interpolation)
+        for name, spec in modes.items()
+    }
     p.raise_if_any("campbell diagram")
 
     speeds = np.linspace(lo, hi, n_grid)
