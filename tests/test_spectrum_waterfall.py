@@ -33,6 +33,10 @@ def test_sweep_waterfall_order_cut_follows_the_amplitude_curve():
     np.testing.assert_allclose(wf.speeds_rpm, speeds, rtol=1e-12)
     np.testing.assert_allclose(wf.order_cut(29), mesh_amplitude(speeds), rtol=1e-9)
     np.testing.assert_allclose(wf.order_cut(4), 0.3, rtol=1e-9)
+    # Whole periods: the cut reads the order's own bin, not a neighbour's
+    # (order 4 + 1/12 is empty, next to order 4).
+    np.testing.assert_allclose(wf.order_cut(4 + 1 / 12), 0.0, atol=1e-9)
+    assert np.all(np.isnan(wf.order_cut(500.0)))
     # Frequency of each cell: order times speed.
     f = wf.frequencies_hz()
     k = int(round(29 * 12))

@@ -78,9 +78,10 @@ class Waterfall(ArrayRecord):
     def order_cut(self, order: float) -> np.ndarray:
         """Amplitude of one order against speed, shape (n_speeds,).
 
-        Per speed, the largest amplitude among the bins within one bin spacing of
-        the order (the order's own bin on an order axis with whole periods; the
-        flat-top maximum otherwise).
+        On an order axis with a rectangular window (whole periods) the order's own
+        bin; otherwise, per speed, the largest amplitude among the nearest bin and
+        its two neighbours (a tone between bins has its flat-top maximum on one of
+        them). NaN where the order lies outside the bins.
         """
         if self.axis == "order":
             target = np.full(self.speeds_rpm.shape, float(order))
@@ -88,9 +89,10 @@ class Waterfall(ArrayRecord):
             target = float(order) * self.speeds_rpm / 60.0
         step = float(self.bins[1] - self.bins[0])
         out = np.empty(self.speeds_rpm.shape)
+        reach = 0 if (self.axis == "order" and self.window == "rectangular") else 1
         for i, c in enumerate(target):
             k = int(round((c - self.bins[0]) / step))
-            lo, hi = max(k - 1, 0), min(k + 2, self.bins.size)
+            lo, hi = max(k - reach, 0), min(k + reach + 1, self.bins.size)
             out[i] = self.amplitudes[i, lo:hi].max() if lo < hi else np.nan
         return out
 
