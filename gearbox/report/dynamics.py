@@ -187,7 +187,7 @@ def render_spectra(sp, run) -> Section:
         '<p class="muted">Single-sided peak amplitudes against pinion orders (cycles per '
         "pinion revolution), from the pinion angle (order tracking) over whole common "
         "periods of the excitation orders when the record holds one (rectangular "
-        "window), else a flat-top window.</p>"
+        "window), else over whole pinion revolutions with a flat-top window.</p>"
     )
     return Section("Order spectra", intro + "".join(parts), anchor="spectra")
 

@@ -204,8 +204,11 @@ def _orders(model) -> tuple:
 def spectra_of(series, excitations) -> dict[str, Any]:
     """Order spectra of :data:`SPECTRUM_CHANNELS` against the pinion angle.
 
-    Whole common periods of all excitation orders (rectangular window) when the
-    record holds at least one; else the whole record with a flat-top window.
+    Whole common periods of all excitation orders (rectangular window: every order
+    on a bin) when the record holds at least one; else whole pinion revolutions with
+    a flat-top window (orders that are not whole numbers fall between bins; the
+    flat-top window keeps their peak amplitude), so that every speed of a sweep has
+    the same order resolution.
     """
     spectrum = require("gearbox.spectrum", "order_spectrum", "common_period_revs")
     angle = np.asarray(series["pinion_angle_rad"])
@@ -216,8 +219,9 @@ def spectra_of(series, excitations) -> dict[str, Any]:
         period = spectrum.common_period_revs([e.order for e in excitations])
     except InputError:
         period = None
-    if period is not None and revs < period * (1 - 1e-3):
-        period = None
+    window = "rectangular"
+    if period is None or revs < period * (1 - 1e-3):
+        period, window = 1.0, "flattop"
     out = {}
     for name in SPECTRUM_CHANNELS:
         if name not in series.channels:
@@ -225,8 +229,8 @@ def spectra_of(series, excitations) -> dict[str, Any]:
         args = (series.time, series[name])
         opts = {"angle": angle, "name": name, "unit": series.units.get(name, "")}
         try:
-            out[name] = spectrum.order_spectrum(*args, period_revs=period, **opts)
-        except InputError:  # the record holds slightly less than one period
+            out[name] = spectrum.order_spectrum(*args, period_revs=period, window=window, **opts)
+        except InputError:  # the record holds slightly less than whole periods
             out[name] = spectrum.order_spectrum(*args, period_revs=None, **opts)
     return out
 

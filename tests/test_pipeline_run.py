@@ -1,0 +1,252 @@
+"""``gearbox run`` on real scenes: what is recomputed, input errors, interruptions.
+
+The default scene runs shortened (fewer mesh cycles and sweep speeds, set through
+``Scene.replaced``) so the file stays within the CI time budget.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+from gearbox import load_scene
+from gearbox.cli import main
+from gearbox.errors import InputError
+from gearbox.pipeline import STAGES, plan, run_pipeline
+
+ROOT = Path(__file__).resolve().parents[1]
+MARINE = ROOT / "models" / "marine_drive.toml"
+
+
+def short(scene, **sim):
+    """The scene with a short record: still whole mesh cycles, same model."""
+    values = {"settled_mesh_cycles": 60, "samples_per_mesh_cycle": 16, "sweep_speeds": 3}
+    return scene.replaced(simulation=values | sim)
+
+
+def statuses(run):
+    return {r.name: r.status for r in run.summary.records}
+
+
+def downstream_of(section: str, names: list[str], scene) -> set[str]:
+    """Stages whose key depends on ``section``: they read it or sit below one that does."""
+    hit: set[str] = set()
+    for name in names:  # plan order: upstream first
+        st = STAGES[name]
+        req, opt = st.upstream(scene)
+        reads = {r.split(".")[0] for r in st.reads}
+        if section in reads or any(d in hit for d in (*req, *opt)):
+            hit.add(name)
+    return hit
+
+
+@pytest.fixture(scope="module")
+def marine():
+    return short(load_scene(MARINE))
+
+
+def test_default_scene_plans_the_whole_job(marine):
+    names = plan(marine["outputs"]["requested"], STAGES, marine)
+    for stage in ("design", "tables", "dynamics", "spectra", "waterfall", "campbell"):
+        assert stage in names
+    assert names.index("tables") < names.index("dynamics") < names.index("spectra")
+
+
+@pytest.mark.slow
+def test_changing_the_propeller_recomputes_only_downstream_stages(marine, tmp_path):
+    requested = ["design", "tables", "dynamics", "spectra", "campbell"]
+    first = run_pipeline(marine, requested, cache=tmp_path)
+    assert first.summary.ok, first.summary.table()
+    produced = [r.name for r in first.summary.records if r.status == "computed"]
+    assert {"design", "tables", "dynamics", "spectra", "campbell"} <= set(produced)
+
+    heavier = marine.replaced(drivetrain={"propeller_inertia_kgm2": 0.12})
+    second = run_pipeline(heavier, requested, cache=tmp_path)
+    expect_new = downstream_of("drivetrain", list(first.keys), marine)
+    assert expect_new == {"dynamics", "spectra", "campbell"}
+    got = statuses(second)
+    for name in produced:
+        assert got[name] == ("computed" if name in expect_new else "cached"), second.summary.table()
+    # the new propeller is really in the new results (not a stale cache hit)
+    j_old = first["dynamics"].model.propeller_inertia
+    j_new = second["dynamics"].model.propeller_inertia
+    assert j_new / j_old == pytest.approx(0.12 / 0.08, rel=1e-12)
+    # ... and the design is the very same object content as before
+    assert second["design"].to_dict() == first["design"].to_dict()
+
+
+@pytest.mark.slow
+def test_speed_sweep_runs_through_any_executor(marine, tmp_path):
+    with ThreadPoolExecutor(2) as ex:
+        run = run_pipeline(marine, ["waterfall"], cache=False, executor=ex)
+    sw = run["waterfall"]
+    assert statuses(run)["waterfall"] == "computed", run.summary.table()
+    lo, hi = marine["simulation"]["speed_sweep_rpm"]
+    assert [p.speed_rpm for p in sw.points] == pytest.approx([lo, (lo + hi) / 2, hi])
+    assert all(p.status == "success" for p in sw.points)
+    # propeller law: torque ratio = speed ratio squared (to rounding)
+    t = [p.torque_Nm for p in sw.points]
+    assert t[2] / t[0] == pytest.approx((hi / lo) ** 2, rel=1e-12)
+    assert "mesh_force_N" in sw.waterfalls
+
+
+MISTAKES = """
+schema = 1
+name = "broken"
+[pair]
+normal_module_mm = -6.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 13.0
+offset_mm = 229.0
+colour = "red"
+[pinion]
+teeth = 29.5
+helix_angle_deg = 20.0
+cone_angle_deg = 1.0
+profile_shift_xt = 0.16
+[gear]
+teeth = 45
+cone_angle_deg = 0.8
+[drivetrain]
+propeller_blades = 0
+engine_speed_rpm = "fast"
+[outputs]
+requested = ["design", "report", "everything"]
+"""
+
+
+def test_scene_with_mistakes_gets_one_error_listing_every_problem(tmp_path, capsys):
+    scene = tmp_path / "broken.toml"
+    scene.write_text(MISTAKES)
+    out = tmp_path / "out"
+    with pytest.raises(InputError) as err:
+        load_scene(scene)
+    paths = {p.path for p in err.value.problems}
+    assert paths == {
+        "pair.normal_module_mm",
+        "pair.colour",
+        "pinion.teeth",
+        "drivetrain.propeller_blades",
+        "drivetrain.engine_speed_rpm",
+        "outputs.requested[2]",
+    }
+    rc = main(["run", str(scene), "--out", str(out), "--no-cache", "--no-progress"])
+    assert rc == 2
+    msg = capsys.readouterr().err
+    assert "Traceback" not in msg
+    assert "6 problems" in msg
+    for p in paths:
+        assert p in msg
+    assert not out.exists()
+
+
+def test_stage_checks_are_collected_before_anything_runs(tmp_path):
+    # valid scene values, but the mesh tables do not cover the operating torque
+    # and the design cannot exist (gear cone angle too large for this pair)
+    scene = load_scene(MARINE).replaced(
+        load={"torques_Nm": [100.0, 200.0]}, gear={"cone_angle_deg": 30.0}
+    )
+    with pytest.raises(InputError) as err:
+        run_pipeline(scene, ["design", "dynamics", "waterfall"], cache=tmp_path)
+    paths = [p.path for p in err.value.problems]
+    assert "load.torques_Nm" in paths
+    assert len(paths) >= 2, err.value
+    assert not any(tmp_path.rglob("*.gbx"))  # nothing was computed
+
+
+def test_cli_run_writes_report_summary_and_results(tmp_path, capsys):
+    out = tmp_path / "out"
+    rc = main(
+        [
+            "run",
+            str(ROOT / "models" / "case03.toml"),
+            "--only",
+            "design",
+            "sweep",
+            "report",
+            "--out",
+            str(out),
+            "--cache",
+            str(tmp_path / "cache"),
+            "--no-progress",
+            "--json",
+        ]
+    )
+    assert rc == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert [r["status"] for r in printed["summary"]["records"]] == ["computed", "computed"]
+    for f in ("report.html", "run_summary.json", "design.json", "sweep"):
+        assert (out / f).exists(), f
+    assert not [p for p in out.rglob("*.tmp")]
+    # second run: everything from the cache, and the report says so
+    rc = main(
+        [
+            "run",
+            str(ROOT / "models" / "case03.toml"),
+            "--only",
+            "design",
+            "report",
+            "--out",
+            str(out),
+            "--cache",
+            str(tmp_path / "cache"),
+            "--no-progress",
+        ]
+    )
+    assert rc == 0
+    html = (out / "report.html").read_text()
+    assert ">cached<" in html
+
+
+_INTERRUPT = textwrap.dedent(
+    """
+    import os, signal, sys
+    import gearbox.pipeline.stages as stages
+    import gearbox.report.build as build
+    from gearbox.cli import main
+
+    where = sys.argv[1]
+
+    def interrupt(*a, **k):
+        os.kill(os.getpid(), signal.SIGINT)   # a real Ctrl-C, delivered now
+        raise AssertionError("SIGINT was not raised")
+
+    if where == "stage":
+        from gearbox.pipeline import Stage
+        stages.STAGES = {"design": Stage("design", interrupt, reads=("pair",))}
+    else:  # while the report is being written
+        import gearbox.commands._common as common
+        common.os.replace = interrupt
+    sys.exit(main(["run", sys.argv[2], "--only", "design", "report", "--out", sys.argv[3],
+                   "--no-cache", "--no-progress"]))
+    """
+)
+
+
+@pytest.mark.parametrize("where", ["stage", "report"])
+def test_interrupted_run_leaves_no_half_written_report(tmp_path, where):
+    out = tmp_path / "out"
+    out.mkdir()
+    old = "<html>previous report</html>"
+    (out / "report.html").write_text(old)
+    proc = subprocess.run(
+        [sys.executable, "-c", _INTERRUPT, where, str(ROOT / "models" / "case03.toml"), str(out)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+        env=os.environ | {"PYTHONPATH": str(ROOT)},
+    )
+    assert proc.returncode == 130, proc.stderr
+    assert "interrupted" in proc.stderr
+    # the previous report is untouched and no temporary file is left behind
+    assert (out / "report.html").read_text() == old
+    leftovers = [p.name for p in out.iterdir() if p.name not in ("report.html", "run_summary.json")]
+    assert leftovers == [], leftovers
