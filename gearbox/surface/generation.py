@@ -99,7 +99,9 @@ def _rack_profile(blank: ToothBlank, sigma: int, u: Jet, involute_only: bool = F
     )
 
 
-def flank_jets(blank: ToothBlank, side: str, z, u, *, normal_jets: bool = False, involute_only: bool = False):
+def flank_jets(
+    blank: ToothBlank, side: str, z, u, *, normal_jets: bool = False, involute_only: bool = False
+):
     """Generated flank point of tooth 0 as jets, and its unit normal.
 
     Args:

@@ -35,14 +35,23 @@ from ..surface import ToothBlank, flank_points
 from .assembly import Assembly
 from .contact import solve_contact, tangent_predictor
 
-__all__ = ["TCASettings", "FlankContact", "TCAResult", "run_tca", "SIDE_NAMES"]
+__all__ = ["TCASettings", "FlankContact", "TCAResult", "run_tca", "tca_of_blanks", "SIDE_NAMES"]
 
 #: flank side -> name: the pinion's right flank R drives (pinion turning +phi_1 about
 #: z_f, i.e. towards its heel by the right-hand rule), the left flank L is the coast side
 SIDE_NAMES = {"R": "drive", "L": "coast"}
 
 #: limit codes of a contact point outside the real flanks
-LIMITS = ("pinion toe", "pinion heel", "pinion root", "pinion tip", "gear toe", "gear heel", "gear root", "gear tip")
+LIMITS = (
+    "pinion toe",
+    "pinion heel",
+    "pinion root",
+    "pinion tip",
+    "gear toe",
+    "gear heel",
+    "gear root",
+    "gear tip",
+)
 
 
 @dataclass(frozen=True)
@@ -67,19 +76,34 @@ class TCASettings:
     @classmethod
     def from_scene(cls, scene) -> TCASettings:
         t = scene["tca"]
-        return cls(positions=t["positions"], mesh_cycles=t["mesh_cycles"],
-                   marking_compound=t["marking_compound_mm"] * 1e-3).validate()
+        return cls(
+            positions=t["positions"],
+            mesh_cycles=t["mesh_cycles"],
+            marking_compound=t["marking_compound_mm"] * 1e-3,
+        ).validate()
 
     def validate(self) -> TCASettings:
         p = Problems()
-        p.check(isinstance(self.positions, int) and self.positions >= 2, "tca.positions", self.positions,
-                "must be an integer >= 2")
+        p.check(
+            isinstance(self.positions, int) and self.positions >= 2,
+            "tca.positions",
+            self.positions,
+            "must be an integer >= 2",
+        )
         p.in_range("tca.mesh_cycles", self.mesh_cycles, 0, 20, lo_open=True)
         p.in_range("tca.marking_compound_mm", self.marking_compound * 1e3, 0, 1, lo_open=True)
-        p.check(isinstance(self.pairs, int) and 1 <= self.pairs <= 20, "tca.pairs", self.pairs,
-                "must be an integer in [1, 20]")
-        p.check(isinstance(self.max_iter, int) and 1 <= self.max_iter <= 200, "tca.max_iter", self.max_iter,
-                "must be an integer in [1, 200]")
+        p.check(
+            isinstance(self.pairs, int) and 1 <= self.pairs <= 20,
+            "tca.pairs",
+            self.pairs,
+            "must be an integer in [1, 20]",
+        )
+        p.check(
+            isinstance(self.max_iter, int) and 1 <= self.max_iter <= 200,
+            "tca.max_iter",
+            self.max_iter,
+            "must be an integer in [1, 200]",
+        )
         p.raise_if_any("invalid TCA settings")
         return self
 
@@ -204,23 +228,33 @@ class TCAResult:
         for key, fc in (("right", self.drive), ("left", self.coast)):
             f = fc.fpd_angle[fc.active]
             out[f"measured_fpd_angle_{key}_deg"] = float(np.degrees(np.mean(f))) if f.size else None
-            out[f"measured_fpd_angle_{key}_spread_deg"] = float(np.degrees(np.ptp(f))) if f.size else None
+            out[f"measured_fpd_angle_{key}_spread_deg"] = (
+                float(np.degrees(np.ptp(f))) if f.size else None
+            )
         if self.designed_fpd is not None:
             out["designed_fpd_angle_right_deg"] = math.degrees(self.designed_fpd[0])
             out["designed_fpd_angle_left_deg"] = math.degrees(self.designed_fpd[1])
         out["unloaded_te_peak_to_peak_arcsec"] = {
             fc.name: _fin(fc.te_peak_to_peak() * arcsec) for fc in (self.drive, self.coast)
         }
-        out["contact_path_straightness_um"] = {fc.name: _fin(fc.straightness() * 1e6) for fc in (self.drive, self.coast)}
+        out["contact_path_straightness_um"] = {
+            fc.name: _fin(fc.straightness() * 1e6) for fc in (self.drive, self.coast)
+        }
         out["path_position"] = {
             fc.name: {"pinion": fc.path_position("pinion"), "gear": fc.path_position("gear")}
             for fc in (self.drive, self.coast)
         }
         out["path_limits"] = {fc.name: list(fc.path_limits) for fc in (self.drive, self.coast)}
         out["contact_ratio"] = {fc.name: _fin(fc.contact_ratio) for fc in (self.drive, self.coast)}
-        out["positions_without_contact"] = {fc.name: int(np.sum(fc.pairs_in_contact == 0)) for fc in (self.drive, self.coast)}
-        out["max_iterations"] = {fc.name: int(fc.iterations.max()) for fc in (self.drive, self.coast)}
-        out["not_converged"] = {fc.name: int(np.sum(~fc.converged)) for fc in (self.drive, self.coast)}
+        out["positions_without_contact"] = {
+            fc.name: int(np.sum(fc.pairs_in_contact == 0)) for fc in (self.drive, self.coast)
+        }
+        out["max_iterations"] = {
+            fc.name: int(fc.iterations.max()) for fc in (self.drive, self.coast)
+        }
+        out["not_converged"] = {
+            fc.name: int(np.sum(~fc.converged)) for fc in (self.drive, self.coast)
+        }
         bl = self.backlash_angle[np.isfinite(self.backlash_angle)]
         r2 = self.gear.reference_pitch_radius
         out["backlash_um"] = {
@@ -301,7 +335,9 @@ def _centre_start(pinion, gear, asm, side, target):
     q2 = flank_points(gear, side, 0.0, u2).position
     g0 = asm.gear_matrix(0.0) @ q2
     a2 = asm.gear_axis
-    phi2 = _angle_about(p1 - asm.gear_origin, a2, np.array([-1.0, 0, 0])) - _angle_about(g0, a2, np.array([-1.0, 0, 0]))
+    phi2 = _angle_about(p1 - asm.gear_origin, a2, np.array([-1.0, 0, 0])) - _angle_about(
+        g0, a2, np.array([-1.0, 0, 0])
+    )
     return phi1, np.array([0.0, u1, 0.0, u2, phi2])
 
 
@@ -335,7 +371,9 @@ def _ellipse(k1, d1, k2, d2, n, delta):
     C = np.zeros((len(n), 2, 2))
     for k, d in ((k1, d1), (k2, d2)):
         for i in range(2):
-            a = np.stack([np.einsum("ni,ni->n", d[:, i], e1), np.einsum("ni,ni->n", d[:, i], e2)], axis=1)
+            a = np.stack(
+                [np.einsum("ni,ni->n", d[:, i], e1), np.einsum("ni,ni->n", d[:, i], e2)], axis=1
+            )
             C += k[:, i, None, None] * a[:, :, None] * a[:, None, :]
     lam, vec = np.linalg.eigh(C)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -353,10 +391,14 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     c = solve_contact(pinion, gear, asm, side, [phi1c], x0[None, :], max_iter=settings.max_iter)
     if not (c.converged[0] and c.opposed[0]):
         raise InputError(
-            Problem(f"tca[{SIDE_NAMES[side]}]", "pitch-point contact",
-                    f"the contact conditions have no solution near the pitch point within {settings.max_iter} "
-                    f"iterations (residual {c.residual_position[0]:.3g} m): check the assembly errors"),
-            "tooth contact analysis failed")
+            Problem(
+                f"tca[{SIDE_NAMES[side]}]",
+                "pitch-point contact",
+                f"the contact conditions have no solution near the pitch point within {settings.max_iter} "
+                f"iterations (residual {c.residual_position[0]:.3g} m): check the assembly errors",
+            ),
+            "tooth contact analysis failed",
+        )
     xc = c.x[0]
     tan = tangent_predictor(pinion, gear, asm, side, [phi1c], c.x)[0]
     phi_ref = (phi1_grid[:, None] + 2 * np.pi * pairs[None, :] / N1).ravel()
@@ -381,11 +423,13 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     a2 = asm.gear_axis
     r2 = d2[:, 0, :] * np.sign(d2[:, 0, :] @ a2)[:, None]
     nrm = s.normal
-    fpd_signed = np.arctan2(np.einsum("ni,ni->n", nrm, np.cross(r1, r2)), np.einsum("ni,ni->n", r1, r2))
+    fpd_signed = np.arctan2(
+        np.einsum("ni,ni->n", nrm, np.cross(r1, r2)), np.einsum("ni,ni->n", r1, r2)
+    )
     fpd = np.arccos(np.clip(np.abs(np.einsum("ni,ni->n", r1, r2)), 0.0, 1.0))
     axes, major = _ellipse(fp1.curvatures, d1, fp2.curvatures, d2, nrm, settings.marking_compound)
     # gear angle of each pair at the sweep's pinion angles
-    g_pairs = (x[:, 4].reshape(n, P) + 2 * np.pi * pairs[None, :] / N2)
+    g_pairs = x[:, 4].reshape(n, P) + 2 * np.pi * pairs[None, :] / N2
     act = active.reshape(n, P)
     gp = np.where(act, g_pairs, np.nan)
     with np.errstate(all="ignore"):
@@ -437,8 +481,16 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     ), phi1c
 
 
-def run_tca(pinion: ToothBlank, gear: ToothBlank, assembly: Assembly, settings: TCASettings | None = None, *,
-            pitch_point=None, designed_fpd=None) -> TCAResult:
+def tca_of_blanks(
+    pinion: ToothBlank,
+    gear: ToothBlank,
+    assembly: Assembly,
+    settings: TCASettings | None = None,
+    *,
+    pitch_point=None,
+    designed_fpd=None,
+    pinion_angles=None,
+) -> TCAResult:
     """Unloaded TCA of both flank sides over a sweep of pinion angles.
 
     Args:
@@ -448,19 +500,28 @@ def run_tca(pinion: ToothBlank, gear: ToothBlank, assembly: Assembly, settings: 
         pitch_point: a point of Sf near which the contact passes (m), shape (3,);
             default: the point at the pinion's reference pitch radius on x_f.
         designed_fpd: (xi_R, xi_L) of the design (rad), stored for comparison.
+        pinion_angles: explicit pinion angles phi_1 of the sweep (rad), shape (n,),
+            instead of the range centred on the pitch-point passage.
 
     Raises:
         InputError: when no contact is found near the pitch point, or when no tooth
             pair is in contact anywhere on the flanks.
     """
     settings = (settings or TCASettings()).validate()
-    target = np.asarray(pitch_point if pitch_point is not None else
-                        (pinion.reference_pitch_radius, 0.0, assembly.pinion_axial), dtype=float)
+    target = np.asarray(
+        pitch_point
+        if pitch_point is not None
+        else (pinion.reference_pitch_radius, 0.0, assembly.pinion_axial),
+        dtype=float,
+    )
     N1 = pinion.teeth
     # the sweep is centred on the drive side's pitch-point passage
     phi1c, _ = _centre_start(pinion, gear, assembly, "R", target)
     half = 0.5 * settings.mesh_cycles * 2 * np.pi / N1
-    grid = phi1c + np.linspace(-half, half, settings.positions)
+    if pinion_angles is None:
+        grid = phi1c + np.linspace(-half, half, settings.positions)
+    else:
+        grid = np.atleast_1d(np.asarray(pinion_angles, dtype=float))
     drive, _ = _side(pinion, gear, assembly, "R", grid, settings, target)
     coast, _ = _side(pinion, gear, assembly, "L", grid, settings, target)
     pitch2 = 2 * np.pi / gear.teeth
@@ -471,33 +532,67 @@ def run_tca(pinion: ToothBlank, gear: ToothBlank, assembly: Assembly, settings: 
     for fc in (drive, coast):
         if not fc.active.any():
             raise InputError(
-                Problem(f"tca[{fc.name}]", "no contact",
-                        "no tooth pair is in contact on the real flanks anywhere: the assembly separates the "
-                        "gears (offset or axial errors too large) or the flanks do not overlap"),
-                "tooth contact analysis failed")
+                Problem(
+                    f"tca[{fc.name}]",
+                    "no contact",
+                    "no tooth pair is in contact on the real flanks anywhere: the assembly separates the "
+                    "gears (offset or axial errors too large) or the flanks do not overlap",
+                ),
+                "tooth contact analysis failed",
+            )
         gaps = int(np.sum(fc.pairs_in_contact == 0))
         if gaps:
             status = "edge contact"
-            msgs.append(f"{fc.name}: {gaps} of {len(grid)} positions have no flank-flank contact "
-                        f"(contact ratio {fc.contact_ratio:.3f} < 1): edge contact there")
+            msgs.append(
+                f"{fc.name}: {gaps} of {len(grid)} positions have no flank-flank contact "
+                f"(contact ratio {fc.contact_ratio:.3f} < 1): edge contact there"
+            )
         if (~fc.converged).any():
-            msgs.append(f"{fc.name}: {int(np.sum(~fc.converged))} contact solves did not converge in "
-                        f"{settings.max_iter} iterations (flagged 'not converged', excluded)")
+            msgs.append(
+                f"{fc.name}: {int(np.sum(~fc.converged))} contact solves did not converge in "
+                f"{settings.max_iter} iterations (flagged 'not converged', excluded)"
+            )
     r2 = gear.reference_pitch_radius
     if np.nanmin(play) * r2 < -1e-9:
         status = "interference"
-        msgs.append(f"drive and coast flanks overlap by up to {-np.nanmin(play) * r2 * 1e6:.3f} um (circumferential, "
-                    f"gear pitch circle): the gears interfere in this assembly")
+        msgs.append(
+            f"drive and coast flanks overlap by up to {-np.nanmin(play) * r2 * 1e6:.3f} um (circumferential, "
+            f"gear pitch circle): the gears interfere in this assembly"
+        )
     elif np.nanmax(play) * r2 > 1e-9:
-        msgs.append(f"backlash up to {np.nanmax(play) * r2 * 1e6:.3f} um (circumferential, gear pitch circle)")
-    return TCAResult(pinion, gear, assembly, settings, drive, coast, play, designed_fpd, status, tuple(msgs))
+        msgs.append(
+            f"backlash up to {np.nanmax(play) * r2 * 1e6:.3f} um (circumferential, gear pitch circle)"
+        )
+    return TCAResult(
+        pinion, gear, assembly, settings, drive, coast, play, designed_fpd, status, tuple(msgs)
+    )
 
 
-def tca_from_design(design, settings: TCASettings | None = None, errors=None) -> TCAResult:
-    """:func:`run_tca` for a :class:`gearbox.geometry.PairDesign` (designed assembly)."""
+def run_tca(
+    design, scene=None, *, settings: TCASettings | None = None, errors=None, pinion_angles=None
+) -> TCAResult:
+    """Unloaded TCA of a designed pair (:class:`gearbox.geometry.PairDesign`).
+
+    The blanks come from the design and its tool profile
+    (:func:`gearbox.surface.blanks_from_design`), the assembly from its pitch point
+    (:meth:`Assembly.from_design`). With a ``scene``, its ``[tca]`` section gives the
+    settings and its ``[assembly]`` section the assembly errors, unless ``settings``
+    or ``errors`` (:class:`AssemblyErrors`) are given.
+    """
     from ..surface import blanks_from_design
+    from .assembly import AssemblyErrors
 
+    if scene is not None:
+        settings = settings or TCASettings.from_scene(scene)
+        errors = errors or AssemblyErrors.from_scene(scene)
     pinion, gear = blanks_from_design(design)
     asm = Assembly.from_design(design, errors)
-    return run_tca(pinion, gear, asm, settings, pitch_point=design.pitch_point,
-                   designed_fpd=(design.fpd_angle_right, design.fpd_angle_left))
+    return tca_of_blanks(
+        pinion,
+        gear,
+        asm,
+        settings,
+        pitch_point=design.pitch_point,
+        designed_fpd=(design.fpd_angle_right, design.fpd_angle_left),
+        pinion_angles=pinion_angles,
+    )

@@ -83,9 +83,19 @@ class Assembly:
         """The designed assembly (paper eqs (16)-(19)) plus optional errors."""
         e = errors or AssemblyErrors()
         p = Problems()
-        p.in_range("assembly.offset_error_mm", e.offset * 1e3, -0.5 * design.offset * 1e3, 0.5 * design.offset * 1e3)
-        p.in_range("assembly.shaft_angle_error_deg", math.degrees(e.shaft_angle), -math.degrees(design.shaft_angle),
-                   90 - math.degrees(design.shaft_angle), hi_open=True)
+        p.in_range(
+            "assembly.offset_error_mm",
+            e.offset * 1e3,
+            -0.5 * design.offset * 1e3,
+            0.5 * design.offset * 1e3,
+        )
+        p.in_range(
+            "assembly.shaft_angle_error_deg",
+            math.degrees(e.shaft_angle),
+            -math.degrees(design.shaft_angle),
+            90 - math.degrees(design.shaft_angle),
+            hi_open=True,
+        )
         p.raise_if_any("invalid assembly errors")
         return cls(
             offset=design.offset + e.offset,
@@ -116,7 +126,9 @@ class Assembly:
     def gear_matrix(self, phi2) -> np.ndarray:
         """Rotation S2 -> Sf at gear angle phi_2 (rad), shape phi2.shape + (3, 3)."""
         d = self.shaft_angle
-        B2 = np.array([[0.0, -1.0, 0.0], [math.cos(d), 0.0, math.sin(d)], [-math.sin(d), 0.0, math.cos(d)]])
+        B2 = np.array(
+            [[0.0, -1.0, 0.0], [math.cos(d), 0.0, math.sin(d)], [-math.sin(d), 0.0, math.cos(d)]]
+        )
         return rotation(self.gear_axis, phi2) @ B2
 
     def to_dict(self) -> dict:

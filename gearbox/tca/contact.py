@@ -45,7 +45,9 @@ def flank_frames(blank: ToothBlank, side: str, z, u, matrix, origin):
     Nn = np.stack([c.d for c in n], axis=-1)
     R = np.einsum("nij,knj->kni", matrix, R)
     Nn = np.einsum("nij,knj->kni", matrix, Nn)
-    return dict(r=R[0] + origin, rz=R[1], ru=R[2], rzz=R[3], rzu=R[4], ruu=R[5], n=Nn[0], nz=Nn[1], nu=Nn[2])
+    return dict(
+        r=R[0] + origin, rz=R[1], ru=R[2], rzz=R[3], rzu=R[4], ruu=R[5], n=Nn[0], nz=Nn[1], nu=Nn[2]
+    )
 
 
 @dataclass(frozen=True)
@@ -82,7 +84,9 @@ def _system(pinion, gear, asm, side, phi1, x):
     f2 = flank_frames(gear, side, x[:, 2], x[:, 3], M2, O2)
     n2 = f2["n"]
     dot = lambda a, b: np.einsum("ni,ni->n", a, b)  # noqa: E731
-    F = np.concatenate([f1["r"] - f2["r"], dot(n2, f1["rz"])[:, None], dot(n2, f1["ru"])[:, None]], axis=1)
+    F = np.concatenate(
+        [f1["r"] - f2["r"], dot(n2, f1["rz"])[:, None], dot(n2, f1["ru"])[:, None]], axis=1
+    )
     J = np.empty(x.shape[:1] + (5, 5))
     J[:, :3, 0] = f1["rz"]
     J[:, :3, 1] = f1["ru"]
@@ -90,7 +94,10 @@ def _system(pinion, gear, asm, side, phi1, x):
     J[:, :3, 3] = -f2["ru"]
     J[:, :3, 4] = -np.cross(a2, f2["r"] - O2)
     dn2 = np.cross(a2, n2)
-    for row, t, tz, tu in ((3, f1["rz"], f1["rzz"], f1["rzu"]), (4, f1["ru"], f1["rzu"], f1["ruu"])):
+    for row, t, tz, tu in (
+        (3, f1["rz"], f1["rzz"], f1["rzu"]),
+        (4, f1["ru"], f1["rzu"], f1["ruu"]),
+    ):
         J[:, row, 0] = dot(n2, tz)
         J[:, row, 1] = dot(n2, tu)
         J[:, row, 2] = dot(f2["nz"], t)
@@ -153,7 +160,12 @@ def solve_contact(
             try:
                 step = np.linalg.solve(J[upd], -F[upd][..., None])[..., 0]
             except np.linalg.LinAlgError:
-                step = np.stack([np.linalg.lstsq(Jk, -Fk, rcond=None)[0] for Jk, Fk in zip(J[upd], F[upd], strict=True)])
+                step = np.stack(
+                    [
+                        np.linalg.lstsq(Jk, -Fk, rcond=None)[0]
+                        for Jk, Fk in zip(J[upd], F[upd], strict=True)
+                    ]
+                )
         # bounded steps: a limited move in each parameter keeps the iteration on the sheet
         lim = np.array([MAX_STEP_LENGTH] * 4 + [MAX_STEP_ANGLE])
         scale = np.max(np.abs(step) / lim, axis=1, initial=1.0)
@@ -172,9 +184,15 @@ def tangent_predictor(pinion, gear, asm, side, phi1, x):
     """dx/dphi_1 at solutions x (N, 5) (implicit function theorem), shape (N, 5)."""
     F, J, f1, _ = _system(pinion, gear, asm, side, np.asarray(phi1, float), np.asarray(x, float))
     dr, z = _dF_dphi1(f1, asm)
-    n2 = np.asarray(_system(pinion, gear, asm, side, np.asarray(phi1, float), np.asarray(x, float))[3]["n"])
+    n2 = np.asarray(
+        _system(pinion, gear, asm, side, np.asarray(phi1, float), np.asarray(x, float))[3]["n"]
+    )
     dFp = np.concatenate(
-        [dr, np.einsum("ni,ni->n", n2, np.cross(z, f1["rz"]))[:, None], np.einsum("ni,ni->n", n2, np.cross(z, f1["ru"]))[:, None]],
+        [
+            dr,
+            np.einsum("ni,ni->n", n2, np.cross(z, f1["rz"]))[:, None],
+            np.einsum("ni,ni->n", n2, np.cross(z, f1["ru"]))[:, None],
+        ],
         axis=1,
     )
     return np.linalg.solve(J, -dFp[..., None])[..., 0]

@@ -1,0 +1,276 @@
+"""Unloaded TCA of crossed beveloid pairs: conjugacy, FPD angles, path, bad input.
+
+Independent references:
+- involute helicoids on crossed axes are conjugate: the contact moves along one fixed
+  straight line (the intersection of the two planes of action), along the common
+  normal, with a constant gear ratio (Litvin & Fuentes, Gear Geometry, 2nd ed.,
+  sec. 13.3 for crossed helical gears);
+- the paper's Table 2 FPD angles (tests/data/paper_tables.toml, decoded from the
+  paper's text) and the design stage's eqs (1), (8), (9);
+- the contact ellipse against the gap measured directly between the surfaces.
+"""
+
+import json
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearbox import load_scene
+from gearbox.errors import InputError
+from gearbox.geometry import PairSpec, design_pair
+from gearbox.surface import blanks_from_design
+from gearbox.tca import Assembly, AssemblyErrors, TCASettings, run_tca, tca_of_blanks
+from gearbox.tca.contact import flank_frames
+
+DATA = Path(__file__).parent / "data"
+ARCSEC = 180 / math.pi * 3600
+
+
+def design(case="03", **pinion):
+    sc = load_scene(f"models/case{case}.toml")
+    if pinion:
+        sc = sc.replaced(pinion=pinion)
+    return design_pair(PairSpec.from_scene(sc))
+
+
+@pytest.fixture(scope="module")
+def des03():
+    return design("03")
+
+
+@pytest.fixture(scope="module")
+def tca03(des03):
+    return run_tca(des03)
+
+
+def paper_table2():
+    # copied from the paper's Table 2 (see the file's header for the decoding)
+    return {
+        row["case"]: row
+        for row in tomllib.loads((DATA / "paper_tables.toml").read_text())["table2"]
+    }
+
+
+@pytest.mark.parametrize("case", ["01", "02", "03", "04"])
+def test_fpd_angles_measured_on_surfaces_equal_design_and_paper(case):
+    des = design(case)
+    res = run_tca(des, settings=TCASettings(positions=15, mesh_cycles=1.0))
+    s = res.summary()
+    for key, designed in (("right", des.fpd_angle_right), ("left", des.fpd_angle_left)):
+        measured = s[f"measured_fpd_angle_{key}_deg"]
+        # the issue's bound; the two routes agree to ~1e-12 deg in fact
+        assert abs(measured - math.degrees(designed)) < 1e-3, (
+            case,
+            key,
+            measured,
+            math.degrees(designed),
+        )
+        # constant along the path (rulings and normal are fixed directions in Sf)
+        assert s[f"measured_fpd_angle_{key}_spread_deg"] < 1e-9
+        # the paper prints 4 decimals: half a unit of the last digit; case 04's offset is
+        # not the printed one but inferred from its outputs (models/case04.toml, 232 mm),
+        # which limits the agreement to about 1e-4 deg there
+        printed = paper_table2()[case][f"fpd_angle_{key}_deg"]
+        tol = 2e-4 if case == "04" else 5e-5 + 1e-9
+        assert abs(measured - printed) < tol, f"paper Table 2 case {case} xi_{key[0].upper()}"
+
+
+def test_pitch_point_passage_and_line_of_action(des03, tca03):
+    """Contact passes through the design's pitch point; the line of action is the
+    paper's Table 3 direction for case 03 (printed to 3 decimals, up to sign)."""
+    fc = tca03.drive
+    pts = fc.active_points
+    P = np.array(des03.pitch_point)
+    d = np.linalg.norm(np.cross(pts - P, fc.normal[fc.active][0]), axis=1)
+    assert d.max() < 1e-9  # P lies on the contact line (solver tolerance 1e-11 m)
+    n = fc.normal[fc.active][0]
+    assert np.allclose(-n, [-0.244, -0.912, 0.327], atol=1.5e-3), "paper Table 3, FPD 3.351"
+
+
+def _assert_conjugate(res):
+    for fc in (res.drive, res.coast):
+        assert fc.converged.all()
+        assert (fc.pairs_in_contact >= 1).all()
+        # TE zero to solver tolerance: 1e-11 m on radii ~0.1 m is ~2e-5 arcsec
+        assert fc.te_peak_to_peak() * ARCSEC < 1e-4
+        # straight path along the (constant) common normal
+        assert fc.straightness() < 1e-9
+        pts = fc.active_points
+        _, _, vt = np.linalg.svd(pts - pts.mean(0))
+        n = fc.normal[fc.active]
+        # normals collinear to the solve tolerance (1e-11 on the tangent projections)
+        assert np.ptp(n, axis=0).max() < 1e-10
+        assert abs(abs(vt[0] @ n[0]) - 1) < 1e-10
+
+
+def test_perfect_design_is_conjugate_and_backlash_free(tca03):
+    _assert_conjugate(tca03)
+    # eq. (20) and the designed positions: drive and coast flanks touch together
+    r2 = tca03.gear.reference_pitch_radius
+    assert np.max(np.abs(tca03.backlash_angle)) * r2 < 1e-9
+    assert tca03.status == "ok"
+
+
+@pytest.mark.parametrize(
+    "err",
+    [
+        AssemblyErrors(offset=30e-6),
+        AssemblyErrors(shaft_angle=math.radians(0.02)),
+        AssemblyErrors(pinion_axial=0.5e-3, offset=30e-6),
+        AssemblyErrors(gear_axial=-0.5e-3, offset=30e-6),
+        AssemblyErrors(
+            offset=20e-6, shaft_angle=math.radians(-0.015), pinion_axial=-0.3e-3, gear_axial=0.4e-3
+        ),
+    ],
+)
+def test_te_stays_zero_under_assembly_errors_while_path_moves(des03, tca03, err):
+    res = run_tca(des03, errors=err)
+    _assert_conjugate(res)
+    for fc, fc0 in ((res.drive, tca03.drive), (res.coast, tca03.coast)):
+        moved = np.linalg.norm(fc.active_points.mean(0) - fc0.active_points.mean(0))
+        assert moved > 1e-6, "the contact path moves with the assembly"
+    if err.shaft_angle:
+        # the FPD angle follows the shaft angle (it depends on delta, not on E or axial shifts)
+        assert (
+            abs(res.summary()["measured_fpd_angle_right_deg"] - math.degrees(des03.fpd_angle_right))
+            > 1e-3
+        )
+
+
+def test_backlash_sign_follows_offset_error(des03):
+    loose = run_tca(des03, errors=AssemblyErrors(offset=50e-6))
+    tight = run_tca(des03, errors=AssemblyErrors(offset=-50e-6))
+    assert loose.status == "ok" and np.nanmin(loose.backlash_angle) > 0
+    assert tight.status == "interference" and np.nanmax(tight.backlash_angle) < 0
+    assert any("interfere" in m for m in tight.messages)
+    # first order: the play is odd in the offset error
+    assert np.allclose(loose.backlash_angle, -tight.backlash_angle, rtol=1e-2)
+
+
+def test_case03_path_in_middle_of_flanks(tca03):
+    s = tca03.summary()["path_position"]
+    for side in ("drive", "coast"):
+        for who in ("pinion", "gear"):
+            pp = s[side][who]
+            # within 5 % of the half face width from the middle (measured: below 1 %)
+            assert abs(pp["face_centroid"]) < 0.05, (side, who, pp)
+            assert 0.4 < pp["profile_centroid"] < 0.6, (side, who, pp)
+            assert pp["region"] == "middle"
+
+
+def test_fig10_profile_shift_moves_pinion_path_towards_heel():
+    """Paper Fig. 10: x_t1 from 0.2 to 0.1 moves the pinion's path from toe to heel.
+
+    With the designed assembly the contact line is fixed in space (it depends on the
+    base cylinders and the axes only); x_t1 and the backlash-free x_t2 (eq. (20)) move
+    only the tip cones, so the active segment slides along that line: the pinion's
+    centroid moves towards its heel (+z_f) on the drive side, the gear's as well
+    (towards +z_f, the gear's heel in Sf). See docs/tca.md for the size of the shift.
+    """
+    res = {
+        xt: run_tca(design("03", profile_shift_xt=xt), settings=TCASettings(positions=41))
+        for xt in (0.2, 0.1)
+    }
+    pin = {xt: r.drive.path_position("pinion")["z_centroid_mm"] for xt, r in res.items()}
+    gear = {xt: r.drive.path_position("gear")["z_centroid_mm"] for xt, r in res.items()}
+    assert pin[0.1] > pin[0.2]
+    assert gear[0.1] > gear[0.2]
+
+
+def _gap_along(res, side_contact, k, direction, dist):
+    """Gap between the two surfaces along the normal through P + dist * direction."""
+    fc = side_contact
+    i, j = np.argwhere(fc.active)[k]
+    n = fc.normal[i, j]
+    Q = fc.point[i, j] + dist * direction
+    e1 = direction
+    e2 = np.cross(n, e1)
+    asm, N1 = res.assembly, res.pinion.teeth
+    phi1 = fc.pinion_angle[i] + 2 * np.pi * fc.pair[j] / N1
+    phi2 = fc.gear_angle_pairs[i, j] - 2 * np.pi * fc.pair[j] / res.gear.teeth
+    heights = []
+    for blank, zu, M, O in (
+        (res.pinion, fc.pinion_zu[i, j], asm.pinion_matrix(np.array([phi1])), asm.pinion_origin),
+        (res.gear, fc.gear_zu[i, j], asm.gear_matrix(np.array([phi2])), asm.gear_origin),
+    ):
+        x = np.array(zu, dtype=float)
+        for _ in range(30):  # Newton: the surface point on the line Q + t n
+            f = flank_frames(blank, fc.side, x[:1], x[1:], M, O)
+            d = f["r"][0] - Q
+            F = np.array([d @ e1, d @ e2])
+            Jm = np.array([[f["rz"][0] @ e1, f["ru"][0] @ e1], [f["rz"][0] @ e2, f["ru"][0] @ e2]])
+            x = x - np.linalg.solve(Jm, F)
+            if np.max(np.abs(F)) < 1e-14:
+                break
+        heights.append((f["r"][0] - Q) @ n)
+    return heights[1] - heights[0]
+
+
+def test_contact_ellipse_matches_gap_between_surfaces(des03):
+    """Semi-axes from the curvatures reproduce the separation measured directly."""
+    delta = 0.1e-6  # small, so that the quadratic approximation holds to ~1e-3
+    res = run_tca(des03, settings=TCASettings(positions=9, mesh_cycles=1.0, marking_compound=delta))
+    for fc in (res.drive, res.coast):
+        k = int(fc.active.sum() // 2)
+        i, j = np.argwhere(fc.active)[k]
+        a, b = fc.ellipse_axes[i, j]
+        major = fc.ellipse_direction[i, j]
+        minor = np.cross(fc.normal[i, j], major)
+        for d, length in ((major, a), (minor, b)):
+            for sgn in (1, -1):
+                gap = _gap_along(res, fc, k, sgn * d, length)
+                assert abs(gap / delta - 1) < 0.02, (fc.name, length, gap)
+    # a larger FPD angle gives a shorter ellipse (paper section 3.2)
+    assert np.median(res.drive.ellipse_axes[res.drive.active][:, 0]) > np.median(
+        res.coast.ellipse_axes[res.coast.active][:, 0]
+    )
+
+
+def test_no_contact_in_range_is_an_error(des03):
+    p, g = blanks_from_design(des03)
+    asm = Assembly.from_design(des03)
+    N1 = p.teeth
+    # one tooth pair examined (J = 1) and angles 6 pitches away: nothing can touch
+    far = np.linspace(6, 6.5, 5) * 2 * np.pi / N1
+    with pytest.raises(InputError, match="no tooth pair is in contact"):
+        tca_of_blanks(
+            p, g, asm, TCASettings(pairs=1), pitch_point=des03.pitch_point, pinion_angles=far
+        )
+
+
+def test_separating_assembly_is_an_error(des03):
+    with pytest.raises(InputError, match="tooth contact analysis failed"):
+        run_tca(des03, errors=AssemblyErrors(offset=3e-3))
+
+
+def test_iteration_bound_is_reported_not_hidden(des03):
+    """With one iteration allowed, contacts that need more are flagged and excluded."""
+    err = AssemblyErrors(offset=30e-6, shaft_angle=math.radians(0.01))
+    try:
+        res = run_tca(des03, errors=err, settings=TCASettings(max_iter=1))
+    except InputError as exc:  # the pitch-point solve itself may already need more
+        assert "iterations" in str(exc)
+        return
+    s = res.summary()
+    assert sum(s["not_converged"].values()) > 0
+    for fc in (res.drive, res.coast):
+        assert not (fc.active & ~fc.converged).any()
+        assert (fc.limit[~fc.converged] == "not converged").all()
+    assert any("did not converge" in m for m in res.messages)
+
+
+def test_summary_is_json_with_issue_keys(tca03):
+    s = json.loads(json.dumps(tca03.summary(), allow_nan=False))
+    for key in (
+        "measured_fpd_angle_right_deg",
+        "measured_fpd_angle_left_deg",
+        "unloaded_te_peak_to_peak_arcsec",
+        "contact_path_straightness_um",
+        "path_position",
+    ):
+        assert key in s
+    assert set(s["unloaded_te_peak_to_peak_arcsec"]) == {"drive", "coast"}
+    assert s["max_iterations"]["drive"] <= TCASettings().max_iter
