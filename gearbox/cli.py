@@ -25,6 +25,7 @@ VERBS = {
     "simulate": "gearbox.commands.simulate",
     "fmu": "gearbox.commands.fmu",
     "cosim": "gearbox.commands.cosim",
+    "tca": "gearbox.commands.tca",
     "ltca": "gearbox.commands.ltca",
     "scene-doc": "gearbox.commands.scene_doc",
 }
