@@ -1,0 +1,140 @@
+"""The HTML report: self-contained, the design and its checks, warnings, provenance."""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import hashlib
+import math
+import re
+from importlib import metadata
+from pathlib import Path
+
+import pytest
+
+import gearbox
+from gearbox import load_scene
+from gearbox.pipeline import Stage, StageUnavailable, run_pipeline
+from gearbox.pipeline.stages import STAGES
+from gearbox.report import build_report, write_report
+
+ROOT = Path(__file__).resolve().parents[1]
+CASE03 = ROOT / "models" / "case03.toml"
+
+IMG = re.compile(r'<img alt="[^"]*" src="([^"]+)"')
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    scene = load_scene(CASE03)
+    return run_pipeline(scene, ["design", "sweep", "report"], cache=tmp_path_factory.mktemp("c"))
+
+
+@pytest.fixture(scope="module")
+def html(run):
+    return build_report(run)
+
+
+def test_report_is_self_contained(html):
+    srcs = IMG.findall(html)
+    assert len(srcs) == html.count("<img")
+    assert len(srcs) == 4  # one figure per parameter study of paper Figs. 6-9
+    for src in srcs:
+        assert src.startswith("data:image/png;base64,")
+        png = base64.b64decode(src.split(",", 1)[1], validate=True)
+        assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "<script" not in html and "<link" not in html
+    assert not re.search(r'(src|href)="(https?:)?//', html)
+
+
+def test_design_table_shows_the_design(run, html):
+    des = run["design"]
+    assert ">Design</h2>" in html
+    # values as the design computed them, in degrees at this edge
+    for value in (math.degrees(des.fpd_angle_right), math.degrees(des.gear.helix_angle)):
+        assert f"{value:.6g}" in html
+    for name in des.checks:
+        assert name in html
+
+
+def test_failed_design_check_is_a_warning(run):
+    from gearbox.geometry import Check
+
+    des = run["design"]
+    bad = dataclasses.replace(
+        des,
+        checks=dict(des.checks) | {"pinion_topping": Check(False, -1e-4, "m", "tip too thin")},
+    )
+    broken = dataclasses.replace(run, results={**run.results, "design": bad})
+    html = build_report(broken)
+    warn = html[html.index('id="warning-list"') : html.index('id="design"')]
+    assert "check pinion_topping fails: tip too thin" in warn
+
+
+def test_stage_failures_and_missing_stages_are_warnings(tmp_path):
+    def boom(ctx):
+        raise RuntimeError("solver exploded")
+
+    def missing(ctx):
+        raise StageUnavailable("gearbox.tca is not in this installation")
+
+    stages = dict(STAGES) | {
+        "sweep": Stage("sweep", boom, reads=("pair",)),
+        "tca": Stage("tca", missing, depends=("design",)),
+    }
+    scene = load_scene(CASE03)
+    r = run_pipeline(scene, ["design", "sweep", "tca", "report"], stages=stages, cache=False)
+    html = build_report(r)
+    warn = html[html.index('id="warning-list"') : html.index("</ul>")]
+    assert "stage failed: RuntimeError: solver exploded" in warn
+    assert "gearbox.tca is not in this installation" in warn
+
+
+def test_a_broken_section_is_named_not_fatal(run):
+    def bad(result, run):
+        raise ValueError("cannot draw")
+
+    html = build_report(run, renderers={"design": bad})
+    assert "report section could not be drawn: ValueError: cannot draw" in html
+    assert "Provenance" in html
+
+
+def test_provenance(run, html):
+    prov = html[html.index('id="provenance"') :]
+    assert hashlib.sha256(CASE03.read_bytes()).hexdigest() in prov
+    assert f"<td>{gearbox.__version__}</td>" in prov
+    assert f"<td>{metadata.version('numpy')}</td>" in prov
+    for r in run.summary.records:
+        assert f"<td>{r.name}</td>" in prov
+    assert "offset_mm = 229.0" in prov  # the scene as run
+
+
+def test_text_is_escaped(tmp_path):
+    raw = CASE03.read_text().replace(
+        'description = "', 'description = "<script>alert(1)</script> & ', 1
+    )
+    p = tmp_path / "s.toml"
+    p.write_text(raw)
+    scene = load_scene(p)
+    r = run_pipeline(scene, ["design"], cache=False)
+    html = build_report(r)
+    assert "<script>" not in html
+    assert "&lt;script&gt;alert(1)&lt;/script&gt; &amp;" in html
+
+
+def test_write_report_is_atomic(run, tmp_path, monkeypatch):
+    target = tmp_path / "report.html"
+    target.write_text("old")
+    import gearbox.commands._common as common
+
+    def fail(*a):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(common.os, "replace", fail)
+    with pytest.raises(OSError):
+        write_report(run, target)
+    assert target.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["report.html"]
+    monkeypatch.undo()
+    write_report(run, target)
+    assert target.read_text().startswith("<!DOCTYPE html>")
