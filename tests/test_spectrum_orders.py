@@ -106,7 +106,10 @@ def test_resampled_constant_speed_non_integer_samples_per_period():
     spec = order_spectrum(t, synth(rev), speed_rpm=n_rpm, period_revs=period)
     assert spec.method == "angle-resampled"
     assert spec.n_periods == 2
-    rev0 = rev[-1] - spec.revs
+    # The resampled record ends on the last sample: its first point is one
+    # step (revs / samples) after rev[-1] - revs.
+    rev0 = rev[-1] - spec.revs + spec.revs / spec.samples
+    assert spec.start_time == pytest.approx(rev0 / (n_rpm / 60.0), rel=1e-12)
     assert_components(spec, rel=5e-3, phase_tol=1e-3, rev0=rev0)
 
 
@@ -122,11 +125,12 @@ def test_order_tracking_through_a_speed_ramp(given_as):
     spec = order_spectrum(t, synth(rev), period_revs=30.0, **kw)
     assert spec.method == "angle-resampled"
     assert spec.n_periods == 2
-    assert_components(spec, rel=5e-3, phase_tol=1e-2, rev0=rev[-1] - spec.revs)
+    rev0 = rev[-1] - spec.revs + spec.revs / spec.samples  # first resampled point
+    assert_components(spec, rel=5e-3, phase_tol=1e-2, rev0=rev0)
     # Mean speed over the last 60 revolutions, from the analytic rev(t).
     t_start = np.interp(rev[-1] - 60.0, rev, t)
     assert spec.mean_speed_rpm == pytest.approx(60.0 * 60.0 / (3.0 - t_start), rel=1e-6)
-    assert spec.start_time == pytest.approx(t_start, rel=1e-6)
+    assert spec.start_time == pytest.approx(np.interp(rev0, rev, t), rel=1e-6)
 
 
 def test_unknown_period_uses_flat_top():

@@ -10,6 +10,8 @@ single-sided peak amplitudes in the signal's unit.
   rectangular window; order tracking by angle resampling where the speed varies.
 - :func:`waterfall`, :func:`runup_waterfall` / :class:`Waterfall`.
 - :func:`campbell` / :class:`CampbellDiagram`, :func:`excitation_orders`.
+- :func:`settling` / :class:`Settling`: how much the order amplitudes still
+  change between the last two windows of whole periods.
 - Adapters: :func:`timeseries_spectra` (drivetrain TimeSeries channels),
   :func:`mode_table` (eigenfrequencies per speed), :func:`period_revs_of`.
 - Figures: :mod:`gearbox.spectrum.plotting` (imports matplotlib).
@@ -31,6 +33,8 @@ from .orders import common_period_revs as common_period_revs
 from .orders import order_spectra as order_spectra
 from .orders import order_spectrum as order_spectrum
 from .orders import revolutions as revolutions
+from .settling import Settling as Settling
+from .settling import settling as settling
 from .waterfall import Waterfall as Waterfall
 from .waterfall import runup_waterfall as runup_waterfall
 from .waterfall import waterfall as waterfall
@@ -40,6 +44,7 @@ __all__ = [
     "Crossing",
     "ExcitationOrder",
     "OrderSpectrum",
+    "Settling",
     "Waterfall",
     "campbell",
     "common_period_revs",
@@ -51,6 +56,7 @@ __all__ = [
     "period_revs_of",
     "revolutions",
     "runup_waterfall",
+    "settling",
     "timeseries_spectra",
     "waterfall",
 ]

@@ -378,10 +378,12 @@ def order_spectrum(
         from scipy.interpolate import CubicSpline
 
         if start >= -1e-12 * record:
-            grid = start + np.arange(n) * (record / n)
+            # Equal steps ending on the last sample, as the plain FFT path's
+            # record does (each sample stands for the step before it here).
+            grid = start + (np.arange(n) + 1) * (record / n)
             xs = CubicSpline(revs, x)(grid)
-            start_time = float(np.interp(start, revs, t))
-            duration = float(t[-1]) - start_time
+            start_time = float(np.interp(grid[0], revs, t))
+            duration = float(t[-1]) - float(np.interp(start, revs, t))
         else:
             # Periodic closure: the whole record is one stretch of whole periods
             # whose last sample lies less than 1.5 steps before the end; a
