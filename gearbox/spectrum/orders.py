@@ -22,7 +22,9 @@ tracking", Mech. Syst. Signal Process. 11(2), 1997):
 4. One real DFT of the windowed record. Scaling: single-sided *peak* amplitude,
    A_k = 2 |X_k| / (N * mean(w)) for 0 < k < N/2 and |X_k| / (N * mean(w)) at k = 0
    (the mean) and at the Nyquist bin; the phase is that of a cosine,
-   x(rev) = sum_k A_k cos(2 pi o_k (rev - rev_0) + phase_k), rev_0 the record start.
+   x(rev) = sum_k A_k cos(2 pi o_k (rev - rev_0) + phase_k), rev_0 the first
+   (resampled) sample of the analysed record, at ``start_time``; the record ends on
+   the last input sample.
 
 Window: ``rectangular`` for whole periods (every periodic component with a whole
 number of cycles in the record falls exactly on a bin: no leakage, exact amplitude);
