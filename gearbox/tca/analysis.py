@@ -120,7 +120,9 @@ class FlankContact:
         pairs_in_contact: (n,) number of active pairs.
         pair: (P,) tooth-pair offsets j.
         active, converged: (n, P) bool; ``iterations``: (n, P).
-        limit: (n, P) str, the first flank limit a contact violates ("" if active).
+        limit: (n, P) str, the first flank limit a contact violates ("" if active);
+            "not converged" where the solve failed on or near the flanks, "<limit> (not
+            converged)" where it failed far outside them.
         point: (n, P, 3) contact point in Sf (m); ``normal``: (n, P, 3) common normal
             (pinion's outward normal) in Sf.
         pinion_zu, gear_zu: (n, P, 2) flank parameters (z, u) (m).
@@ -255,6 +257,9 @@ class TCAResult:
         out["not_converged"] = {
             fc.name: int(np.sum(~fc.converged)) for fc in (self.drive, self.coast)
         }
+        out["not_converged_near_flanks"] = {
+            fc.name: int(np.sum(fc.limit == "not converged")) for fc in (self.drive, self.coast)
+        }
         bl = self.backlash_angle[np.isfinite(self.backlash_angle)]
         r2 = self.gear.reference_pitch_radius
         out["backlash_um"] = {
@@ -358,6 +363,67 @@ def _flank_limits(blank: ToothBlank, side: str, z, u, radius, who: str):
     return lim, np.stack([face, prof], axis=-1)
 
 
+def _margin(pinion, gear, side, x):
+    """Signed distance (m) of contacts x (N, 5) from the nearest flank limit (>= 0 on
+    both real flanks): face ends, form circle (u = 0, in rack-profile length) and tip cone."""
+    from ..surface import flank_jets
+
+    out = np.full(x.shape[0], np.inf)
+    for blank, z, u in ((pinion, x[:, 0], x[:, 1]), (gear, x[:, 2], x[:, 3])):
+        r, _, _ = flank_jets(blank, side, z, u, involute_only=True)
+        radius = np.hypot(r[0].val, r[1].val)
+        for m in (z - blank.z_toe, blank.z_heel - z, u, blank.tip_radius(z) - radius):
+            out = np.minimum(out, m)
+    return out
+
+
+def _refine_ends(
+    pinion, gear, asm, side, phi_in, x_in, phi_out, x_out, settings, tan, steps: int = 12
+):
+    """Where the reference pair's contact leaves the flanks, by regula falsi in phi_1.
+
+    ``phi_in``/``x_in``: active solutions next to each end, ``phi_out``/``x_out`` the
+    inactive neighbours (arrays of 2). The limit margin (:func:`_margin`) is smooth in
+    phi_1 along the path; the Illinois variant of regula falsi keeps the bracket and
+    converges superlinearly. Returns the two end angles (rad).
+    """
+    a, b = np.array(phi_in, float), np.array(phi_out, float)
+    xa = np.array(x_in, float)
+    fa, fb = _margin(pinion, gear, side, xa), _margin(pinion, gear, side, np.array(x_out, float))
+    side_kept = np.zeros(2, dtype=int)
+    for _ in range(steps):
+        c = b - fb * (b - a) / (fb - fa)
+        c = np.where(np.isfinite(c), c, 0.5 * (a + b))
+        sol = solve_contact(
+            pinion, gear, asm, side, c, xa + np.outer(c - a, tan), max_iter=settings.max_iter
+        )
+        fc = np.where(sol.converged & sol.opposed, _margin(pinion, gear, side, sol.x), -np.inf)
+        fc = np.where(np.isfinite(fc), fc, -abs(fb))
+        inside = fc >= 0
+        # Illinois: halve the function value at the end that stays
+        fb = np.where(inside & (side_kept == 1), 0.5 * fb, fb)
+        fa = np.where(~inside & (side_kept == -1), 0.5 * fa, fa)
+        side_kept = np.where(inside, 1, -1)
+        a, fa = np.where(inside, c, a), np.where(inside, fc, fa)
+        xa = np.where(inside[:, None], sol.x, xa)
+        b, fb = np.where(inside, b, c), np.where(inside, fb, fc)
+        if np.all(np.abs(b - a) < 1e-12):
+            break
+    return np.where(np.abs(fa) < np.abs(fb), a, b)
+
+
+def _far_outside(blank: ToothBlank, z, u, radius):
+    """True where (z, u) lies more than one module outside the flank's limits."""
+    m = blank.normal_module
+    return (
+        (z < blank.z_toe - m)
+        | (z > blank.z_heel + m)
+        | (u < -m)
+        | (radius > blank.tip_radius(z) + m)
+        | ~np.isfinite(radius)
+    )
+
+
 def _ellipse(k1, d1, k2, d2, n, delta):
     """Contact ellipse from both surfaces' principal curvatures (convex-positive).
 
@@ -414,7 +480,14 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     lim2, fl2 = _flank_limits(gear, side, x[:, 2], x[:, 3], fp2.radius, "gear")
     ok = s.converged & s.opposed
     limit = np.where(lim1 != "", lim1, lim2)
-    limit = np.where(ok, limit, "not converged")
+    # a problem that did not converge is reported as such; when its last iterate is far
+    # outside the flanks (more than one module beyond a limit: involute continuation
+    # near the base cylinder, where the surface is singular) it is also named by that limit
+    far = _far_outside(pinion, x[:, 0], x[:, 1], fp1.radius) | _far_outside(
+        gear, x[:, 2], x[:, 3], fp2.radius
+    )
+    named = np.char.add(limit.astype(str), " (not converged)")
+    limit = np.where(ok, limit, np.where(far & (limit != ""), named, "not converged"))
     active = ok & (limit == "")
     # rulings (zero-curvature directions) and curvature tensors in Sf
     d1 = np.einsum("nij,nkj->nki", M1, fp1.directions)
@@ -438,7 +511,8 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
         else:
             gear_angle = np.where(act.any(1), np.nanmax(np.where(act, gp, -np.inf), axis=1), np.nan)
     te = gear_angle - (xc[4] - (N1 / N2) * (phi1_grid - phi1c))
-    # path limits and contact ratio of the reference pair (sorted by its pinion angle)
+    # path limits and contact ratio of the reference pair (sorted by its pinion angle);
+    # the ends of its active interval are refined by bisection in phi_1
     order = np.argsort(phi_ref)
     a_sorted = active[order]
     lim_sorted = limit[order]
@@ -446,9 +520,23 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
         first, last = np.flatnonzero(a_sorted)[[0, -1]]
         start = lim_sorted[first - 1] if first > 0 else "beyond the examined pairs"
         end = lim_sorted[last + 1] if last + 1 < len(order) else "beyond the examined pairs"
-        span = phi_ref[order][last] - phi_ref[order][first]
-        step = np.min(np.diff(np.unique(phi_ref)))
-        ratio = (span + step) / (2 * np.pi / N1)
+        ph = phi_ref[order]
+        if 0 < first and last + 1 < len(order):
+            ends = _refine_ends(
+                pinion,
+                gear,
+                asm,
+                side,
+                ph[[first, last]],
+                x[order][[first, last]],
+                ph[[first - 1, last + 1]],
+                x[order][[first - 1, last + 1]],
+                settings,
+                tan,
+            )
+            ratio = (ends[1] - ends[0]) / (2 * np.pi / N1)
+        else:
+            ratio = float("nan")
     else:
         start = end = "no contact"
         ratio = 0.0
@@ -547,10 +635,11 @@ def tca_of_blanks(
                 f"{fc.name}: {gaps} of {len(grid)} positions have no flank-flank contact "
                 f"(contact ratio {fc.contact_ratio:.3f} < 1): edge contact there"
             )
-        if (~fc.converged).any():
+        near = fc.limit == "not converged"
+        if near.any():
             msgs.append(
-                f"{fc.name}: {int(np.sum(~fc.converged))} contact solves did not converge in "
-                f"{settings.max_iter} iterations (flagged 'not converged', excluded)"
+                f"{fc.name}: {int(near.sum())} contact solves on or near the flanks did not converge "
+                f"in {settings.max_iter} iterations (flagged 'not converged', excluded)"
             )
     r2 = gear.reference_pitch_radius
     if np.nanmin(play) * r2 < -1e-9:
