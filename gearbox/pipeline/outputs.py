@@ -2,7 +2,7 @@
 
 - ``run_summary.json``: :meth:`RunSummary.to_dict` plus the cache keys;
 - per requested stage, its result in the file format that suits it:
-  ``design.json``; ``sweep/<study>.csv``; ``tables.nc`` (netCDF, needs the
+  ``design.json``; ``sweep/<study>.csv``; ``tca.json`` (summary); ``tables.nc`` (netCDF, needs the
   ``tables`` extra) and ``tables.csv``; ``dynamics.csv`` (time first) and
   ``dynamics.json`` (metrics, modes); ``spectra.json``; ``waterfall.json``;
   ``campbell.json``; any other result with ``to_dict()`` as ``<stage>.json``;
@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -33,7 +34,7 @@ def jsonable(x: Any) -> Any:
         return jsonable(x.tolist())
     if isinstance(x, np.generic):
         return jsonable(x.item())
-    if isinstance(x, float) and x != x:
+    if isinstance(x, float) and not math.isfinite(x):
         return None
     if isinstance(x, (str, int, float, bool)) or x is None:
         return x
@@ -91,8 +92,13 @@ def _waterfall(sw, folder: Path) -> list[Path]:
     return _json(folder / "waterfall.json", {"points": points, "waterfalls": sw.waterfalls})
 
 
+def _tca(res, folder: Path) -> list[Path]:
+    return _json(folder / "tca.json", res.summary())
+
+
 #: stage -> ``writer(result, folder) -> list of paths``; other results: ``<stage>.json``.
 WRITERS: dict[str, Callable[[Any, Path], list[Path]]] = {
+    "tca": _tca,
     "sweep": _sweep,
     "tables": _tables,
     "dynamics": _dynamics,

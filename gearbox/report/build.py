@@ -18,13 +18,13 @@ __all__ = ["RENDERERS", "build_report", "scene_toml", "write_report"]
 
 
 def _renderers() -> dict[str, Callable]:
-    from . import design, dynamics, geometry_sweep, tables
+    from . import contact, design, dynamics, geometry_sweep, tables
     from .generic import render_generic
 
     return {
         "design": design.render,
         "sweep": geometry_sweep.render,
-        "tca": render_generic("Unloaded tooth contact analysis", "tca"),
+        "tca": contact.render_tca,
         "ltca": render_generic("Loaded tooth contact analysis", "ltca"),
         "tables": tables.render,
         "dynamics": dynamics.render_dynamics,
