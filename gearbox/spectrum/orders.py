@@ -48,6 +48,7 @@ from ..errors import InputError, Problems
 from ._arrays import (
     WINDOWS,
     ArrayRecord,
+    fast_length,
     peak_spectrum,
     real_1d,
     strictly_increasing,
@@ -369,8 +370,9 @@ def order_spectrum(
             spr = 1.0 / float(np.diff(revs[i0:]).min())
         else:
             spr = float(samples_per_rev)
-        per_period = int(
-            math.ceil(spr * (period_revs if period_revs is not None else record) * (1 - 1e-9))
+        # At least spr samples per revolution, a length with a fast DFT.
+        per_period = fast_length(
+            int(math.ceil(spr * (period_revs if period_revs is not None else record) * (1 - 1e-9)))
         )
         n = per_period * n_use
         if n > MAX_SAMPLES:

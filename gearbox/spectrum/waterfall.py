@@ -25,6 +25,7 @@ from ..errors import Problems
 from ._arrays import (
     WINDOWS,
     ArrayRecord,
+    fast_length,
     peak_spectrum,
     real_1d,
     strictly_increasing,
@@ -207,7 +208,8 @@ def runup_waterfall(
     revs = revolutions(t, speed_rpm=s)
     if axis == "order":
         spr = samples_per_rev if samples_per_rev is not None else 1.0 / float(np.diff(revs).min())
-        per_block = int(math.ceil(spr * block * (1 - 1e-9)))  # round-off in spr
+        # (1 - 1e-9): round-off in spr; a length with a fast DFT.
+        per_block = fast_length(int(math.ceil(spr * block * (1 - 1e-9))))
         from scipy.interpolate import CubicSpline
 
         n_total = int(math.floor(revs[-1] * per_block / block + 1e-9))
