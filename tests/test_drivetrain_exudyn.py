@@ -29,10 +29,24 @@ from gearbox.scene import load_scene, scene_from_dict  # noqa: E402
 CASE03 = {
     "schema": 1,
     "name": "case03",
-    "pair": {"normal_module_mm": 6.0, "normal_pressure_angle_deg": 20.0, "shaft_angle_deg": 13.0,
-             "offset_mm": 229.0},
-    "pinion": {"teeth": 29, "helix_angle_deg": 20.0, "cone_angle_deg": 1.0, "profile_shift_xt": 0.16},
-    "gear": {"teeth": 45, "cone_angle_deg": 0.8, "helix_angle_deg": -7.24, "profile_shift_xt": 0.2191},
+    "pair": {
+        "normal_module_mm": 6.0,
+        "normal_pressure_angle_deg": 20.0,
+        "shaft_angle_deg": 13.0,
+        "offset_mm": 229.0,
+    },
+    "pinion": {
+        "teeth": 29,
+        "helix_angle_deg": 20.0,
+        "cone_angle_deg": 1.0,
+        "profile_shift_xt": 0.16,
+    },
+    "gear": {
+        "teeth": 45,
+        "cone_angle_deg": 0.8,
+        "helix_angle_deg": -7.24,
+        "profile_shift_xt": 0.2191,
+    },
 }
 
 
@@ -63,23 +77,29 @@ def small():
 # ------------------------------------------------------------------ agreement
 def test_exudyn_agrees_with_scipy_on_the_default_scene(marine):
     # Issue 6: RMS and mesh-order amplitude of the dynamic mesh force within 1e-4
-    # relative of the scipy reference (DOP853, rtol 1e-10 on the scaled state: its own
-    # error is below 1e-7 of these quantities, checked against rtol 1e-11 when the
-    # backend was written), over 40 whole mesh cycles after 20 cycles of settling.
+    # relative of the scipy reference (DOP853, rtol 1e-10 on the scaled state; it differs
+    # from rtol 1e-12 by 4e-11 in these quantities), over 40 whole mesh cycles after 20
+    # cycles of settling. Measured when written: about 1e-6 for the default RK67 step.
     ref = simulate(marine, ScipySolver(rtol=1e-10), mesh_cycles=40)
     exd = simulate(marine, ExudynSolver(), mesh_cycles=40)
     assert ref.success and exd.success, (ref.failure, exd.failure)
     np.testing.assert_allclose(exd.time, ref.time, rtol=0, atol=1e-12)
     a, b = mesh_force_metrics(exd, marine), mesh_force_metrics(ref, marine)
-    for key in ("mesh_force_rms_N", "mesh_force_dynamic_rms_N", "mesh_force_mesh_order_amplitude_N"):
+    for key in (
+        "mesh_force_rms_N",
+        "mesh_force_dynamic_rms_N",
+        "mesh_force_mesh_order_amplitude_N",
+    ):
         assert rel(a[key], b[key]) < 1e-4, (key, a[key], b[key])
     # Sample by sample: the error of the mesh force over its dynamic RMS, the stricter
     # measure the benchmark reports.
-    err = np.sqrt(np.mean((exd["mesh_force_N"] - ref["mesh_force_N"]) ** 2)) / np.std(ref["mesh_force_N"])
+    err = np.sqrt(np.mean((exd["mesh_force_N"] - ref["mesh_force_N"]) ** 2)) / np.std(
+        ref["mesh_force_N"]
+    )
     assert err < 1e-4, err
     # Work: the fixed step puts every sample on its grid; the step count is known in
     # advance (settling steps + samples x steps per sample), a guard against regressions.
-    assert exd.steps <= 2000, exd.steps
+    assert exd.steps <= 2000, exd.steps  # 1836 when written
     assert exd.nfev == 7 * exd.steps
 
 
@@ -92,7 +112,9 @@ def test_generic_layout_and_python_user_functions_give_the_same_run(small):
     runs = {}
     for uf in ("symbolic", "python"):
         for layout in ("components", "generic"):
-            t, Y, info = integrate_exudyn(small, y0, t_eval, ExudynSolver(user_functions=uf, layout=layout))
+            t, Y, info = integrate_exudyn(
+                small, y0, t_eval, ExudynSolver(user_functions=uf, layout=layout)
+            )
             assert info["status"] == "success", info
             runs[(uf, layout)] = outputs(small, t, Y)["mesh_force_N"]
     f0 = runs[("symbolic", "components")]
@@ -111,7 +133,7 @@ def _random_states(model, rng, count):
     for i in range(count):
         y = y0 + scale * rng.normal(0.0, 2.0, 2 * n)
         if i % 4 == 3:  # push the pinion back through the backlash onto the coast flank
-            y[1] -= (y0[1] + 1.5 * model.coast.backlash / model.drive.lambda1)
+            y[1] -= y0[1] + 1.5 * model.coast.backlash / model.drive.lambda1
         out.append(y)
     return out
 
@@ -164,11 +186,13 @@ def test_constant_stiffness_without_excitation_stays_at_the_static_solution(smal
     # No mesh ripple, no error, no engine or propeller ripple, no governor offset: the
     # static state is an equilibrium and the run must stay on it (rounding only).
     flat = dataclasses.replace(
-        small.drive, k_coef=np.r_[small.drive.k_coef[0], np.zeros(small.drive.k_coef.size - 1)],
+        small.drive,
+        k_coef=np.r_[small.drive.k_coef[0], np.zeros(small.drive.k_coef.size - 1)],
         e_coef=np.zeros_like(small.drive.e_coef),
     )
-    m = dataclasses.replace(small, drive=flat, firing_ripple=0.0, half_order_ripple=0.0,
-                            blade_pass_ripple=0.0)
+    m = dataclasses.replace(
+        small, drive=flat, firing_ripple=0.0, half_order_ripple=0.0, blade_pass_ripple=0.0
+    )
     ts = simulate_exudyn(m, 0.02, output_step=1e-3)
     assert ts.success
     f0 = m.torque / m.drive.lambda1  # static mesh force (N)
@@ -187,13 +211,17 @@ def _one_step(method, k, c, y0, h):
     g = mbs.AddNode(ii.NodePointGround())
     mg = mbs.AddMarker(ii.MarkerNodeCoordinate(nodeNumber=g, coordinate=0))
     mn = mbs.AddMarker(ii.MarkerNodeCoordinate(nodeNumber=nd, coordinate=0))
-    mbs.AddObject(ii.ObjectConnectorCoordinateSpringDamper(markerNumbers=[mg, mn], stiffness=k, damping=c))
+    mbs.AddObject(
+        ii.ObjectConnectorCoordinateSpringDamper(markerNumbers=[mg, mn], stiffness=k, damping=c)
+    )
     mbs.Assemble()
     s = xb._settings(0.0, h, 1, h)
     ok, err, _ = xb._solve(mbs, s, method)
     assert ok, err
     ov = exu.OutputVariableType
-    return np.array([mbs.GetNodeOutput(nd, ov.Coordinates), mbs.GetNodeOutput(nd, ov.Coordinates_t)])
+    return np.array(
+        [mbs.GetNodeOutput(nd, ov.Coordinates), mbs.GetNodeOutput(nd, ov.Coordinates_t)]
+    )
 
 
 @pytest.mark.parametrize("method", ["RK44", "RK67"])
@@ -204,7 +232,9 @@ def test_stability_polynomial_matches_exudyns_one_step_map(method):
     for k, d, h in [(1.0, 0.0, 0.7), (4.0, 0.3, 0.4), (0.5, 1.2, 1.1)]:
         A = np.array([[0.0, 1.0], [-k, -d]])
         R = sum(ck * np.linalg.matrix_power(h * A, i) for i, ck in enumerate(c))
-        got = np.column_stack([_one_step(method, k, d, [1.0, 0.0], h), _one_step(method, k, d, [0.0, 1.0], h)])
+        got = np.column_stack(
+            [_one_step(method, k, d, [1.0, 0.0], h), _one_step(method, k, d, [0.0, 1.0], h)]
+        )
         np.testing.assert_allclose(got, R, rtol=0, atol=1e-12)
 
 
@@ -236,7 +266,8 @@ def test_light_load_with_backlash_agrees_with_scipy_through_impacts():
     # Light torque (150 N m), firing ripple 2x mean at 600 rpm, 0.1 mm backlash: the
     # flanks separate and the coast flank is hit (as in test_drivetrain.py). The fixed
     # step crosses the contact kinks without locating them, so agreement is looser:
-    # RMS within 1e-3 of scipy at rtol 1e-10 (measured 2e-6 when written).
+    # RMS within 1e-3 of scipy at rtol 1e-10 (measured 1e-5 when written; the mesh-order
+    # amplitude, a small line under the impacts, differed by 2e-2, so it is not asserted).
     s = case03(firing_torque_ripple=2.0)
     d = s.to_dict()
     d["load"] = {"operating_torque_Nm": 150.0}
@@ -255,8 +286,10 @@ def test_stiffness_times_100_gets_a_smaller_automatic_step(small):
     # x100 stiffness moves the mesh mode up 10x: the automatic step and the limit
     # follow (both scale with 1/omega_max), and the run stays finite.
     stiff = dataclasses.replace(
-        small, drive=dataclasses.replace(small.drive, k_coef=small.drive.k_coef * 100,
-                                         damping=small.drive.damping * 10),
+        small,
+        drive=dataclasses.replace(
+            small.drive, k_coef=small.drive.k_coef * 100, damping=small.drive.damping * 10
+        ),
     )
     ratio = stability_step_limit(small) / stability_step_limit(stiff)
     assert 7 < ratio < 11
@@ -273,7 +306,9 @@ def test_simulate_exudyn_returns_a_timeseries_with_work_counters(small):
     assert ts.units["mesh_force_N"] == "N" and ts.units["pinion_speed_rad_per_s"] == "rad/s"
     assert ts.steps > 0 and ts.nfev == 7 * ts.steps and ts.wall_time > 0
     assert ts.attrs["solver"] == "exudyn"
-    assert ExudynSolver.from_dict(ExudynSolver(method="RK44").to_dict()) == ExudynSolver(method="RK44")
+    assert ExudynSolver.from_dict(ExudynSolver(method="RK44").to_dict()) == ExudynSolver(
+        method="RK44"
+    )
 
 
 def test_bad_settings_and_requests_are_reported_together(small):

@@ -57,7 +57,7 @@ __all__ = [
 ]
 
 _METHODS = ("RK67", "RK44")
-_STEPS_PER_PERIOD = {"RK67": 16.0, "RK44": 40.0}
+_STEPS_PER_PERIOD = {"RK67": 20.0, "RK44": 40.0}
 # Stability polynomials R(z) = sum c_k z^k of exudyn's explicit methods: one step of
 # y' = lambda y multiplies y by R(h lambda). RK44: the classical RK4 (Hairer, Norsett,
 # Wanner, Solving ODEs I, Sec. II.1). RK67: 6th order, so c_0..c_6 = 1/k!; c_7 was
@@ -85,7 +85,7 @@ class ExudynSolver:
         largest stiffness) and the mesh frequency N_1 Omega / (2 pi) (Hz), and at most
         0.8 x the stability limit. The step used is the largest one <= target that puts
         the output samples on the step grid (so the sample spacing caps the step).
-    steps_per_period: ``None``: 16 for RK67, 40 for RK44 (docs/exudyn.md: about 1e-5
+    steps_per_period: ``None``: 20 for RK67, 40 for RK44 (docs/exudyn.md: about 1e-5
         relative error of the dynamic mesh force on the default scene).
     user_functions: ``"symbolic"`` (recorded once, evaluated in C++) or ``"python"``.
     layout: ``"components"`` (bodies, connectors, loads; the mesh a generic ODE2 object)
