@@ -11,10 +11,11 @@ tracking", Mech. Syst. Signal Process. 11(2), 1997):
 1. The reference shaft's revolutions rev(t) come from its angle (rad) or from its
    speed (rpm, constant, or sampled and integrated by Simpson's rule).
 2. The analysed record is the *last* ``n_periods`` whole periods of
-   ``period_revs`` revolutions each (the settled part of a simulation). Samples
-   stand for the intervals after them: a record ending less than 1.5 sample steps
-   short of a whole period (samples at k dt, k = 1..n, as a simulation writes
-   them) counts that period, closed by periodicity, x(rev_0 + record) = x(rev_0).
+   ``period_revs`` revolutions each (the settled part of a simulation): N samples
+   ending on the last input sample, which the DFT treats as N steps of a periodic
+   record. An input one step short of a further whole period (samples at k dt,
+   k = 1..n, as a simulation writes them; detected within 1.5 steps) counts that
+   period too, closed by periodicity: x(rev_0 + record) = x(rev_0).
 3. When the speed is constant, the sampling uniform and one period an integer number
    of samples, the samples are used as they are ("fft"). Otherwise the signal is
    resampled at equal angle steps by a cubic spline through (rev_i, x_i)
@@ -340,9 +341,9 @@ def order_spectrum(
         n_use = 1
         record = x.size * h * float(speed_rpm) / 60.0 if plain else total
     else:
-        # A record that ends less than 1.5 sample steps short of another whole
-        # period (n samples standing for n intervals, as a simulation records
-        # k dt for k = 1..n) is closed periodically below: x(record) = x(0).
+        # An input that ends less than 1.5 sample steps short of a further whole
+        # period (as a simulation records k dt for k = 1..n) counts it, closed
+        # periodically below: x(rev_0 + record) = x(rev_0).
         reach = total if plain else total + 1.5 * float(revs[-1] - revs[-2])
         available = int(math.floor(reach / period_revs + 1e-9))
         n_use = available if n_periods is None else int(n_periods)
@@ -358,7 +359,6 @@ def order_spectrum(
         record = n_use * float(period_revs)
     if plain:
         n = x.size if period_revs is None else n_use * int(round(m))
-    if plain:
         xs = x[-n:]
         start_time = float(t[-n])
         duration = n * h
@@ -382,8 +382,7 @@ def order_spectrum(
         from scipy.interpolate import CubicSpline
 
         if start >= -1e-12 * record:
-            # Equal steps ending on the last sample, as the plain FFT path's
-            # record does (each sample stands for the step before it here).
+            # N equal steps ending on the last input sample, like the plain path.
             grid = start + (np.arange(n) + 1) * (record / n)
             xs = CubicSpline(revs, x)(grid)
             start_time = float(np.interp(grid[0], revs, t))
