@@ -144,19 +144,20 @@ def plot_waterfall(
         else:
             edges = np.array([speeds[0] - 0.5, speeds[0] + 0.5])
         xe = _bin_edges(xs)
-        vmin, vmax = float(np.nanmin(amps)), float(np.nanmax(amps))
-        # One strip per speed: an order waterfall seen against frequency has
-        # different bin positions in every row.
-        for i in range(speeds.size):
-            mesh = ax.pcolormesh(
-                np.vstack([xe[i], xe[i]]),
-                np.array([[edges[i]] * xe.shape[1], [edges[i + 1]] * xe.shape[1]]),
-                np.ma.masked_invalid(amps[i : i + 1]),
-                shading="flat",
-                cmap="viridis",
-                vmin=vmin,
-                vmax=vmax,
-            )
+        style = {"cmap": "viridis", "vmin": float(np.nanmin(amps)), "vmax": float(np.nanmax(amps))}
+        if axis == wf.axis:  # the same bins in every row: one mesh
+            mesh = ax.pcolormesh(xe[0], edges, np.ma.masked_invalid(amps), shading="flat", **style)
+        else:
+            # One strip per speed: an order waterfall seen against frequency has
+            # different bin positions in every row.
+            for i in range(speeds.size):
+                mesh = ax.pcolormesh(
+                    np.vstack([xe[i], xe[i]]),
+                    np.array([[edges[i]] * xe.shape[1], [edges[i + 1]] * xe.shape[1]]),
+                    np.ma.masked_invalid(amps[i : i + 1]),
+                    shading="flat",
+                    **style,
+                )
         ax.figure.colorbar(
             mesh, ax=ax, label=("level (dB re max)" if db else f"peak {wf.unit}".strip())
         )
