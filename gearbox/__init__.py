@@ -4,6 +4,8 @@ Public API (stage by stage, see docs/pipeline.md):
 
 - scene files: :func:`load_scene`, :class:`Scene`
 - geometry design (paper section 2): see :mod:`gearbox.geometry`
+- spectra: :func:`order_spectrum`, :func:`campbell`, :func:`excitation_orders`;
+  see :mod:`gearbox.spectrum`
 
 exudyn, jax and FMU building are not imported by ``import gearbox``.
 """
@@ -18,3 +20,6 @@ from .geometry import ToolSpec as ToolSpec
 from .geometry import design_pair as design_pair
 from .scene import Scene as Scene
 from .scene import load_scene as load_scene
+from .spectrum import campbell as campbell
+from .spectrum import excitation_orders as excitation_orders
+from .spectrum import order_spectrum as order_spectrum
