@@ -77,7 +77,7 @@ def test_design_invariants(spec):
     assert np.isclose(float(sol["beta2"]), d.gear.helix_angle, atol=1e-14)
 
 
-@SETTINGS
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(pair_specs(), st.floats(0.9, 1.1))
 def test_offset_scales_with_module(spec, k):
     """The design is scale-free: scaling module and offset together keeps every angle."""
