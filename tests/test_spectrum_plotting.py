@@ -95,3 +95,16 @@ def test_campbell_plot_marks_crossings(tmp_path):
     _png(ax, tmp_path / "campbell.png")
     ax = plot_campbell(cd, log=True)
     assert ax.get_yscale() == "log" and ax.get_ylim()[0] == pytest.approx(22.5)
+
+
+def test_spectrum_package_does_not_import_matplotlib():
+    # matplotlib only in gearbox.spectrum.plotting (a fresh interpreter: this test
+    # module has imported matplotlib itself).
+    import subprocess
+    import sys
+
+    code = "import sys, gearbox.spectrum; sys.exit('matplotlib' in sys.modules)"
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]  # gearbox importable from here
+    assert subprocess.run([sys.executable, "-c", code], cwd=root, check=False).returncode == 0
