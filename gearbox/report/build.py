@@ -18,14 +18,13 @@ __all__ = ["RENDERERS", "build_report", "scene_toml", "write_report"]
 
 
 def _renderers() -> dict[str, Callable]:
-    from . import contact, design, dynamics, geometry_sweep, tables
-    from .generic import render_generic
+    from . import contact, design, dynamics, geometry_sweep, loaded, tables
 
     return {
         "design": design.render,
         "sweep": geometry_sweep.render,
         "tca": contact.render_tca,
-        "ltca": render_generic("Loaded tooth contact analysis", "ltca"),
+        "ltca": loaded.render_ltca,
         "tables": tables.render,
         "dynamics": dynamics.render_dynamics,
         "spectra": dynamics.render_spectra,
@@ -89,9 +88,14 @@ def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
     """
     if renderers is None:
         renderers = RENDERERS or _renderers()
+    from .generic import render_generic
+
     sections: list[Section] = []
     warnings = _status_warnings(run)
-    for name, render in renderers.items():
+    order = {**renderers}
+    for name in run.results:  # stages without a renderer of their own
+        order.setdefault(name, render_generic(name, name))
+    for name, render in order.items():
         if name not in run.results:
             continue
         try:
@@ -119,6 +123,15 @@ def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
         f'<p class="muted">{esc(desc)}</p>' if desc else "",
         f'<p class="muted">gearbox {esc(__version__)}, written {esc(now)} UTC</p>',
     ]
+    s = run.summary
+    cached = s.names("cached")
+    saved = sum(r.saved_seconds for r in s.records if r.status == "cached")
+    parts.append(
+        f'<p class="muted" id="run-line">This run: {len(s.names("computed"))} stage(s) computed '
+        f"({esc(', '.join(s.names('computed')) or '-')}), {len(cached)} from the cache "
+        f"({esc(', '.join(cached) or '-')}; {saved:.1f} s of computing saved), "
+        f"{s.seconds:.1f} s in all. Details under Provenance.</p>"
+    )
     anchors = [("warnings", "Warnings")]
     for i, sec in enumerate(sections):
         anchors.append((sec.anchor or f"s{i}", sec.title))

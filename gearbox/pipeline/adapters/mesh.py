@@ -17,8 +17,8 @@ def compute_tca(ctx: StageContext):
 
 def compute_ltca(ctx: StageContext):
     """Loaded TCA over the mesh cycle, torque levels and flanks (gearbox.ltca)."""
-    ltca = require("gearbox.ltca", "beveloid_ltca")
-    return ltca.beveloid_ltca(ctx.inputs["design"], ctx.scene)
+    ltca = require("gearbox.ltca.table", "scene_ltca")
+    return ltca.scene_ltca(ctx.inputs["design"], ctx.scene)
 
 
 def tables_depends(scene) -> tuple[tuple[str, ...], tuple[str, ...]]:

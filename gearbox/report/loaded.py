@@ -1,0 +1,96 @@
+"""Report section of the loaded TCA: per flank and torque the stiffness, LTE, contact
+pattern, pressure and root stress (paper Figs. 12-16 style), with edge-contact and
+solver warnings."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .html import ReportWarning, Section, figure, new_figure, table
+
+__all__ = ["render_ltca"]
+
+
+def _operating_index(res, run) -> int:
+    """Torque level nearest to the scene's operating torque."""
+    target = run.scene["load"]["operating_torque_Nm"]
+    return int(np.argmin(np.abs(np.asarray(res.torque) - target)))
+
+
+def render_ltca(lt, run) -> Section:
+    """Tables per flank and torque; pattern, stiffness, LTE and root-stress figures."""
+    from ..ltca.plot import (
+        plot_contact_pattern,
+        plot_lte,
+        plot_mesh_stiffness,
+        plot_root_stress_face,
+    )
+
+    warnings = []
+    rows = []
+    for flank, per_t in lt.summary()["flanks"].items():
+        for r in per_t.values():
+            rows.append(
+                (
+                    flank,
+                    r["torque_Nm"],
+                    r["mean_mesh_stiffness_N_per_m"] / 1e6,
+                    r["mesh_stiffness_peak_to_peak_N_per_m"] / 1e6,
+                    r["lte_mean_m"] * 1e6,
+                    r["lte_peak_to_peak_m"] * 1e6,
+                    100 * r["contact_pattern_area_fraction"],
+                    r["max_contact_pressure_Pa"] / 1e6,
+                    r["max_root_stress_pinion_Pa"] / 1e6,
+                    r["max_root_stress_gear_Pa"] / 1e6,
+                    ("yes", "bad") if r["edge_contact"] else "no",
+                    ("yes", "ok") if r["solver_converged"] else ("no", "bad"),
+                )
+            )
+            if r["edge_contact"]:
+                warnings.append(
+                    ReportWarning(
+                        "ltca",
+                        f"{flank} flank, {r['torque_Nm']:g} N m: edge contact "
+                        f"(up to {100 * r['max_edge_load_fraction']:.1f} % of the load on an edge)",
+                    )
+                )
+            if not r["solver_converged"]:
+                warnings.append(
+                    ReportWarning(
+                        "ltca",
+                        f"{flank} flank, {r['torque_Nm']:g} N m: contact solver did not converge",
+                    )
+                )
+    head = [
+        "flank",
+        "torque (N m)",
+        "mean stiffness (N/um)",
+        "stiffness p-p (N/um)",
+        "mean LTE (um)",
+        "LTE p-p (um)",
+        "pattern (% of flank)",
+        "max pressure (MPa)",
+        "max root stress pinion (MPa)",
+        "max root stress gear (MPa)",
+        "edge contact",
+        "converged",
+    ]
+    flanks = dict(lt.flanks)
+    first = next(iter(flanks.values()))
+    t = _operating_index(first, run)
+    parts = [
+        f'<p class="muted">{lt.attrs.get("method", "")}; fidelity '
+        f"{lt.attrs.get('fidelity', '')}. Figures at {first.torque[t]:g} N m, the torque "
+        "level nearest to the operating torque.</p>",
+        table(head, rows),
+    ]
+    fig, ax = new_figure(1, len(flanks), size=(5.5 * len(flanks), 3.6))
+    for i, (name, res) in enumerate(flanks.items()):
+        plot_contact_pattern(res, t, ax[0, i], title=f"{name} flank,")
+    parts.append(figure(fig, "Contact pattern and maximum contact pressure over the mesh cycle"))
+    fig, ax = new_figure(1, 3, size=(15, 3.6))
+    plot_mesh_stiffness(flanks, t, ax[0, 0])
+    plot_lte(flanks, t, ax[0, 1])
+    plot_root_stress_face(flanks, t, ax[0, 2])
+    parts.append(figure(fig, "Mesh stiffness, loaded transmission error and root stress"))
+    return Section("Loaded tooth contact analysis", "".join(parts), tuple(warnings), anchor="ltca")
