@@ -1,0 +1,510 @@
+"""Crossed beveloid pairs: contact grids from the generated flanks, loaded TCA and
+mesh tables (paper section 3.2).
+
+Separation field. The pinion's active flank (gearbox.surface, tooth 0) is sampled on
+a grid of face slices x profile points. At pinion angle phi_1 the gear stands at the
+nominal angle ``phi_2 = phi_2,0 - (N_1/N_2) phi_1`` (gearbox.tca.Assembly frames, Sf).
+For every pinion point p with outward unit normal n the gear flank is met along the
+normal, ``r_2(z_2, u_2) = p + t n``, by a bounded Newton iteration on (z_2, u_2, t)
+with the exact surface derivatives; ``t`` is the initial separation along the common
+normal (negative = interpenetration of the rigid flanks at the nominal gear angle;
+the contact problem only needs separations up to a common rigid rotation, so the
+unloaded transmission error comes out of it: ``phi_0 = min_i s_i / m_i``).
+Points whose partner lies off the gear's active flank (beyond its face, below its
+form circle, above its tip) cannot touch and are dropped.
+
+Tooth pairs. All teeth are alike and the nominal gear motion is linear, so tooth
+pair k at pinion angle phi_1 is the reference pair at ``phi_1 + 2 pi k / N_1`` (and
+sits at the same place in Sf). The field of the reference pair is computed once over
+its whole engagement and reused for every pair and position.
+
+Contact lines. In each face slice the contact point is the minimum of the separation
+along the profile (parabolic refinement); a minimum on the border of the valid
+profile range means the contact would lie beyond the flank edge (tip or form
+circle): such points are marked ``edge`` and loads on them are flagged.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import __version__
+from ..errors import InputError, Problem, Problems
+from ..geometry.involute import inv
+from .analysis import LTCAOptions, ltca_cycle
+from .compliance import compliance_for
+from .grid import ContactGrid, ToothSections
+
+__all__ = ["SeparationField", "beveloid_ltca", "separation_field"]
+
+_SIDE_INDEX = {"R": 0, "L": 1}
+_FLANK_SIDE = {"drive": "R", "coast": "L"}
+
+
+@dataclass(frozen=True)
+class SeparationField:
+    """Initial separations of the reference tooth pair over its engagement (SI).
+
+    phi1: (M,) pinion angles (rad); z, u: (S,), (U,) pinion face positions (m) and
+    profile parameters per slot (u shape (S, U)); separation: (M, S, U) m (NaN where
+    the point cannot touch); point, normal: (S, U, 3) pinion flank points and outward
+    normals in S1; gear_radius: (M, S, U) radius of the gear partner point (m);
+    gear_z: (M, S, U) its axial position in S2 (m); iterations: Newton iterations.
+    """
+
+    side: str
+    phi1: np.ndarray
+    z: np.ndarray
+    u: np.ndarray
+    separation: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+    gear_radius: np.ndarray
+    gear_z: np.ndarray
+    iterations: int
+
+
+def _jets(blank, side, z, u):
+    from ..surface import flank_jets
+
+    r, n, _ = flank_jets(blank, side, z, u, involute_only=True)
+    R = np.stack([c.d for c in r], axis=-1)  # (6, N, 3): value, d/dz, d/du, ...
+    return R[0], R[1], R[2], np.moveaxis(n, 0, -1)
+
+
+def _project(gear, side, M2, O2, p, n, x0, max_iter=30, tol=1e-10):
+    """Solve M2 r2(z2, u2) + O2 = p + t n for (z2, u2, t), vectorised; x0 (N, 3).
+
+    Bounded Newton steps (half a module); each point stops when its residual is below
+    ``tol`` (m); points still off by more than 0.1 mm after 10 steps are given up
+    (their normal line misses the flank). Returns (x, converged mask, iterations).
+    """
+    x = x0.copy()
+    m = gear.normal_module
+    N = x.shape[0]
+    active = np.arange(N)
+    ok = np.zeros(N, dtype=bool)
+    it = 0
+    for it in range(1, max_iter + 1):  # noqa: B007 - reported
+        xa = x[active]
+        r, rz, ru, _ = _jets(gear, side, xa[:, 0], xa[:, 1])
+        Ma = M2[active]
+        na = n[active]
+        F = np.einsum("nij,nj->ni", Ma, r) + O2 - p[active] - xa[:, 2:3] * na
+        res = np.max(np.abs(F), axis=1)
+        done = res < tol
+        ok[active[done]] = True
+        lost = (it > 10) & (res > 1e-4)
+        go = ~(done | lost)
+        if not go.any():
+            break
+        J = np.stack(
+            [
+                np.einsum("nij,nj->ni", Ma[go], rz[go]),
+                np.einsum("nij,nj->ni", Ma[go], ru[go]),
+                -na[go],
+            ],
+            axis=-1,
+        )
+        dx = np.linalg.solve(J, -F[go][..., None])[..., 0]
+        x[active[go]] = xa[go] + np.clip(dx, -0.5 * m, 0.5 * m)
+        active = active[go]
+    return x, ok, it
+
+
+def _start(gear, side, M2, O2, p, n, n_z=9, n_u=9):
+    """Starting values (z2, u2, t) for :func:`_project`: the gear flank sample (a
+    coarse n_z x n_u grid of its involute part) nearest to each pinion normal line."""
+    from ..surface import tip_parameter
+
+    zs = np.linspace(gear.z_toe, gear.z_heel, n_z)
+    ut, _ = tip_parameter(gear, side, zs)
+    us = ut[:, None] * np.linspace(0.0, 1.0, n_u)[None, :]
+    zz = np.repeat(zs, n_u)
+    r, _, _, _ = _jets(gear, side, zz, us.ravel())
+    q = np.einsum("ij,kj->ki", M2[0], r) + O2  # (K, 3), same gear angle for all points
+    d = q[None, :, :] - p[:, None, :]  # (N, K, 3)
+    t = np.einsum("nkj,nj->nk", d, n)
+    perp = np.linalg.norm(d - t[..., None] * n[:, None, :], axis=2)
+    best = np.argmin(perp, axis=1)
+    return np.stack([zz[best], us.ravel()[best], t[np.arange(p.shape[0]), best]], axis=1)
+
+
+def _assembly(design, scene):
+    from ..tca.assembly import Assembly, AssemblyErrors
+
+    return Assembly.from_design(design, AssemblyErrors.from_scene(scene))
+
+
+def _gear_phase(design, asm, pinion, gear, side, zc, uc):
+    """Gear angle phi_2,0 at phi_1 = 0 that brings the flank ``side`` of gear tooth 0
+    through the pinion's tooth 0 flank point (zc, uc).
+
+    The separation t along the pinion normal is a smooth function of the gear angle
+    (the flank's analytic continuation is used, so it exists far from contact too);
+    its zero is found by the secant method from a bracket near phi_2 = 0. The normals
+    must be opposed there (tooth bodies on either side); the partner point may lie on
+    the continuation of the gear flank: the phase only needs to pair the right flanks,
+    the rigid offset is taken up by the contact problem (phi_0).
+    """
+    p, _, _, n = _jets(pinion, side, np.array([zc]), np.array([uc]))
+    M1 = asm.pinion_matrix(np.zeros(1))
+    pf = np.einsum("nij,nj->ni", M1, p) + asm.pinion_origin
+    nf = np.einsum("nij,nj->ni", M1, n)
+
+    def gap(phi2, x0=None):
+        M2 = asm.gear_matrix(np.array([phi2]))
+        if x0 is None:
+            x0 = _start(gear, side, M2, asm.gear_origin, pf, nf)
+        x, ok, _ = _project(gear, side, M2, asm.gear_origin, pf, nf, x0)
+        return x, bool(ok[0]), M2
+
+    step = math.pi / (4 * design.gear.teeth)  # 1/8 gear pitch
+    # first bracket: two neighbouring phases whose projections converge
+    a = None
+    for k in (0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6, -6, 7, -7, 8, -8, 12, -12, 16, -16):
+        xa, oka, _ = gap(k * step)
+        if oka:
+            xb, okb, _ = gap((k + 1) * step, xa)
+            if okb:
+                a, b = k * step, (k + 1) * step
+                break
+    if a is None:
+        raise InputError(
+            Problem(
+                f"ltca.mesh_phase[{side}]",
+                None,
+                "the gear flank is not met along the pinion's normal at any phase within "
+                "two gear pitches: the assembly does not mesh",
+            )
+        )
+    it = 0
+    for it in range(1, 61):  # noqa: B007 - reported in the error
+        if not (oka and okb) or xb[0, 2] == xa[0, 2]:
+            break
+        c = b - xb[0, 2] * (b - a) / (xb[0, 2] - xa[0, 2])
+        c = a + float(np.clip(c - a, -8 * step, 8 * step))
+        a, xa, oka = b, xb, okb
+        b = c
+        xb, okb, M2 = gap(b, xa)
+        if okb and abs(xb[0, 2]) < 1e-9:
+            break
+    ok = okb and abs(xb[0, 2]) < 1e-7
+    if ok:
+        _, _, _, n2 = _jets(gear, side, xb[:, 0], xb[:, 1])
+        ok = float(np.einsum("ij,nj->ni", M2[0], n2)[0] @ nf[0]) < 0.0  # opposed
+    if not ok:
+        raise InputError(
+            Problem(
+                f"ltca.mesh_phase[{side}]",
+                None,
+                f"no gear tooth flank meets the pinion's reference flank point ({it} secant "
+                "steps): the assembly does not mesh (check offset, shaft angle and axial "
+                "positions)",
+            )
+        )
+    return b
+
+
+def separation_field(
+    design,
+    scene,
+    side: str,
+    *,
+    n_profile: int,
+    n_face: int,
+    positions: int,
+    pitches: tuple[int, int] = (-3, 3),
+) -> SeparationField:
+    """Separation field of the reference tooth pair on flank ``side`` ("R" or "L")
+    at ``positions`` per mesh cycle over ``pitches`` mesh cycles around phi_1 = 0."""
+    from ..surface import blanks_from_design, tip_parameter
+
+    pinion, gear = blanks_from_design(design)
+    asm = _assembly(design, scene)
+    N1, N2 = design.pinion.teeth, design.gear.teeth
+    pitch = 2 * math.pi / N1
+    dz = pinion.face_width / n_face
+    z = pinion.z_toe + dz * (np.arange(n_face) + 0.5)
+    u_tip, _ = tip_parameter(pinion, side, z)
+    frac = (np.arange(n_profile) + 0.5) / n_profile
+    u = u_tip[:, None] * frac[None, :]  # (S, U): form circle (u = 0) to tip
+    zz = np.repeat(z, n_profile)
+    uu = u.ravel()
+    p1, _, _, n1 = _jets(pinion, side, zz, uu)
+    phase = _gear_phase(design, asm, pinion, gear, side, 0.0, 0.5 * float(u_tip.mean()))
+    phi1 = np.arange(pitches[0] * positions, pitches[1] * positions + 1) * (pitch / positions)
+    M = phi1.size
+    npts = zz.size
+    sep = np.full((M, npts), np.nan)
+    grad = np.full((M, npts), np.nan)
+    gz = np.full((M, npts), np.nan)
+    z2_toe, z2_heel = gear.z_toe, gear.z_heel
+    total_it = 0
+    x = None
+    # continuation from the middle of the engagement outwards
+    order = np.argsort(np.abs(phi1))
+    prev = {}
+    for i in order:
+        f1 = phi1[i]
+        M1 = asm.pinion_matrix(np.full(npts, f1))
+        pf = np.einsum("nij,nj->ni", M1, p1) + asm.pinion_origin
+        nf = np.einsum("nij,nj->ni", M1, n1)
+        f2 = phase - (N1 / N2) * f1
+        M2 = asm.gear_matrix(np.full(npts, f2))
+        near = min(prev, key=lambda j: abs(phi1[j] - f1)) if prev else None
+        if near is None:
+            x0 = _start(gear, side, M2, asm.gear_origin, pf, nf)
+        else:
+            x0 = prev[near]
+        x, ok, it = _project(gear, side, M2, asm.gear_origin, pf, nf, x0)
+        total_it += it
+        prev[i] = np.where(ok[:, None], x, x0)
+        u2_tip, _ = tip_parameter(gear, side, np.clip(x[:, 0], z2_toe, z2_heel))
+        on = ok & (x[:, 0] >= z2_toe) & (x[:, 0] <= z2_heel) & (x[:, 1] >= 0) & (x[:, 1] <= u2_tip)
+        r2, _, _, _ = _jets(gear, side, x[:, 0], x[:, 1])
+        sep[i] = np.where(on, x[:, 2], np.nan)
+        grad[i] = np.hypot(r2[:, 0], r2[:, 1])
+        gz[i] = x[:, 0]
+    return SeparationField(
+        side=side,
+        phi1=phi1,
+        z=z,
+        u=u,
+        separation=sep.reshape(M, n_face, n_profile),
+        point=p1.reshape(n_face, n_profile, 3),
+        normal=n1.reshape(n_face, n_profile, 3),
+        gear_radius=grad.reshape(M, n_face, n_profile),
+        gear_z=gz.reshape(M, n_face, n_profile),
+        iterations=total_it,
+    )
+
+
+def _parabola(sm, s0, sp):
+    """Vertex offset (in steps, |d| <= 0.5 clipped) and value of the parabola through
+    (-1, sm), (0, s0), (1, sp); also the second difference."""
+    with np.errstate(invalid="ignore"):
+        c2 = sm - 2 * s0 + sp
+        d = np.where(c2 > 0, 0.5 * (sm - sp) / np.where(c2 > 0, c2, 1.0), 0.0)
+        d = np.clip(np.nan_to_num(d), -0.5, 0.5)
+        return d, s0 - 0.25 * (sm - sp) * d, c2
+
+
+def _half_angle_base(gd, blank, side, z):
+    """Half tooth-thickness angle at the base circle of flank ``side`` of a beveloid
+    transverse section at axial position z (rad): the tilted rack shifted radially by
+    X(z) widens the half tooth at r_p by X tan(alpha_P) (alpha_P the flank's transverse
+    pressure angle, geometry conventions), so psi_b = (pi m_t / 4 + X tan alpha_P) / r_p
+    + inv(alpha_P)."""
+    ap = gd.transverse_pressure_angle[_SIDE_INDEX[side]]
+    rp = blank.reference_pitch_radius
+    X = blank.rack_shift(z)
+    return (math.pi * blank.transverse_module / 4 + X * math.tan(ap)) / rp + inv(ap)
+
+
+def _sections(gd, blank, side, radius, z):
+    n = radius.size
+    rb = gd.base_radius[_SIDE_INDEX[side]]
+    root = blank.root_radius(z)
+    return ToothSections.uniform(
+        n,
+        radius=np.maximum(radius, rb * (1 + 1e-6)),
+        base_radius=rb,
+        root_radius=root,
+        tip_radius=np.maximum(blank.tip_radius(z), radius),
+        bore_radius=0.5 * root,
+        base_half_angle=_half_angle_base(gd, blank, side, z),
+        teeth=blank.teeth,
+        normal_module=blank.normal_module,
+        normal_pressure_angle=blank.normal_pressure_angle,
+        helix_angle=abs(blank.helix_angle),
+        profile_shift=blank.rack_shift(z) * math.cos(blank.cone_angle) / blank.normal_module,
+        rack_dedendum=blank.tool_addendum / blank.normal_module,
+        rack_root_radius=blank.tool_tip_radius / blank.normal_module,
+    )
+
+
+def beveloid_grids(design, scene, field: SeparationField, positions: int, reach: float = 2e-4):
+    """Contact grids at ``positions`` per mesh cycle from a separation field.
+
+    reach (m): points whose gap at first contact exceeds it are left out (the loaded
+    approach is checked against it after the solve). Returns (grids, sense): a list of
+    :class:`ContactGrid` and the sign of the pinion rotation that loads this flank.
+    """
+    from ..surface import blanks_from_design
+
+    pinion, gear = blanks_from_design(design)
+    asm = _assembly(design, scene)
+    side = field.side
+    M, S, U = field.separation.shape
+    i_start = int(round(field.phi1[0] / (2 * math.pi / design.pinion.teeth) * positions))
+    zaxis = np.array([0.0, 0.0, 1.0])
+    E = scene["material"]["youngs_modulus_GPa"] * 1e9
+    nu = scene["material"]["poisson_ratio"]
+    dz = pinion.face_width / S
+    u_top = float(np.max(field.u))
+    # contact line per (field index, slot)
+    sep = field.separation
+    valid = np.isfinite(sep)
+    big = np.where(valid, sep, np.inf)
+    idx = np.argmin(big, axis=2)  # (M, S)
+    has = np.any(valid, axis=2)
+    ii, ss = np.meshgrid(np.arange(M), np.arange(S), indexing="ij")
+    first = np.argmax(valid, axis=2)
+    last = U - 1 - np.argmax(valid[:, :, ::-1], axis=2)
+    edge = (idx == first) | (idx == last)
+    im = np.clip(idx - 1, 0, U - 1)
+    ip = np.clip(idx + 1, 0, U - 1)
+    s0 = big[ii, ss, idx]
+    sm = np.where(edge, s0, big[ii, ss, im])
+    sp = np.where(edge, s0, big[ii, ss, ip])
+    sm = np.where(np.isfinite(sm), sm, s0)
+    sp = np.where(np.isfinite(sp), sp, s0)
+    d, smin, c2 = _parabola(sm, s0, sp)
+    du = field.u[:, 1] - field.u[:, 0]  # (S,)
+    # arc length per profile step on the pinion flank
+    dl = np.linalg.norm(np.diff(field.point, axis=1), axis=2).mean(axis=1)  # (S,)
+    curv = np.where(edge | (c2 <= 0), np.nan, c2 / dl[None, :] ** 2)
+    fallback = np.nanmedian(curv) if np.any(np.isfinite(curv)) else 1.0 / design.normal_module
+    curv = np.where(np.isfinite(curv) & (curv > 0), curv, fallback)
+    frac_idx = idx + d
+
+    def interp(a):  # a: (S, U, ...) pinion-fixed or (M, S, U) field arrays
+        lo = np.floor(frac_idx).astype(int)
+        lo = np.clip(lo, 0, U - 2)
+        w = frac_idx - lo
+        if a.ndim >= 3 and a.shape[0] == M and a.shape[1] == S and a.shape[2] == U:
+            a0, a1 = a[ii, ss, lo], a[ii, ss, lo + 1]
+        else:
+            a0, a1 = a[ss, lo], a[ss, lo + 1]
+        if a0.ndim > w.ndim:
+            w = w[..., None]
+        return a0 * (1 - w) + a1 * w
+
+    pt = interp(field.point)  # (M, S, 3) in S1
+    nr = interp(field.normal)
+    nr /= np.linalg.norm(nr, axis=-1, keepdims=True)
+    g_rad = interp(np.where(valid, field.gear_radius, np.nan))
+    g_z = interp(np.where(valid, field.gear_z, np.nan))
+    g_rad = np.where(np.isfinite(g_rad), g_rad, field.gear_radius[ii, ss, idx])
+    g_z = np.where(np.isfinite(g_z), g_z, field.gear_z[ii, ss, idx])
+    uu = field.u[ss, 0] + frac_idx * du[None, :]
+    # to Sf at each field angle, arms
+    M1 = asm.pinion_matrix(field.phi1)  # (M, 3, 3)
+    pf = np.einsum("mij,msj->msi", M1, pt) + asm.pinion_origin
+    nf = np.einsum("mij,msj->msi", M1, nr)
+    arm_raw = np.einsum("msi,msi->ms", nf, np.cross(zaxis, pf - asm.pinion_origin))
+    sense = float(np.sign(np.nanmean(np.where(has, arm_raw, np.nan))))
+    arm = sense * arm_raw
+    proj = np.sqrt(np.maximum(1 - (nf @ zaxis) ** 2, 1e-12))
+    grids = []
+    for j in range(positions):
+        ks, slots, fi = [], [], []
+        for k in range(-8, 9):
+            i = j + k * positions - i_start
+            if 0 <= i < M and has[i].any():
+                for s in np.flatnonzero(has[i]):
+                    ks.append(k)
+                    slots.append(s)
+                    fi.append(i)
+        if not ks:
+            raise InputError(
+                Problem(f"ltca.grid[{side}]", j, "no tooth pair reaches the active flank here")
+            )
+        ks, slots, fi = np.array(ks), np.array(slots), np.array(fi)
+        s_i = smin[fi, slots]
+        m_i = arm[fi, slots]
+        keep = m_i > 0
+        phi0 = np.min(s_i[keep] / m_i[keep])
+        keep &= (s_i - m_i * phi0) < reach
+        ks, slots, fi, s_i, m_i = ks[keep], slots[keep], fi[keep], s_i[keep], m_i[keep]
+        z1 = field.z[slots]
+        rad1 = np.hypot(pt[fi, slots, 0], pt[fi, slots, 1])
+        grids.append(
+            ContactGrid(
+                pair=ks,
+                slot=slots,
+                face=z1,
+                width=np.full(ks.size, dz),
+                line_length=dz / proj[fi, slots],
+                separation=s_i - m_i * phi0,
+                arm=m_i,
+                transverse_projection=proj[fi, slots],
+                curvature_radius=1.0 / curv[fi, slots],
+                profile=uu[fi, slots],
+                profile_range=(0.0, u_top),
+                face_range=(pinion.z_toe, pinion.z_heel),
+                n_slots=S,
+                edge=edge[fi, slots],
+                position=pf[fi, slots],
+                normal=nf[fi, slots],
+                tooth1=_sections(design.pinion, pinion, side, rad1, z1),
+                tooth2=_sections(design.gear, gear, side, g_rad[fi, slots], g_z[fi, slots]),
+                youngs_modulus=E,
+                poisson_ratio=nu,
+            )
+        )
+    return grids, sense
+
+
+def beveloid_ltca(design, scene, *, options: LTCAOptions | None = None):
+    """Loaded TCA and mesh table of a crossed beveloid pair for the scene's torques and
+    flanks (``drive`` = R, ``coast`` = L). Returns :class:`~gearbox.ltca.table.LTCAResult`.
+    """
+    from .table import LTCAResult, mesh_table
+
+    lt = scene["ltca"]
+    options = options or LTCAOptions(positions=lt["positions"])
+    P = options.positions
+    compliance = compliance_for(lt["fidelity"])
+    torques = scene["load"]["torques_Nm"]
+    results, senses, fields = {}, {}, {}
+    for flank in lt["flanks"]:
+        side = _FLANK_SIDE[flank]
+        field = separation_field(
+            design, scene, side, n_profile=lt["grid_profile"], n_face=lt["grid_face"], positions=P
+        )
+        grids, sense = beveloid_grids(design, scene, field, P)
+        res = ltca_cycle(
+            lambda f, g=grids: g[int(round(f * P)) % P],
+            torques,
+            options=options,
+            compliance=compliance,
+        )
+        results[flank] = res
+        senses[flank] = sense
+        fields[flank] = field.iterations
+    asm = _assembly(design, scene)
+    first = next(iter(results))
+    res0 = results[first]
+    P0 = res0.mesh_point.reshape(-1, 3).mean(axis=0)
+    n0 = res0.line_of_action.reshape(-1, 3).mean(axis=0)
+    sgn = 1.0 if first == "drive" else -1.0
+    a1 = np.array([0.0, 0.0, 1.0])
+    a1 = a1 if sgn * a1 @ np.cross(P0 - asm.pinion_origin, n0) > 0 else -a1
+    a2 = asm.gear_axis
+    a2 = a2 if sgn * a2 @ np.cross(P0 - asm.gear_origin, n0) > 0 else -a2
+    attrs = {
+        "scene": scene.name,
+        "method": "loaded TCA: separation field of the generated flanks (gearbox.surface), "
+        "thin-slice compliance, active-set contact solver",
+        "fidelity": lt["fidelity"],
+        "gearbox_version": __version__,
+        "frame": "Sf of gearbox.tca.assembly (paper Fig. 11); drive = R flank, coast = L flank",
+        "field_newton_iterations": int(sum(fields.values())),
+    }
+    table = mesh_table(
+        results,
+        pinion_teeth=design.pinion.teeth,
+        gear_teeth=design.gear.teeth,
+        pinion_axis=[a1, asm.pinion_origin],
+        gear_axis=[a2, asm.gear_origin],
+        attrs=attrs,
+    )
+    return LTCAResult(flanks=results, table=table, attrs=attrs)
+
+
+_ = Problems
