@@ -106,7 +106,12 @@ def waterfall(
     Parameters
     ----------
     spectra : sequence of OrderSpectrum
-        One per speed, all with the same order resolution (same ``revs``).
+        One per speed. With equal ``revs`` the spectra are stacked as they are;
+        otherwise each is rebinned onto the coarsest order grid (1 / min revs) by
+        peak hold: a target bin takes the largest amplitude of the source bins
+        nearest to it, so that line heights survive (records of slightly different
+        length, as angle tracking of a vibrating shaft gives, or of different
+        numbers of periods).
     speeds_rpm : array, shape (n_speeds,), optional
         Speed of each spectrum (rpm); default: each spectrum's ``mean_speed_rpm``.
     max_order : float, optional
@@ -119,12 +124,6 @@ def waterfall(
     for i, s in enumerate(spectra):
         if not isinstance(s, OrderSpectrum):
             p.add(f"spectra[{i}]", type(s).__name__, "must be an OrderSpectrum")
-        elif not math.isclose(s.revs, spectra[0].revs, rel_tol=1e-9):
-            p.add(
-                f"spectra[{i}].revs",
-                s.revs,
-                f"must equal spectra[0].revs = {spectra[0].revs:g} (same order resolution)",
-            )
     if speeds_rpm is None:
         speeds = np.array([getattr(s, "mean_speed_rpm", np.nan) for s in spectra], dtype=float)
     else:
@@ -136,19 +135,29 @@ def waterfall(
                 f"must have one speed per spectrum ({len(spectra)})",
             )
     p.raise_if_any("waterfall")
-    n = min(s.orders.size for s in spectra)
+    revs = min(s.revs for s in spectra)
+    top = min(float(s.orders[-1]) for s in spectra)
     if max_order is not None:
-        n = min(n, int(np.searchsorted(spectra[0].orders, max_order, side="right")))
-    amps = np.stack([s.amplitudes[:n] for s in spectra])
+        top = min(top, float(max_order))
+    n = int(math.floor(top * revs + 1e-9)) + 1
+    if all(math.isclose(s.revs, revs, rel_tol=1e-9) for s in spectra):
+        amps = np.stack([s.amplitudes[:n] for s in spectra])
+    else:
+        amps = np.zeros((len(spectra), n))
+        for i, s in enumerate(spectra):
+            k = np.rint(s.orders * revs).astype(int)
+            keep = k < n
+            np.maximum.at(amps[i], k[keep], s.amplitudes[keep])
+    windows = {s.window for s in spectra}
     first = spectra[0]
     return Waterfall(
         speeds_rpm=np.asarray(speeds, dtype=float),
         axis="order",
-        bins=first.orders[:n].copy(),
+        bins=np.arange(n) / revs,
         amplitudes=amps,
         unit=first.unit,
         name=first.name,
-        window=first.window,
+        window=first.window if len(windows) == 1 else "mixed",
     )
 
 
