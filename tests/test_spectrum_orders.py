@@ -206,7 +206,7 @@ def test_record_of_non_whole_revolutions_uses_the_last_whole_ones():
     assert spec3.amplitude_at(7.0) == pytest.approx(1.5, rel=1e-4)
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None, derandomize=True)  # same draws in every run
 @given(
     st.lists(st.integers(1, 60), min_size=1, max_size=5, unique=True),
     st.lists(st.floats(0.01, 100.0), min_size=5, max_size=5),
