@@ -219,6 +219,7 @@ static void reset_values(ModelInstance *m) {
     m->t_input = 0.0;
     m->x_pending = 1;
     m->h = 0.0;
+    m->fsal_valid = 0;
     m->n_steps = m->n_rejected = m->n_rhs = 0;
 }
 
@@ -355,6 +356,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     }
     m->state = m->type == fmi2CoSimulation ? GBX_ST_STEP : GBX_ST_EVENT;
     m->h = 0.0;
+    m->fsal_valid = 0;
     return fmi2OK;
 }
 
@@ -480,6 +482,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     }
     if (changed_parameter && (m->state == GBX_ST_INSTANTIATED || m->state == GBX_ST_INIT))
         m->x_pending = 1;
+    m->fsal_valid = 0;
     m->t_input = m->time;
     return fmi2OK;
 }
@@ -736,6 +739,7 @@ static int integrate(ModelInstance *m, double t1) {
     double *xs = m->xs, *xn = m->xn, *x = m->x;
     long count = 0;
     int i, last_rejected = 0;
+    double err_old = 1e-4;
     if (n == 0) {
         m->time = t1;
         return 0;
@@ -743,7 +747,8 @@ static int integrate(ModelInstance *m, double t1) {
     for (i = 0; i < GBX_NR; i++)
         if (GBX_VARS[i].kind == GBX_STATE) atol[GBX_VARS[i].index] = rtol * GBX_VARS[i].nominal;
     if (!(h > 0.0)) h = fmin(hmax, 1e-6);
-    rhs(m, t, x, k[0]);
+    double h_try = h;
+    if (!m->fsal_valid) rhs(m, t, x, k[0]); /* else k[0] = f(t, x) from the last step */
     while (t < t1) {
         double err = 0.0, fac;
         int final;
@@ -754,8 +759,9 @@ static int integrate(ModelInstance *m, double t1) {
             return 1;
         }
         h = fmin(h, hmax);
+        h_try = h;
         final = t + h >= t1 - 1e-12 * fabs(t1);
-        if (final) h = t1 - t;
+        if (final) h = t1 - t; /* land on the communication point */
         if (!(h > 1e-14 * fmax(1.0, fabs(t)))) {
             gbx_log(m, fmi2Error, "logStatusError", "fmi2DoStep: step size underflow (h = %g s) at t = %g s",
                     h, t);
@@ -793,15 +799,20 @@ static int integrate(ModelInstance *m, double t1) {
                 k[0][i] = k[6][i]; /* first same as last */
             }
             m->n_steps++;
-            fac = err > 0.0 ? 0.9 * pow(err, -0.2) : 5.0;
-            fac = fmin(fac, last_rejected ? 1.0 : 5.0);
-            fac = fmax(fac, 0.2);
-            if (!final || fac < 1.0) h *= fac; /* keep a good step across communication points */
+            /* PI step control with Lund stabilisation, beta = 0.04 (HNW I, Sec. II.4 and
+             * the DOPRI5 code of Hairer and Wanner): fewer rejected steps on
+             * oscillatory solutions than the plain err^(-1/5) rule */
+            fac = pow(fmax(err, 1e-10), 0.2 - 0.04 * 0.75) / pow(err_old, 0.04) / 0.9;
+            fac = fmin(5.0, fmax(0.1, fac)); /* h_new = h / fac in [h/5, 10 h] */
+            if (last_rejected) fac = fmax(fac, 1.0);
+            err_old = fmax(err, 1e-4);
+            /* after the step cut short at the communication point, go on with the step
+             * the controller had chosen, not with the cut one */
+            h = final ? (fac > 1.0 ? fmin(h_try, h / fac) : h_try) : h / fac;
             last_rejected = 0;
         } else {
             m->n_rejected++;
-            fac = fmax(0.2, 0.9 * pow(err, -0.2));
-            h *= fac;
+            h /= fmin(5.0, pow(err, 0.2 - 0.04 * 0.75) / 0.9);
             last_rejected = 1;
         }
     }
@@ -812,6 +823,7 @@ static int integrate(ModelInstance *m, double t1) {
         }
     }
     m->h = h;
+    m->fsal_valid = 1;
     m->time = t1;
     return 0;
 }

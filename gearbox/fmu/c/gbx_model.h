@@ -64,6 +64,7 @@ typedef struct ModelInstance {
     GbxModelData data; /* model tables (config.h) */
     /* internal integrator (DOPRI5) workspace and work counters */
     double h;
+    int fsal_valid; /* k[0] holds f(time, x): no input or parameter changed since */
     double k[7][GBX_NX_ALLOC];
     double xs[GBX_NX_ALLOC];
     double xn[GBX_NX_ALLOC];
