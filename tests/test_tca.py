@@ -149,6 +149,27 @@ def test_te_stays_zero_under_assembly_errors_while_path_moves(des03, tca03, err)
         )
 
 
+def test_parallel_helical_pair_is_line_contact():
+    """Cone angles 0 and shaft angle 0: ISO helical gears, conjugate with line contact.
+
+    The contact conditions then have a line of solutions (rank-deficient Jacobian); the
+    minimum-norm Newton step picks one point of it. FPD angle 0, no finite ellipse.
+    """
+    sc = load_scene("models/case03.toml").replaced(
+        pair={"shaft_angle_deg": 0.0, "offset_mm": 230.0},
+        pinion={"cone_angle_deg": 0.0},
+        gear={"cone_angle_deg": 0.0, "helix_angle_deg": -20.0},
+    )
+    res = run_tca(design_pair(PairSpec.from_scene(sc)), settings=TCASettings(positions=21))
+    for fc in (res.drive, res.coast):
+        assert fc.converged[fc.active].all() and (fc.pairs_in_contact >= 1).all()
+        assert fc.te_peak_to_peak() * ARCSEC < 1e-4
+        assert np.degrees(fc.fpd_angle[fc.active]).max() < 1e-5
+        assert np.isinf(fc.ellipse_axes[fc.active][:, 0]).all()
+        assert any(m.startswith(f"{fc.name}: line contact") for m in res.messages)
+    assert json.dumps(res.summary(), allow_nan=False)
+
+
 def test_backlash_sign_follows_offset_error(des03):
     loose = run_tca(des03, errors=AssemblyErrors(offset=50e-6))
     tight = run_tca(des03, errors=AssemblyErrors(offset=-50e-6))

@@ -41,6 +41,9 @@ __all__ = ["TCASettings", "FlankContact", "TCAResult", "run_tca", "tca_of_blanks
 #: z_f, i.e. towards its heel by the right-hand rule), the left flank L is the coast side
 SIDE_NAMES = {"R": "drive", "L": "coast"}
 
+#: FPD angle (rad) below which a side is reported as line contact
+LINE_CONTACT_FPD = 1e-6
+
 #: limit codes of a contact point outside the real flanks
 LIMITS = (
     "pinion toe",
@@ -444,7 +447,8 @@ def _ellipse(k1, d1, k2, d2, n, delta):
     lam, vec = np.linalg.eigh(C)
     with np.errstate(divide="ignore", invalid="ignore"):
         axes = np.sqrt(2 * delta / lam)
-    axes = np.where(lam > 0, axes, np.inf)
+    # relative curvature below 1e-9 of the largest: line contact, no finite ellipse
+    axes = np.where(lam > 1e-9 * np.abs(lam[:, 1:]), axes, np.inf)
     major = vec[:, 0, 0, None] * e1 + vec[:, 1, 0, None] * e2
     return np.stack([axes[:, 0], axes[:, 1]], axis=1), major
 
@@ -634,6 +638,13 @@ def tca_of_blanks(
             msgs.append(
                 f"{fc.name}: {gaps} of {len(grid)} positions have no flank-flank contact "
                 f"(contact ratio {fc.contact_ratio:.3f} < 1): edge contact there"
+            )
+        f_act = fc.fpd_angle[fc.active]
+        if f_act.size and np.max(f_act) < LINE_CONTACT_FPD:
+            msgs.append(
+                f"{fc.name}: line contact (measured FPD angle {np.degrees(np.max(f_act)):.2g} deg): each "
+                "contact point is one point of the instantaneous contact line, so the path position "
+                "on the face is not defined by the flanks"
             )
         near = fc.limit == "not converged"
         if near.any():

@@ -6,7 +6,11 @@ Unknowns per problem: pinion flank parameters (z_1, u_1), gear flank parameters
 contact analysis)::
 
     r_f1(z_1, u_1, phi_1) - r_f2(z_2, u_2, phi_2) = 0       (3 equations)
-    n_f2 . dr_f1/dz_1 = 0,   n_f2 . dr_f1/du_1 = 0         (normals collinear)
+    n_f2 . e_1 = 0,   n_f2 . e_2 = 0                        (normals collinear)
+
+with (e_1, e_2) a unit tangent basis built from the pinion's normal n_f1 (projecting on
+the surface tangents instead would admit spurious roots on the cuspidal edge of the
+involute continuation, where those tangents vanish).
 
 The Jacobian is analytic (exact surface derivatives from the jets of
 :func:`gearbox.surface.flank_jets`), the iteration is vectorised over any number of
@@ -32,6 +36,7 @@ TOL_POSITION = 1e-11  # m
 TOL_NORMAL = 1e-11  # -
 MAX_STEP_LENGTH = 5e-3  # m, per iteration for z and u
 MAX_STEP_ANGLE = 0.05  # rad, per iteration for phi_2
+RCOND = 1e-7  # relative singular-value cut-off of the Newton step (line contact)
 
 
 def flank_frames(blank: ToothBlank, side: str, z, u, matrix, origin):
@@ -84,8 +89,9 @@ def _system(pinion, gear, asm, side, phi1, x):
     f2 = flank_frames(gear, side, x[:, 2], x[:, 3], M2, O2)
     n2 = f2["n"]
     dot = lambda a, b: np.einsum("ni,ni->n", a, b)  # noqa: E731
+    E = _tangent_basis(f1["n"])
     F = np.concatenate(
-        [f1["r"] - f2["r"], dot(n2, f1["rz"])[:, None], dot(n2, f1["ru"])[:, None]], axis=1
+        [f1["r"] - f2["r"], dot(n2, E["e1"])[:, None], dot(n2, E["e2"])[:, None]], axis=1
     )
     J = np.empty(x.shape[:1] + (5, 5))
     J[:, :3, 0] = f1["rz"]
@@ -94,16 +100,37 @@ def _system(pinion, gear, asm, side, phi1, x):
     J[:, :3, 3] = -f2["ru"]
     J[:, :3, 4] = -np.cross(a2, f2["r"] - O2)
     dn2 = np.cross(a2, n2)
-    for row, t, tz, tu in (
-        (3, f1["rz"], f1["rzz"], f1["rzu"]),
-        (4, f1["ru"], f1["rzu"], f1["ruu"]),
-    ):
-        J[:, row, 0] = dot(n2, tz)
-        J[:, row, 1] = dot(n2, tu)
-        J[:, row, 2] = dot(f2["nz"], t)
-        J[:, row, 3] = dot(f2["nu"], t)
-        J[:, row, 4] = dot(dn2, t)
+    for row, e in ((3, "e1"), (4, "e2")):
+        J[:, row, 0] = dot(n2, E["d" + e](f1["nz"]))
+        J[:, row, 1] = dot(n2, E["d" + e](f1["nu"]))
+        J[:, row, 2] = dot(f2["nz"], E[e])
+        J[:, row, 3] = dot(f2["nu"], E[e])
+        J[:, row, 4] = dot(dn2, E[e])
     return F, J, f1, f2
+
+
+def _tangent_basis(n1):
+    """Unit tangent basis (e1, e2) of the pinion flank from its unit normal, and the
+    maps dn1 -> de1, dn1 -> de2 (derivatives for the Jacobian).
+
+    ``e1 = (z_f x n1) / |z_f x n1|``, ``e2 = n1 x e1``: smooth wherever the normal is not
+    axial (|sin beta_b| < 1), including the cuspidal edge of the involute continuation
+    on the base cylinder, where the surface tangents vanish but n1 does not.
+    """
+    c = np.array([0.0, 0.0, 1.0])
+    w = np.cross(c, n1)
+    norm = np.linalg.norm(w, axis=1, keepdims=True)
+    e1 = w / norm
+    e2 = np.cross(n1, e1)
+
+    def de1(dn):
+        dw = np.cross(c, dn)
+        return (dw - np.einsum("ni,ni->n", e1, dw)[:, None] * e1) / norm
+
+    def de2(dn):
+        return np.cross(dn, e1) + np.cross(n1, de1(dn))
+
+    return {"e1": e1, "e2": e2, "de1": de1, "de2": de2}
 
 
 def contact_residual(pinion, gear, asm, side, phi1, x):
@@ -112,10 +139,15 @@ def contact_residual(pinion, gear, asm, side, phi1, x):
     return F, J
 
 
-def _dF_dphi1(f1, asm):
-    z = np.array([0.0, 0.0, 1.0])
-    dr = np.cross(z, f1["r"] - asm.pinion_origin)
-    return dr, z
+def _min_norm_solve(J, b):
+    """Minimum-norm solutions of J x = b for a stack (N, 5, 5), (N, 5).
+
+    Pseudo-inverse by SVD with singular values below ``RCOND`` times the largest
+    dropped: for line contact (FPD angle 0) the contact conditions have a curve of
+    solutions, the Jacobian has rank 4, and the minimum-norm step goes to the nearest
+    point of that curve (Gauss-Newton with the pseudo-inverse, Ben-Israel 1966).
+    """
+    return np.einsum("nij,nj->ni", np.linalg.pinv(J, rcond=RCOND), b)
 
 
 def solve_contact(
@@ -157,15 +189,7 @@ def solve_contact(
         if not upd.any():
             break
         with np.errstate(all="ignore"):
-            try:
-                step = np.linalg.solve(J[upd], -F[upd][..., None])[..., 0]
-            except np.linalg.LinAlgError:
-                step = np.stack(
-                    [
-                        np.linalg.lstsq(Jk, -Fk, rcond=None)[0]
-                        for Jk, Fk in zip(J[upd], F[upd], strict=True)
-                    ]
-                )
+            step = _min_norm_solve(J[upd], -F[upd])
         # bounded steps: a limited move in each parameter keeps the iteration on the sheet
         lim = np.array([MAX_STEP_LENGTH] * 4 + [MAX_STEP_ANGLE])
         scale = np.max(np.abs(step) / lim, axis=1, initial=1.0)
@@ -182,17 +206,18 @@ def solve_contact(
 
 def tangent_predictor(pinion, gear, asm, side, phi1, x):
     """dx/dphi_1 at solutions x (N, 5) (implicit function theorem), shape (N, 5)."""
-    F, J, f1, _ = _system(pinion, gear, asm, side, np.asarray(phi1, float), np.asarray(x, float))
-    dr, z = _dF_dphi1(f1, asm)
-    n2 = np.asarray(
-        _system(pinion, gear, asm, side, np.asarray(phi1, float), np.asarray(x, float))[3]["n"]
-    )
+    F, J, f1, f2 = _system(pinion, gear, asm, side, np.asarray(phi1, float), np.asarray(x, float))
+    z = np.array([0.0, 0.0, 1.0])
+    dr = np.cross(z, f1["r"] - asm.pinion_origin)
+    E = _tangent_basis(f1["n"])
+    dn1 = np.cross(z, f1["n"])  # the pinion turns about z_f
+    n2 = f2["n"]
     dFp = np.concatenate(
         [
             dr,
-            np.einsum("ni,ni->n", n2, np.cross(z, f1["rz"]))[:, None],
-            np.einsum("ni,ni->n", n2, np.cross(z, f1["ru"]))[:, None],
+            np.einsum("ni,ni->n", n2, E["de1"](dn1))[:, None],
+            np.einsum("ni,ni->n", n2, E["de2"](dn1))[:, None],
         ],
         axis=1,
     )
-    return np.linalg.solve(J, -dFp[..., None])[..., 0]
+    return _min_norm_solve(J, -dFp)
