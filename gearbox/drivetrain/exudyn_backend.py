@@ -760,7 +760,7 @@ def _max_frequency(plan: _Plan) -> tuple[float, float]:
     Eigenfrequencies from :func:`_eigenvalues`. Only the fundamental mesh frequency
     counts: the higher mesh harmonics excite the system above its modes, where the
     response is small; docs/exudyn.md has the measurements (a rule counting every
-    harmonic above 5 % of the largest cost 15x the steps on the default scene for an
+    harmonic above 5 % of the largest cost about 10x the steps on the default scene for an
     error far below the one asked for).
     """
     f_mode = float(np.abs(_eigenvalues(plan)).max()) / (2 * math.pi)
