@@ -53,6 +53,15 @@ class SeparationField:
     the point cannot touch); point, normal: (S, U, 3) pinion flank points and outward
     normals in S1; gear_radius: (M, S, U) radius of the gear partner point (m);
     gear_z: (M, S, U) its axial position in S2 (m); iterations: Newton iterations.
+
+    Contact line per (angle, slot), shapes (M, S) (and (M, S, 3)): ``line_has`` the
+    slot can touch; ``line_edge`` the sampled minimum lies on the border of the
+    valid profile range (the contact would continue beyond the flank edge);
+    ``line_u`` profile parameter, ``line_separation`` (m) and ``line_curvature``
+    (1/m, second derivative of the separation along the profile arc length) of the
+    minimum, refined by a parabola through three exact evaluations a quarter cell
+    apart around the coarse vertex; ``line_point``, ``line_normal`` pinion point and
+    normal in S1; ``line_gear_radius``, ``line_gear_z`` the gear partner.
     """
 
     side: str
@@ -65,6 +74,15 @@ class SeparationField:
     gear_radius: np.ndarray
     gear_z: np.ndarray
     iterations: int
+    line_has: np.ndarray
+    line_edge: np.ndarray
+    line_u: np.ndarray
+    line_separation: np.ndarray
+    line_curvature: np.ndarray
+    line_point: np.ndarray
+    line_normal: np.ndarray
+    line_gear_radius: np.ndarray
+    line_gear_z: np.ndarray
 
 
 def _jets(blank, side, z, u):
@@ -240,6 +258,7 @@ def separation_field(
     M = phi1.size
     npts = zz.size
     sep = np.full((M, npts), np.nan)
+    sep_ext = np.full((M, npts), np.nan)  # on the flanks' continuation too
     grad = np.full((M, npts), np.nan)
     gz = np.full((M, npts), np.nan)
     z2_toe, z2_heel = gear.z_toe, gear.z_heel
@@ -267,20 +286,131 @@ def separation_field(
         on = ok & (x[:, 0] >= z2_toe) & (x[:, 0] <= z2_heel) & (x[:, 1] >= 0) & (x[:, 1] <= u2_tip)
         r2, _, _, _ = _jets(gear, side, x[:, 0], x[:, 1])
         sep[i] = np.where(on, x[:, 2], np.nan)
+        sep_ext[i] = np.where(ok, x[:, 2], np.nan)
         grad[i] = np.hypot(r2[:, 0], r2[:, 1])
         gz[i] = x[:, 0]
+    S, U = n_face, n_profile
+    sep3 = sep.reshape(M, S, U)
+    xs = np.stack([prev[i] for i in range(M)]).reshape(M, S, U, 3)
+    line = _refine_lines(
+        pinion,
+        gear,
+        asm,
+        side,
+        phase,
+        N1 / N2,
+        phi1,
+        z,
+        u,
+        sep3,
+        sep_ext.reshape(M, S, U),
+        xs,
+        p1.reshape(S, U, 3),
+        n1.reshape(S, U, 3),
+        grad.reshape(M, S, U),
+        gz.reshape(M, S, U),
+    )
     return SeparationField(
         side=side,
         phi1=phi1,
         z=z,
         u=u,
-        separation=sep.reshape(M, n_face, n_profile),
+        **line,
+        separation=sep3,
         point=p1.reshape(n_face, n_profile, 3),
         normal=n1.reshape(n_face, n_profile, 3),
         gear_radius=grad.reshape(M, n_face, n_profile),
         gear_z=gz.reshape(M, n_face, n_profile),
         iterations=total_it,
     )
+
+
+def _refine_lines(
+    pinion, gear, asm, side, phase, ratio, phi1, z, u, sep, sep_ext, xs, p1, n1, grad, gz
+):
+    """Contact line of every (angle, slot): see :class:`SeparationField`.
+
+    The vertex is sought on the flanks' continuation (``sep_ext``) so that a minimum
+    just inside the border of the sampled range is found; it is an edge point only
+    when the refined minimum lies off either real flank."""
+    from ..surface import tip_parameter
+
+    M, S, U = sep.shape
+    valid = np.isfinite(sep)
+    has = np.any(valid, axis=2)
+    big = np.where(valid, sep, np.inf)
+    idx = np.argmin(big, axis=2)
+    first = np.argmax(valid, axis=2)
+    last = U - 1 - np.argmax(valid[:, :, ::-1], axis=2)
+    edge = has & ((idx == first) | (idx == last))
+    ii, ss = np.meshgrid(np.arange(M), np.arange(S), indexing="ij")
+    s0 = np.where(has, big[ii, ss, idx], np.nan)
+    ext = np.where(np.isfinite(sep_ext), sep_ext, np.inf)
+    sm = ext[ii, ss, np.clip(idx - 1, 0, U - 1)]
+    sp = ext[ii, ss, np.clip(idx + 1, 0, U - 1)]
+    # a border minimum with a larger value beyond the border (on the continuation)
+    # is an interior minimum of the continuous field: refine it as well
+    edge = edge & ~(
+        (idx > 0) & (idx < U - 1) & np.isfinite(sm) & np.isfinite(sp) & (sm > s0) & (sp > s0)
+    )
+    d, _, _ = _parabola(np.where(np.isfinite(sm), sm, s0), s0, np.where(np.isfinite(sp), sp, s0))
+    du = u[:, 1] - u[:, 0]
+    out = {
+        "line_has": has,
+        "line_edge": edge,
+        "line_u": u[ss, idx],
+        "line_separation": s0,
+        "line_curvature": np.full((M, S), np.nan),
+        "line_point": p1[ss, idx],
+        "line_normal": n1[ss, idx],
+        "line_gear_radius": grad[ii, ss, idx],
+        "line_gear_z": gz[ii, ss, idx],
+    }
+    sel = has & ~edge
+    ia, sa = ii[sel], ss[sel]
+    if ia.size:
+        h = 0.25 * du[sa]
+        uv = u[sa, idx[sel]] + d[sel] * du[sa]
+        x0 = xs[ia, sa, idx[sel]]
+        M1 = asm.pinion_matrix(phi1[ia])
+        M2 = asm.gear_matrix(phase - ratio * phi1[ia])
+        vals, oks, xk0 = [], [], None
+        for k in (-1, 0, 1):
+            pk, _, _, nk = _jets(pinion, side, z[sa], uv + k * h)
+            pf = np.einsum("nij,nj->ni", M1, pk) + asm.pinion_origin
+            nf = np.einsum("nij,nj->ni", M1, nk)
+            xk, okk, _ = _project(gear, side, M2, asm.gear_origin, pf, nf, x0)
+            vals.append(xk[:, 2])
+            oks.append(okk)
+            if k == 0:
+                xk0 = xk
+        good = oks[0] & oks[1] & oks[2]
+        d2, smin, c2 = _parabola(vals[0], vals[1], vals[2])
+        ustar = uv + d2 * h
+        ps, rz, ru, ns = _jets(pinion, side, z[sa], ustar)
+        dl = np.linalg.norm(ru, axis=1)  # arc length per unit u
+        curv = c2 / (h * dl) ** 2
+        good &= np.isfinite(smin) & (c2 > 0)
+        # the refined minimum must lie on both real flanks
+        u1_tip, _ = tip_parameter(pinion, side, z[sa])
+        u2_tip, _ = tip_parameter(gear, side, np.clip(xk0[:, 0], gear.z_toe, gear.z_heel))
+        on = (ustar >= 0) & (ustar <= u1_tip) & (xk0[:, 1] >= 0) & (xk0[:, 1] <= u2_tip)
+        on &= (xk0[:, 0] >= gear.z_toe) & (xk0[:, 0] <= gear.z_heel)
+        edge[ia[good & ~on], sa[good & ~on]] = True
+        good &= on
+        sel_idx = (ia[good], sa[good])
+        out["line_u"][sel_idx] = ustar[good]
+        out["line_separation"][sel_idx] = smin[good]
+        out["line_curvature"][sel_idx] = curv[good]
+        out["line_point"][sel_idx] = ps[good]
+        out["line_normal"][sel_idx] = ns[good]
+        r2, _, _, _ = _jets(gear, side, xk0[good, 0], xk0[good, 1])
+        out["line_gear_radius"][sel_idx] = np.hypot(r2[:, 0], r2[:, 1])
+        out["line_gear_z"][sel_idx] = xk0[good, 0]
+    curv = out["line_curvature"]
+    fallback = np.nanmedian(curv) if np.any(np.isfinite(curv)) else 1.0 / pinion.normal_module
+    out["line_curvature"] = np.where(np.isfinite(curv) & (curv > 0), curv, fallback)
+    return out
 
 
 def _parabola(sm, s0, sp):
@@ -345,53 +475,19 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
     E = scene["material"]["youngs_modulus_GPa"] * 1e9
     nu = scene["material"]["poisson_ratio"]
     dz = pinion.face_width / S
-    u_top = float(np.max(field.u))
-    # contact line per (field index, slot)
-    sep = field.separation
-    valid = np.isfinite(sep)
-    big = np.where(valid, sep, np.inf)
-    idx = np.argmin(big, axis=2)  # (M, S)
-    has = np.any(valid, axis=2)
-    ii, ss = np.meshgrid(np.arange(M), np.arange(S), indexing="ij")
-    first = np.argmax(valid, axis=2)
-    last = U - 1 - np.argmax(valid[:, :, ::-1], axis=2)
-    edge = (idx == first) | (idx == last)
-    im = np.clip(idx - 1, 0, U - 1)
-    ip = np.clip(idx + 1, 0, U - 1)
-    s0 = big[ii, ss, idx]
-    sm = np.where(edge, s0, big[ii, ss, im])
-    sp = np.where(edge, s0, big[ii, ss, ip])
-    sm = np.where(np.isfinite(sm), sm, s0)
-    sp = np.where(np.isfinite(sp), sp, s0)
-    d, smin, c2 = _parabola(sm, s0, sp)
-    du = field.u[:, 1] - field.u[:, 0]  # (S,)
-    # arc length per profile step on the pinion flank
-    dl = np.linalg.norm(np.diff(field.point, axis=1), axis=2).mean(axis=1)  # (S,)
-    curv = np.where(edge | (c2 <= 0), np.nan, c2 / dl[None, :] ** 2)
-    fallback = np.nanmedian(curv) if np.any(np.isfinite(curv)) else 1.0 / design.normal_module
-    curv = np.where(np.isfinite(curv) & (curv > 0), curv, fallback)
-    frac_idx = idx + d
-
-    def interp(a):  # a: (S, U, ...) pinion-fixed or (M, S, U) field arrays
-        lo = np.floor(frac_idx).astype(int)
-        lo = np.clip(lo, 0, U - 2)
-        w = frac_idx - lo
-        if a.ndim >= 3 and a.shape[0] == M and a.shape[1] == S and a.shape[2] == U:
-            a0, a1 = a[ii, ss, lo], a[ii, ss, lo + 1]
-        else:
-            a0, a1 = a[ss, lo], a[ss, lo + 1]
-        if a0.ndim > w.ndim:
-            w = w[..., None]
-        return a0 * (1 - w) + a1 * w
-
-    pt = interp(field.point)  # (M, S, 3) in S1
-    nr = interp(field.normal)
-    nr /= np.linalg.norm(nr, axis=-1, keepdims=True)
-    g_rad = interp(np.where(valid, field.gear_radius, np.nan))
-    g_z = interp(np.where(valid, field.gear_z, np.nan))
-    g_rad = np.where(np.isfinite(g_rad), g_rad, field.gear_radius[ii, ss, idx])
-    g_z = np.where(np.isfinite(g_z), g_z, field.gear_z[ii, ss, idx])
-    uu = field.u[ss, 0] + frac_idx * du[None, :]
+    # the active flank: profile parameters whose gear partner lies on the gear's flank
+    # at some angle of the engagement
+    uvalid = np.broadcast_to(field.u[None], field.separation.shape)[np.isfinite(field.separation)]
+    u_lo, u_top = float(uvalid.min()), float(uvalid.max())
+    has = field.line_has
+    edge = field.line_edge
+    smin = field.line_separation
+    curv = field.line_curvature
+    pt = field.line_point
+    nr = field.line_normal / np.linalg.norm(field.line_normal, axis=-1, keepdims=True)
+    g_rad = field.line_gear_radius
+    g_z = field.line_gear_z
+    uu = field.line_u
     # to Sf at each field angle, arms
     M1 = asm.pinion_matrix(field.phi1)  # (M, 3, 3)
     pf = np.einsum("mij,msj->msi", M1, pt) + asm.pinion_origin
@@ -435,7 +531,7 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
                 transverse_projection=proj[fi, slots],
                 curvature_radius=1.0 / curv[fi, slots],
                 profile=uu[fi, slots],
-                profile_range=(0.0, u_top),
+                profile_range=(u_lo, u_top),
                 face_range=(pinion.z_toe, pinion.z_heel),
                 n_slots=S,
                 edge=edge[fi, slots],
