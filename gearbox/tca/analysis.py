@@ -312,6 +312,32 @@ class TCAResult:
             "messages": list(self.messages),
         }
 
+    @classmethod
+    def from_dict(cls, d: dict) -> TCAResult:
+        """Inverse of :meth:`to_dict`."""
+
+        def fc_of(x):
+            x = dict(x)
+            for k, v in x.items():
+                if isinstance(v, list) and k != "path_limits":
+                    x[k] = np.asarray(v, dtype=str if k == "limit" else None)
+            x["path_limits"] = tuple(x["path_limits"])
+            return FlankContact(**x)
+
+        fpd = d.get("designed_fpd")
+        return cls(
+            pinion=ToothBlank.from_dict(d["pinion"]),
+            gear=ToothBlank.from_dict(d["gear"]),
+            assembly=Assembly.from_dict(d["assembly"]),
+            settings=TCASettings(**d["settings"]),
+            drive=fc_of(d["drive"]),
+            coast=fc_of(d["coast"]),
+            backlash_angle=np.asarray(d["backlash_angle"], dtype=float),
+            designed_fpd=None if fpd is None else tuple(fpd),
+            status=d["status"],
+            messages=tuple(d["messages"]),
+        )
+
 
 def _fin(x):
     return float(x) if x is not None and np.isfinite(x) else None
