@@ -29,10 +29,16 @@ object's size and sets the function from its dictionary.
 The default integrator is exudyn's explicit RK67 at a fixed step chosen from the
 model's highest frequency (docs/exudyn.md gives the measurements behind it): the
 implicit solvers (generalized-alpha, trapezoidal) damp the mesh-frequency content at
-practical steps. exudyn reports success even when the state has become NaN, so every
-run is checked afterwards for non-finite values and for divergence (speed deviation
-beyond the nominal speed, mesh deflection beyond ``divergence_deflection``); the time
-and state of the first bad sample are reported.
+practical steps. A step beyond the stability limit of the linearised model is refused.
+exudyn reports success even when the state has become NaN, so every run is checked
+afterwards for non-finite values and for divergence (the scipy reference's bound on
+the mesh deflection, or a speed deviation beyond the nominal speed); the time and state
+of the first bad sample are reported.
+
+Public: :class:`ExudynSolver`, :func:`integrate_exudyn` (the contract of
+``scipy_backend.integrate_scipy``, used by ``gearbox.drivetrain.simulate.simulate``),
+:func:`simulate_exudyn` (a :class:`~gearbox.drivetrain.timeseries.TimeSeries` from the
+operating point), :func:`build_exudyn_system`, :func:`stability_step_limit`.
 """
 
 from __future__ import annotations
@@ -169,28 +175,32 @@ class _Flank:
 
 @dataclass(frozen=True)
 class _Plan:
-    """Everything the exudyn system needs, in SI, read once from the model."""
+    """Everything the exudyn system needs, in SI, read once from the model.
+
+    inertia: shape (n,), kg m^2 (rotations) or kg (translations); x0, v0: shape (n,),
+    initial coordinates (rad, m) and velocities (rad/s, m/s). springs: (name, i, j, k,
+    c, offset), j = -1 for ground: torque or force k (q_i - q_j - offset) + c (v_i - v_j).
+    omega, omega2: nominal engine/pinion and gear/propeller speeds (rad/s); theta10:
+    pinion angle at t = 0 (rad). engine_ripple: (w rad/s, A N m) terms A sin(w t);
+    prop_kappa: N m s^2; prop_ripple: (w rad/s, relative amplitude r) terms r sin(w t).
+    """
 
     names: tuple[str, ...]
-    inertia: np.ndarray  # (n,) kg m^2 or kg
+    inertia: np.ndarray
     rotational: tuple[bool, ...]
-    x0: np.ndarray  # (n,) initial coordinates (rad, m)
-    v0: np.ndarray  # (n,) initial velocities (rad/s, m/s)
-    springs: tuple[
-        tuple[str, int, int, float, float, float], ...
-    ]  # name, i, j(-1 ground), k, c, offset
-    omega: float  # engine = pinion nominal speed (rad/s)
-    omega2: float  # gear = propeller nominal speed (rad/s)
-    theta10: float  # pinion angle at t = 0 (rad)
+    x0: np.ndarray
+    v0: np.ndarray
+    springs: tuple
+    omega: float
+    omega2: float
+    theta10: float
     flanks: tuple[_Flank, ...]
     engine_index: int
-    engine_mean: float  # N m
-    engine_ripple: tuple[
-        tuple[float, float], ...
-    ]  # (angular frequency rad/s, amplitude N m): A sin(w t)
+    engine_mean: float
+    engine_ripple: tuple
     prop_index: int
-    prop_kappa: float  # N m s^2
-    prop_ripple: tuple[tuple[float, float], ...]  # (angular frequency rad/s, relative amplitude)
+    prop_kappa: float
+    prop_ripple: tuple
 
     @property
     def n(self) -> int:
