@@ -402,40 +402,30 @@ def campbell(
         freqs[j] = f
     p.raise_if_any("campbell diagram")
 
+    orders = np.array([e.order for e in excitations], dtype=float)
+    # g = f_mode(n) - o n / 60 on the grid, shape (n_modes, n_orders, n_grid).
+    g = freqs[:, None, :] - orders[None, :, None] * speeds[None, None, :] / 60.0
+    roots: list[tuple[int, int, float, int, bool]] = [
+        (j, k, float(speeds[i]), 0, True) for j, k, i in np.argwhere(g == 0.0)
+    ]
+    for j, k, i in np.argwhere(g[..., :-1] * g[..., 1:] < 0):
+
+        def gs(s, fun=funcs[names[j]], o=orders[k]):
+            return float(np.asarray(fun(np.array([s])), dtype=float)[0]) - o * s / 60.0
+
+        s, r = brentq(gs, speeds[i], speeds[i + 1], xtol=xtol_rpm, full_output=True, disp=False)
+        roots.append((int(j), int(k), float(s), int(r.iterations), bool(r.converged)))
     crossings: list[Crossing] = []
-    for j, name in enumerate(names):
-        fun = funcs[name]
-        for e in excitations:
-            g = freqs[j] - e.order * speeds / 60.0
-            roots: list[tuple[float, int, bool]] = []
-            for i in np.flatnonzero(g == 0.0):
-                roots.append((float(speeds[i]), 0, True))
-            for i in np.flatnonzero(g[:-1] * g[1:] < 0):
-
-                def gs(s, fun=fun, o=e.order):
-                    return float(np.asarray(fun(np.array([s])), dtype=float)[0]) - o * s / 60.0
-
-                s, r = brentq(
-                    gs, speeds[i], speeds[i + 1], xtol=xtol_rpm, full_output=True, disp=False
-                )
-                roots.append((float(s), int(r.iterations), bool(r.converged)))
-            for s, it, ok in roots:
-                inside = operating_range_rpm is not None and (
-                    float(operating_range_rpm[0]) <= s <= float(operating_range_rpm[1])
-                )
-                crossings.append(
-                    Crossing(
-                        name,
-                        e.label,
-                        float(e.order),
-                        e.source,
-                        s,
-                        e.order * s / 60.0,
-                        inside,
-                        it,
-                        ok,
-                    )
-                )
+    for j, k, s, it, ok in roots:
+        e = excitations[k]
+        inside = operating_range_rpm is not None and (
+            float(operating_range_rpm[0]) <= s <= float(operating_range_rpm[1])
+        )
+        crossings.append(
+            Crossing(
+                names[j], e.label, float(e.order), e.source, s, e.order * s / 60.0, inside, it, ok
+            )
+        )
     crossings.sort(key=lambda c: (c.speed_rpm, c.mode, c.order))
     rng = (
         None
