@@ -23,3 +23,10 @@ from .scene import load_scene as load_scene
 from .spectrum import campbell as campbell
 from .spectrum import excitation_orders as excitation_orders
 from .spectrum import order_spectrum as order_spectrum
+from .surface import ToothBlank as ToothBlank
+from .surface import blanks_from_design as blanks_from_design
+from .surface import flank_points as flank_points
+from .tca import Assembly as Assembly
+from .tca import AssemblyErrors as AssemblyErrors
+from .tca import TCASettings as TCASettings
+from .tca import run_tca as run_tca
