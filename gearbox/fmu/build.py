@@ -29,10 +29,10 @@ from pathlib import Path
 
 from ..commands._common import write_atomic
 from ..errors import InputError, Problem
-from .codegen import config_h, guid, model_c, model_description, with_solver
+from .codegen import config_h, model_c, model_description, with_solver
 from .spec import FmuModel
 
-__all__ = ["RUNTIME_FILES", "FmuBuild", "build_fmu", "write_sources"]
+__all__ = ["RUNTIME_FILES", "FmuBuild", "build_folder", "build_fmu", "write_sources"]
 
 #: Files of the generic runtime (package data in gearbox/fmu/c/).
 RUNTIME_FILES = (
@@ -138,14 +138,30 @@ def build_fmu(
     """
     model = with_solver(model)
     out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
     src = write_sources(model, source_dir or out_dir / model.identifier)
+    return build_folder(src, out_dir, cc=cc)
+
+
+def build_folder(src: str | Path, out_dir: str | Path, *, cc: str | None = None) -> FmuBuild:
+    """Compile and zip an FMU from a source folder written by :func:`write_sources`
+    (``config.h``, ``model.c``, ``FMI2.xml``, ``readme.md``, ``resources/``), such as
+    the folders under ``fmus/``."""
+    import xml.etree.ElementTree as ET
+
+    src = Path(src)
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    root = ET.parse(src / "FMI2.xml").getroot()
+    ident = root.find("CoSimulation").get("modelIdentifier")
+    n_vars = len(root.find("ModelVariables"))
+    derivatives = root.find("ModelStructure").find("Derivatives")
+    n_states = 0 if derivatives is None else len(derivatives)
+    resources = sorted((src / "resources").iterdir()) if (src / "resources").is_dir() else []
     cc = cc or os.environ.get("CC") or "gcc"
     if shutil.which(cc) is None:
         raise InputError(Problem("cc", cc, "a C compiler on PATH (set CC or install gcc)"))
     plat = _platform()
     suffix = {"linux": ".so", "darwi": ".dylib", "win32": ".dll", "win64": ".dll"}[plat[:5]]
-    ident = model.identifier
     with tempfile.TemporaryDirectory(prefix=f"gbx_{ident}_") as tmp:
         tmp = Path(tmp)
         sources = tmp / "sources"
@@ -157,16 +173,9 @@ def build_fmu(
         binary = tmp / "binaries" / plat / f"{ident}{suffix}"
         binary.parent.mkdir(parents=True)
         cmd = (
-            cc,
-            *CFLAGS,
-            "-I",
-            str(sources),
-            "-o",
-            str(binary),
-            str(sources / "fmi2_runtime.c"),
-            str(sources / "model.c"),
-            "-lm",
-        )
+            cc, *CFLAGS, "-I", str(sources), "-o", str(binary),
+            str(sources / "fmi2_runtime.c"), str(sources / "model.c"), "-lm",
+        )  # fmt: skip
         proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
         if proc.returncode != 0:
             raise RuntimeError(f"compiling {ident} failed ({' '.join(cmd)}):\n{proc.stderr}")
@@ -179,9 +188,9 @@ def build_fmu(
                 z.write(binary, f"binaries/{plat}/{binary.name}")
                 for f in sorted(sources.iterdir()):
                     z.write(f, f"sources/{f.name}")
-                for name in sorted(model.resources):
-                    z.write(src / "resources" / name, f"resources/{name}")
-                if model.readme:
+                for f in resources:
+                    z.write(f, f"resources/{f.name}")
+                if (src / "readme.md").exists():
                     z.write(src / "readme.md", "documentation/readme.md")
             os.replace(tmp_zip, fmu_path)
         except BaseException:
@@ -189,12 +198,12 @@ def build_fmu(
             raise
     return FmuBuild(
         identifier=ident,
-        guid=guid(model),
+        guid=root.get("guid"),
         fmu=str(fmu_path),
         source_dir=str(src),
         command=tuple(cmd),
         compiler_output=proc.stderr,
         platform=plat,
-        n_variables=len(model.variables),
-        n_states=len(model.states),
+        n_variables=n_vars,
+        n_states=n_states,
     )
