@@ -14,7 +14,9 @@ from gearbox.errors import InputError
 from gearbox.ltca import iso_mesh_stiffness, iso_root_section
 from gearbox.ltca.iso6336 import N_PER_MM_UM, virtual_teeth
 
-REF = tomllib.loads((Path(__file__).parent / "data" / "ltca_kisssoft_nrel5mw_stage03.toml").read_text())
+REF = tomllib.loads(
+    (Path(__file__).parent / "data" / "ltca_kisssoft_nrel5mw_stage03.toml").read_text()
+)
 INP = REF["input"]
 
 
@@ -106,7 +108,9 @@ def test_root_section_matches_the_report(gear):
     assert float(s.s_Fn) * 1e3 == pytest.approx(ref["s_Fn_mm"][gear], rel=1e-3), msg
     assert float(s.rho_F) * 1e3 == pytest.approx(ref["rho_F_mm"][gear], rel=1e-3), msg
     assert float(s.h_F) * 1e3 == pytest.approx(ref["h_F_mm"][gear], rel=3e-3), msg
-    assert math.degrees(float(s.alpha_F)) == pytest.approx(ref["alpha_Fen_deg"][gear], abs=0.02), msg
+    assert math.degrees(float(s.alpha_F)) == pytest.approx(ref["alpha_Fen_deg"][gear], abs=0.02), (
+        msg
+    )
     assert float(s.Y_F) == pytest.approx(ref["Y_F"][gear], abs=0.006), msg
     assert float(s.Y_S) == pytest.approx(ref["Y_S"][gear], abs=0.008), msg
     assert s.iterations < 50

@@ -457,7 +457,10 @@ def _sections(gd, blank, side, radius, z):
     )
 
 
-def beveloid_grids(design, scene, field: SeparationField, positions: int, reach: float = 2e-4):
+_REACH = 2e-4  # m: points farther than this from first contact are left out
+
+
+def beveloid_grids(design, scene, field: SeparationField, positions: int, reach: float = _REACH):
     """Contact grids at ``positions`` per mesh cycle from a separation field.
 
     reach (m): points whose gap at first contact exceeds it are left out (the loaded
@@ -570,6 +573,17 @@ def beveloid_ltca(design, scene, *, options: LTCAOptions | None = None):
             options=options,
             compliance=compliance,
         )
+        elastic = float(np.max(res.lte - res.lte_unloaded[None, :]))
+        if elastic > 0.5 * _REACH:
+            raise InputError(
+                Problem(
+                    "load.torques_Nm",
+                    list(torques),
+                    f"the loaded approach {elastic * 1e6:.0f} um exceeds half the contact "
+                    f"grid's reach ({_REACH * 1e6:.0f} um): torques this high leave the "
+                    "modelled contact zone",
+                )
+            )
         results[flank] = res
         senses[flank] = sense
         fields[flank] = field.iterations
