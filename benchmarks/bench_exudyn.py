@@ -73,7 +73,6 @@ def timed(fn, repeat):
 def prestep_run(model, t_eval, y0, step):
     """Mesh law frozen per step: k, e, e' set by a Python pre-step function."""
     import exudyn as exu
-    import exudyn.itemInterface as ii
 
     esym = exu.symbolic
     plan = xb._plan_from_model(model)
@@ -125,16 +124,7 @@ def prestep_run(model, t_eval, y0, step):
 
     pre_step(mbs, 0.0)
     mbs.SetPreStepUserFunction(pre_step)
-    for ov in (exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t):
-        for nd in sysm.nodes:
-            sysm.sensors.append(
-                mbs.AddSensor(
-                    ii.SensorNode(
-                        nodeNumber=nd, storeInternal=True, writeToFile=False, outputVariableType=ov
-                    )
-                )
-            )
-    mbs.Assemble()
+    xb.add_state_sensors(sysm)
     lead = float(t_eval[0])
     n1 = math.ceil(lead / step - 1e-9)
     dt = float(t_eval[1] - t_eval[0])

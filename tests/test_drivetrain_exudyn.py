@@ -2,8 +2,8 @@
 exudyn system's structure, the step limit, failure reports and bad input."""
 
 import dataclasses
-import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,37 +23,14 @@ from gearbox.drivetrain.scipy_backend import ScipySolver  # noqa: E402
 from gearbox.drivetrain.simulate import mesh_force_metrics, simulate  # noqa: E402
 from gearbox.errors import InputError  # noqa: E402
 from gearbox.mesh_analytical import analytical_table, pair_from_scene  # noqa: E402
-from gearbox.scene import load_scene, scene_from_dict  # noqa: E402
+from gearbox.scene import load_scene  # noqa: E402
 
-# Paper case 03 (models/case03.toml, Tables 1-2 of the paper), default drivetrain.
-CASE03 = {
-    "schema": 1,
-    "name": "case03",
-    "pair": {
-        "normal_module_mm": 6.0,
-        "normal_pressure_angle_deg": 20.0,
-        "shaft_angle_deg": 13.0,
-        "offset_mm": 229.0,
-    },
-    "pinion": {
-        "teeth": 29,
-        "helix_angle_deg": 20.0,
-        "cone_angle_deg": 1.0,
-        "profile_shift_xt": 0.16,
-    },
-    "gear": {
-        "teeth": 45,
-        "cone_angle_deg": 0.8,
-        "helix_angle_deg": -7.24,
-        "profile_shift_xt": 0.2191,
-    },
-}
+MODELS = Path(__file__).resolve().parents[1] / "models"
 
 
 def case03(**drivetrain):
-    d = json.loads(json.dumps(CASE03))
-    d["drivetrain"] = drivetrain
-    return scene_from_dict(d)
+    """Paper case 03 (models/case03.toml, Tables 1-2 of the paper) with drivetrain keys."""
+    return load_scene(MODELS / "case03.toml").replaced(drivetrain=drivetrain)
 
 
 def rel(a, b):
@@ -63,7 +40,7 @@ def rel(a, b):
 @pytest.fixture(scope="module")
 def marine():
     """The default scene (models/marine_drive.toml) with its analytical mesh tables."""
-    return DrivetrainModel.from_scene(load_scene("models/marine_drive.toml"))
+    return DrivetrainModel.from_scene(load_scene(MODELS / "marine_drive.toml"))
 
 
 @pytest.fixture(scope="module")
@@ -268,11 +245,9 @@ def test_light_load_with_backlash_agrees_with_scipy_through_impacts():
     # step crosses the contact kinks without locating them, so agreement is looser:
     # RMS within 1e-3 of scipy at rtol 1e-10 (measured 1e-5 when written; the mesh-order
     # amplitude, a small line under the impacts, differed by 2e-2, so it is not asserted).
-    s = case03(firing_torque_ripple=2.0)
-    d = s.to_dict()
-    d["load"] = {"operating_torque_Nm": 150.0}
+    s = case03(firing_torque_ripple=2.0).replaced(load={"operating_torque_Nm": 150.0})
     table = analytical_table(pair_from_scene(s), [150.0, 300.0, 450.0], positions=24)
-    m = DrivetrainModel.from_scene(scene_from_dict(d), table, speed_rpm=600.0)
+    m = DrivetrainModel.from_scene(s, table, speed_rpm=600.0)
     ref = simulate(m, ScipySolver(rtol=1e-10), mesh_cycles=60, samples_per_cycle=16)
     exd = simulate(m, ExudynSolver(), mesh_cycles=60, samples_per_cycle=16)
     assert ref.success and exd.success

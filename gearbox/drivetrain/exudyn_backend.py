@@ -56,6 +56,7 @@ from ..errors import Problems
 __all__ = [
     "ExudynSolver",
     "ExudynSystem",
+    "add_state_sensors",
     "build_exudyn_system",
     "integrate_exudyn",
     "simulate_exudyn",
@@ -589,10 +590,14 @@ def build_exudyn_system(model, solver: ExudynSolver = ExudynSolver(), *, y0=None
     return _build_components(plan, solver)
 
 
-def _add_nodes(mbs, plan: _Plan) -> list:
+def _new_system(plan: _Plan):
+    """(SystemContainer, MainSystem, nodes): one Node1D per coordinate at the plan's state."""
+    import exudyn as exu
     import exudyn.itemInterface as ii
 
-    return [
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    nodes = [
         mbs.AddNode(
             ii.Node1D(
                 name=name,
@@ -603,17 +608,32 @@ def _add_nodes(mbs, plan: _Plan) -> list:
         )
         for i, name in enumerate(plan.names)
     ]
+    return SC, mbs, nodes
 
 
-def _build_components(plan: _Plan, solver: ExudynSolver) -> ExudynSystem:
+def add_state_sensors(system: ExudynSystem) -> None:
+    """Sensors storing every node's coordinate and velocity (in ``system.sensors``)."""
     import exudyn as exu
     import exudyn.itemInterface as ii
 
+    for ov in (exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t):
+        for nd in system.nodes:
+            system.sensors.append(
+                system.mbs.AddSensor(
+                    ii.SensorNode(
+                        nodeNumber=nd, storeInternal=True, writeToFile=False, outputVariableType=ov
+                    )
+                )
+            )
+    system.mbs.Assemble()
+
+
+def _build_components(plan: _Plan, solver: ExudynSolver) -> ExudynSystem:
+    import exudyn.itemInterface as ii
+
     symbolic = solver.user_functions == "symbolic"
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
+    SC, mbs, nodes = _new_system(plan)
     keep: list = []
-    nodes = _add_nodes(mbs, plan)
     bodies, markers = [], []
     for i, (name, nd) in enumerate(zip(plan.names, nodes, strict=True)):
         if plan.rotational[i]:
@@ -694,14 +714,11 @@ def _build_components(plan: _Plan, solver: ExudynSolver) -> ExudynSystem:
 
 
 def _build_generic(plan: _Plan, solver: ExudynSolver) -> ExudynSystem:
-    import exudyn as exu
     import exudyn.itemInterface as ii
 
     symbolic = solver.user_functions == "symbolic"
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
+    SC, mbs, nodes = _new_system(plan)
     keep: list = []
-    nodes = _add_nodes(mbs, plan)
     K, C = _structural(plan)
     fn = _all_forces(plan, symbolic)
     if symbolic:
@@ -925,8 +942,6 @@ def integrate_exudyn(model, y0, t_eval, solver: ExudynSolver = ExudynSolver(), *
     every ``t_eval[1] - t_eval[0]`` with a step that divides the spacing, each step the
     largest one not above the target (``solver.step`` or the automatic choice).
     """
-    import exudyn as exu
-    import exudyn.itemInterface as ii
 
     solver.validate()
     t_eval = np.asarray(t_eval, dtype=float)
@@ -980,16 +995,7 @@ def integrate_exudyn(model, y0, t_eval, solver: ExudynSolver = ExudynSolver(), *
         )
         q.raise_if_any("exudyn step limit")
     mbs = system.mbs
-    for ov in (exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t):
-        for nd in system.nodes:
-            system.sensors.append(
-                mbs.AddSensor(
-                    ii.SensorNode(
-                        nodeNumber=nd, storeInternal=True, writeToFile=False, outputVariableType=ov
-                    )
-                )
-            )
-    mbs.Assemble()
+    add_state_sensors(system)
     build = time.perf_counter() - start
     stages = 7 if solver.method == "RK67" else 4
     steps = 0
