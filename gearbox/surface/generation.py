@@ -47,6 +47,7 @@ __all__ = [
     "principal_curvatures",
     "profile_range",
     "side_sign",
+    "undercut_margin",
 ]
 
 
@@ -272,3 +273,33 @@ def flank_points(blank: ToothBlank, side: str, z, u, *, involute_only: bool = Fa
         roll_angle=phi,
         on_fillet=(uu < 0.0) & (not involute_only),
     )
+
+
+def undercut_margin(blank: ToothBlank, side: str, z) -> np.ndarray:
+    """Undercut margin of a flank in sections z (m), from the generated surface.
+
+    The envelope of the straight rack flank is regular where ``(r_z x r_u) . n`` keeps
+    its sign and has a cuspidal edge (on the base cylinder) where it vanishes, at rack
+    profile parameter ``u*`` (found by secant steps; the function is linear in u for a
+    straight tool flank). The straight flank ends at u = 0, so the flank is free of
+    undercut when ``u* < 0``. Returned as the transverse radial distance
+    ``-u* cos(alpha_n) / cos(gamma)`` (> 0: no undercut), comparable with the classic
+    interference-point condition written per flank in :mod:`gearbox.geometry.checks`.
+    """
+    z = np.atleast_1d(np.asarray(z, dtype=float))
+
+    def g(u):
+        r, n, _ = flank_jets(blank, side, z, u, involute_only=True)
+        R = np.stack([c.d for c in r], axis=-1)
+        return np.einsum("ni,in->n", np.cross(R[1], R[2]), n)
+
+    m = blank.normal_module
+    u0, u1 = np.zeros_like(z), np.full_like(z, m)
+    g0, g1 = g(u0), g(u1)
+    for _ in range(4):
+        u2 = u1 - g1 * (u1 - u0) / (g1 - g0)
+        u0, g0 = u1, g1
+        u1, g1 = u2, g(u2)
+        if np.all(np.abs(u1 - u0) < 1e-15):
+            break
+    return -u1 * math.cos(blank.normal_pressure_angle) / math.cos(blank.cone_angle)
