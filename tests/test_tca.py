@@ -115,6 +115,20 @@ def _assert_conjugate(res):
         assert abs(abs(vt[0] @ n[0]) - 1) < 1e-10
 
 
+def test_drive_side_convention(tca03):
+    """Pinion turning +phi_1 about z_f pushes its R flank into the gear (drive), its L
+    flank away (coast); a larger phi_2 than the contact's moves the gear's R flank into
+    the pinion, so the drive side's gear angle is the smallest over the pairs. The
+    ratio of the normal velocities is N_1/N_2 (base-circle rolling)."""
+    asm = tca03.assembly
+    for fc, sign in ((tca03.drive, 1), (tca03.coast, -1)):
+        p, n = fc.point[fc.active], fc.normal[fc.active]
+        v_pinion = np.einsum("ni,ni->n", np.cross([0, 0, 1.0], p - asm.pinion_origin), n)
+        v_gear = np.einsum("ni,ni->n", np.cross(asm.gear_axis, p - asm.gear_origin), n)
+        assert (sign * v_pinion > 0).all() and (sign * v_gear < 0).all()
+        assert np.allclose(-v_pinion / v_gear, tca03.pinion.teeth / tca03.gear.teeth, rtol=1e-9)
+
+
 def test_perfect_design_is_conjugate_and_backlash_free(tca03):
     _assert_conjugate(tca03)
     # eq. (20) and the designed positions: drive and coast flanks touch together
