@@ -24,7 +24,7 @@ def _path_csv(result) -> str:
     lines = [
         "side,pinion_angle_deg,pair,active,limit,gear_angle_deg,te_arcsec,x_mm,y_mm,z_mm,nx,ny,nz,"
         "pinion_z_mm,pinion_face,pinion_profile,gear_z_mm,gear_face,gear_profile,fpd_deg,"
-        "ellipse_major_mm,ellipse_minor_mm,iterations"
+        "ellipse_major_mm,ellipse_minor_mm,ellipse_angle_deg,iterations"
     ]
     arcsec = 180 / np.pi * 3600
     for fc in (result.drive, result.coast):
@@ -43,7 +43,7 @@ def _path_csv(result) -> str:
                     f"{n[0]:.9f},{n[1]:.9f},{n[2]:.9f},{fc.pinion_zu[i, j, 0] * 1e3:.6f},"
                     f"{fc.pinion_flank[i, j, 0]:.6f},{fc.pinion_flank[i, j, 1]:.6f},{fc.gear_zu[i, j, 0] * 1e3:.6f},"
                     f"{fc.gear_flank[i, j, 0]:.6f},{fc.gear_flank[i, j, 1]:.6f},{np.degrees(fc.fpd_angle[i, j]):.9f},"
-                    f"{a:.6g},{b:.6g},{fc.iterations[i, j]}"
+                    f"{a:.6g},{b:.6g},{np.degrees(fc.ellipse_angle[i, j]):.6f},{fc.iterations[i, j]}"
                 )
     return "\n".join(lines) + "\n"
 

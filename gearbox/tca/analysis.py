@@ -137,6 +137,9 @@ class FlankContact:
         ellipse_axes: (n, P, 2) semi-axes (major, minor) (m); inf where the relative
             curvature vanishes (line contact).
         ellipse_direction: (n, P, 3) major-axis direction in Sf.
+        ellipse_angle: (n, P) angle of the major axis from the pinion's face-width
+            direction (its axis projected on the tangent plane, towards the heel),
+            positive towards the pinion's tip, in (-pi/2, pi/2] (rad).
         gear_angle_pairs: (n, P) gear angle of each pair's contact (rad).
     """
 
@@ -161,6 +164,7 @@ class FlankContact:
     fpd_angle_signed: np.ndarray
     ellipse_axes: np.ndarray
     ellipse_direction: np.ndarray
+    ellipse_angle: np.ndarray
     gear_angle_pairs: np.ndarray
     path_limits: tuple[str, str] = ("", "")
     contact_ratio: float = float("nan")
@@ -278,6 +282,16 @@ class TCAResult:
                 "minor_mm": _fin(float(np.median(e[:, 1])) * 1e3) if e.size else None,
             }
         out["contact_ellipse_semi_axes_median"] = ax
+        out["contact_ellipse_angle_deg_median"] = {
+            fc.name: _fin(float(np.degrees(np.median(fc.ellipse_angle[fc.active]))))
+            if fc.active.any()
+            else None
+            for fc in (self.drive, self.coast)
+        }
+        out["contact_ellipse_angle_note"] = (
+            "major axis from the pinion's face-width direction (towards its heel), "
+            "positive towards its tip"
+        )
         out["marking_compound_um"] = self.settings.marking_compound * 1e6
         mp = {}
         for fc in (self.drive, self.coast):
@@ -531,6 +545,15 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     )
     fpd = np.arccos(np.clip(np.abs(np.einsum("ni,ni->n", r1, r2)), 0.0, 1.0))
     axes, major = _ellipse(fp1.curvatures, d1, fp2.curvatures, d2, nrm, settings.marking_compound)
+    e_face = np.array([0.0, 0.0, 1.0]) - nrm[:, 2:3] * nrm
+    e_face /= np.linalg.norm(e_face, axis=1, keepdims=True)
+    e_prof = np.cross(nrm, e_face)
+    # towards the pinion's tip: the radial direction away from the pinion axis
+    radial = s.point - asm.pinion_origin
+    radial[:, 2] = 0.0
+    e_prof *= np.sign(np.einsum("ni,ni->n", e_prof, radial))[:, None]
+    ang = np.arctan2(np.einsum("ni,ni->n", major, e_prof), np.einsum("ni,ni->n", major, e_face))
+    ang = np.where(ang > np.pi / 2, ang - np.pi, np.where(ang <= -np.pi / 2, ang + np.pi, ang))
     # gear angle of each pair at the sweep's pinion angles
     g_pairs = x[:, 4].reshape(n, P) + 2 * np.pi * pairs[None, :] / N2
     act = active.reshape(n, P)
@@ -593,6 +616,7 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
         fpd_angle_signed=r(fpd_signed),
         ellipse_axes=r(axes),
         ellipse_direction=r(major),
+        ellipse_angle=r(ang),
         gear_angle_pairs=g_pairs,
         path_limits=(str(start), str(end)),
         contact_ratio=float(ratio),
