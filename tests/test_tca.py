@@ -273,6 +273,27 @@ def test_contact_ellipse_matches_gap_between_surfaces(des03):
     )
 
 
+@pytest.mark.parametrize("case", ["01", "03", "04"])
+def test_ellipse_major_axis_lies_between_the_rulings(case):
+    """The relative curvature is the sum of two rank-one tensors (developable flanks),
+    so the major axis lies in the acute angle between the two rulings: between the
+    pinion's face-width direction (its ruling) and the gear's ruling at the FPD angle."""
+    res = run_tca(design(case), settings=TCASettings(positions=15))
+    for fc in (res.drive, res.coast):
+        a = fc.active
+        p, n = fc.point[a], fc.normal[a]
+        e_face = np.array([0.0, 0.0, 1.0]) - n[:, 2:3] * n
+        e_prof = np.cross(n, e_face)
+        radial = p - res.assembly.pinion_origin
+        radial[:, 2] = 0.0
+        about_n = fc.ellipse_angle[a] * np.sign(np.einsum("ni,ni->n", e_prof, radial))
+        f = fc.fpd_angle_signed[a]
+        assert (np.minimum(0, f) - 1e-12 <= about_n).all() and (
+            about_n <= np.maximum(0, f) + 1e-12
+        ).all()
+        assert (np.abs(about_n) > 1e-3 * np.abs(f)).all()  # strictly inside, not on a ruling
+
+
 def test_no_contact_in_range_is_an_error(des03):
     p, g = blanks_from_design(des03)
     asm = Assembly.from_design(des03)
