@@ -115,19 +115,45 @@ def _random_states(model, rng, count):
     return out
 
 
-def test_symbolic_force_functions_equal_the_model_right_hand_side(small):
+@pytest.fixture(scope="module")
+def with_error(small):
+    """``small`` with a non-zero no-load error on both flanks (2 and 0.5 um harmonics)."""
+    e = np.zeros_like(small.drive.e_coef)
+    h = (e.size - 1) // 2
+    e[0], e[1], e[2], e[1 + h] = 0.3e-6, 2e-6, 0.5e-6, -1e-6
+    return dataclasses.replace(
+        small,
+        drive=dataclasses.replace(small.drive, e_coef=e),
+        coast=dataclasses.replace(small.coast, e_coef=-e),
+    )
+
+
+@pytest.mark.parametrize("name", ["small", "marine", "with_error"])
+def test_symbolic_force_functions_equal_the_model_right_hand_side(name, request):
     # Generic layout: M a = f_user(t, q, v) - K q - C v must equal M times the model's
-    # own rhs (docs/drivetrain.md §7) at random states: 1e-9 of the largest term.
-    sysm = build_exudyn_system(small, ExudynSolver(layout="generic"))
+    # own rhs (docs/drivetrain.md §7) at random states: 1e-9 of the largest term. With a
+    # non-zero error series e(theta) the contact test also runs through the band
+    # e_lo < delta - b <= e_hi where the gap s itself decides (states placed there).
+    model = request.getfixturevalue(name)
+    sysm = build_exudyn_system(model, ExudynSolver(layout="generic"))
     uf = sysm.keepalive[0]
-    plan = xb._plan_from_model(small)
+    plan = xb._plan_from_model(model)
     K, C = xb._structural(plan)
-    p = small.params()
-    n = small.n_dof
+    p = model.params()
+    n = model.n_dof
     rng = np.random.default_rng(1)
-    states = _random_states(small, rng, 12)
+    states = _random_states(model, rng, 12)
+    fl = plan.flanks[0]
+    e_lo, e_hi = xb._bounds(fl.e, fl.e_harmonics)
+    if e_hi - e_lo > 1e-12:  # states inside the band of the drive flank
+        for j in range(8):
+            y = model.static_state().copy()
+            u = e_lo + (j + 0.5) / 8 * (e_hi - e_lo)
+            y[1] += (u - fl.G @ y[:n]) / fl.G[1]
+            states.append(y)
     coast_hits = 0
-    for y in states:
+    band = []
+    for i, y in enumerate(states):
         t = float(rng.uniform(0.0, 0.05))
         x, v = y[:n], y[n:]
         f = np.array(uf.Evaluate(sysm.mbs, t, 0, x.tolist(), v.tolist()))
@@ -135,8 +161,13 @@ def test_symbolic_force_functions_equal_the_model_right_hand_side(small):
         want = (rhs(t, y / p["scale"], p) * p["scale"])[n:]
         big = np.abs(want).max() + np.abs(K @ x).max() / plan.inertia.min()
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * big)
-        coast_hits += mesh_forces(t, x, v, p)[0][1] > 0
+        forces = mesh_forces(t, x, v, p)[0]
+        coast_hits += forces[1] > 0
+        if i >= 12:
+            band.append(forces[0] > 0)
     assert coast_hits >= 1  # the coast flank's law was exercised
+    if name == "with_error":  # inside the band, both outcomes of the gap test occur
+        assert any(band) and not all(band)
 
 
 def test_components_layout_is_a_real_exudyn_system(small):

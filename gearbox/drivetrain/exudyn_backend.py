@@ -214,13 +214,25 @@ class _Plan:
         return self.__dict__["_arrays"]
 
 
-def _series(coef: np.ndarray, teeth: int):
-    """FourierSeries from the model's coefficient row [a0, a_1..a_h, b_1..b_h]."""
+def _series(coef: np.ndarray, teeth: int, floor: float = 0.0):
+    """FourierSeries from the model's coefficient row [a0, a_1..a_h, b_1..b_h].
+
+    Harmonics with amplitude sqrt(a_k^2 + b_k^2) below ``floor`` are set to zero: the
+    symbolic expression would evaluate them on every call. The floor is 1e-12 of the
+    series' scale (see :func:`_plan_from_model`), so the dropped part changes the mesh
+    force by about 1e-12 of its static value; it removes the rounding noise the Fourier
+    fit leaves in an error series that is zero in exact arithmetic (a linear mesh:
+    tangent = secant stiffness gives e = LTE - F/k = 0, fitted as ~1e-21 m terms).
+    """
     from ..meshtable import FourierSeries
 
     c = np.asarray(coef, dtype=float)
     h = (c.size - 1) // 2
-    return FourierSeries(float(c[0]), c[1 : 1 + h].copy(), c[1 + h :].copy(), int(teeth), 0.0)
+    a, b = c[1 : 1 + h].copy(), c[1 + h :].copy()
+    small = np.hypot(a, b) < floor
+    a[small] = 0.0
+    b[small] = 0.0
+    return FourierSeries(float(c[0]), a, b, int(teeth), 0.0)
 
 
 def _plan_from_model(model) -> _Plan:
@@ -248,6 +260,7 @@ def _plan_from_model(model) -> _Plan:
         springs.append(
             ("governor", 0, -1, float(model.governor_ki), float(model.governor_kp), float(y0[0]))
         )
+    static = abs(model.torque / model.drive.lambda1 / model.drive.mean_stiffness)  # m
     flanks = []
     for r, (name, fl) in enumerate((("drive", model.drive), ("coast", model.coast))):
         if fl is None:
@@ -256,8 +269,8 @@ def _plan_from_model(model) -> _Plan:
             _Flank(
                 name,
                 G[r].copy(),
-                _series(fl.k_coef, model.pinion_teeth),
-                _series(fl.e_coef, model.pinion_teeth),
+                _series(fl.k_coef, model.pinion_teeth, 1e-12 * abs(float(fl.k_coef[0]))),
+                _series(fl.e_coef, model.pinion_teeth, 1e-12 * static),
                 float(fl.damping),
                 float(fl.backlash),
             )
@@ -299,6 +312,13 @@ def _harmonics(series):
         if R != 0.0:
             out.append((float(k * series.teeth), R, math.atan2(float(b), float(a))))
     return out
+
+
+def _bounds(series, harmonics) -> tuple[float, float]:
+    """Lower and upper bounds of a series, a0 -/+ sum R_k, widened by 1e-9 relative."""
+    r = sum(R for _, R, _ in harmonics)
+    pad = 1e-9 * (abs(float(series.a0)) + r) + 1e-300
+    return float(series.a0) - r - pad, float(series.a0) + r + pad
 
 
 def _fourier_terms(series, harmonics, theta, cos):
@@ -364,7 +384,19 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
             k = _fourier_terms(fl.k, fl.k_harmonics, theta, esym.cos)
             s = delta - e - fl.b
             sdot = ddelta - de * (plan.omega + q_t[ip])
-            F = esym.IfThenElse(s > 0.0, esym.max(zero, k * s + fl.c * sdot), zero)
+            force = esym.max(zero, k * s + fl.c * sdot)
+            # Contact test without the error series where its bounds decide:
+            # e_lo <= e(theta) <= e_hi, so delta - b > e_hi means contact and
+            # delta - b <= e_lo means none; only in between is s itself tested.
+            # Same result, one series fewer per call in loaded running, none for a
+            # flank out of contact (no common subexpressions in exudyn's trees).
+            e_lo, e_hi = _bounds(fl.e, fl.e_harmonics)
+            u = delta - fl.b
+            F = esym.IfThenElse(
+                u > e_hi,
+                force,
+                esym.IfThenElse(u > e_lo, esym.IfThenElse(s > 0.0, force, zero), zero),
+            )
             term = F * esym.Vector(gv)
             total = term if total is None else total + term
         return total
