@@ -49,6 +49,19 @@ class ScipySolver:
         p.raise_if_any("invalid scipy solver settings")
 
 
+def _check_y0(model: DrivetrainModel, y0) -> None:
+    y = np.asarray(y0, dtype=float)
+    pr = Problems()
+    if pr.check(
+        y.shape == (2 * model.n_dof,),
+        "y0",
+        f"shape {y.shape}",
+        f"must have shape ({2 * model.n_dof},)",
+    ):
+        pr.check(bool(np.all(np.isfinite(y))), "y0", y.tolist(), "must be finite")
+    pr.raise_if_any("invalid initial state")
+
+
 def divergence_bound(model: DrivetrainModel, factor: float) -> float:
     """Mesh deflection (m) beyond which a run counts as diverged."""
     static = model.torque / model.drive.lambda1 / model.drive.mean_stiffness
@@ -70,6 +83,7 @@ def integrate_scipy(
     failure (SolverFailure or None), nfev, steps, wall_time.
     """
     solver.validate()
+    _check_y0(model, y0)
     p = model.params()
     scale = p["scale"]
     n = model.n_dof
@@ -79,8 +93,9 @@ def integrate_scipy(
 
     def f(t, z):
         dz = rhs(t, z, p)
-        if not np.all(np.isfinite(dz)) and last["bad"] is None:
+        if not np.all(np.isfinite(dz)):
             last["bad"] = (t, z.copy())
+            raise _NonFinite
         last["t"], last["z"] = t, z
         return dz
 
@@ -98,28 +113,40 @@ def integrate_scipy(
     if solver.first_step is not None:
         opts["first_step"] = solver.first_step
     start = _time.perf_counter()
-    with np.errstate(all="ignore"):
-        sol = solve_ivp(
-            f,
-            (t0, float(t_eval[-1])),
-            np.asarray(y0, float) / scale,
-            method=solver.method,
-            t_eval=t_eval,
-            rtol=solver.rtol,
-            atol=solver.atol if solver.atol is not None else solver.rtol,
-            max_step=solver.max_step,
-            events=[diverged, nan_event],
-            **opts,
-        )
-    wall = _time.perf_counter() - start
-    Y = (sol.y.T * scale) if sol.y.size else np.zeros((0, 2 * n))
-    failure = None
-    if last["bad"] is not None:
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(
+                f,
+                (t0, float(t_eval[-1])),
+                np.asarray(y0, float) / scale,
+                method=solver.method,
+                t_eval=t_eval,
+                rtol=solver.rtol,
+                atol=solver.atol if solver.atol is not None else solver.rtol,
+                max_step=solver.max_step,
+                events=[diverged, nan_event],
+                **opts,
+            )
+    except _NonFinite:
+        wall = _time.perf_counter() - start
         tb, zb = last["bad"]
         failure = SolverFailure(
             "nan", float(tb), "non-finite right-hand side", tuple((zb * scale).tolist())
         )
-    elif sol.status == 1 and len(sol.t_events[0]):
+        info = {
+            "status": "nan",
+            "failure": failure,
+            "nfev": 0,
+            "steps": 0,
+            "rejected": 0,
+            "wall_time": wall,
+            "message": failure.message,
+        }
+        return np.zeros(0), np.zeros((0, 2 * n)), info
+    wall = _time.perf_counter() - start
+    Y = (sol.y.T * scale) if sol.y.size else np.zeros((0, 2 * n))
+    failure = None
+    if sol.status == 1 and len(sol.t_events[0]):
         te = float(sol.t_events[0][0])
         ye = sol.y_events[0][0] * scale
         failure = SolverFailure(
@@ -147,6 +174,10 @@ def integrate_scipy(
         "message": sol.message,
     }
     return sol.t, Y, info
+
+
+class _NonFinite(Exception):
+    """Raised inside the right-hand side to stop solve_ivp at the first NaN/inf."""
 
 
 def _stages(method: str) -> int:
