@@ -2,7 +2,7 @@
 
 - ``run_summary.json``: :meth:`RunSummary.to_dict` plus the cache keys;
 - per requested stage, its result in the file format that suits it:
-  ``design.json``; ``sweep/<study>.csv``; ``tca.json`` (summary); ``ltca.json`` (summary, with the tables as below); ``tables.nc`` (netCDF, needs the
+  ``design.json``; ``sweep/<study>.csv``; ``tca.json`` (summary); ``ltca.json`` (summary); ``tables.nc`` (netCDF, needs the
   ``tables`` extra) and ``tables.csv``; ``dynamics.csv`` (time first) and
   ``dynamics.json`` (metrics, modes); ``spectra.json``; ``waterfall.json``;
   ``campbell.json``; any other result with ``to_dict()`` as ``<stage>.json``;
@@ -97,7 +97,7 @@ def _tca(res, folder: Path) -> list[Path]:
 
 
 def _ltca(res, folder: Path) -> list[Path]:
-    return _json(folder / "ltca.json", res.summary()) + _tables(res.table, folder)
+    return _json(folder / "ltca.json", res.summary())
 
 
 #: stage -> ``writer(result, folder) -> list of paths``; other results: ``<stage>.json``.
