@@ -1037,7 +1037,11 @@ def integrate_exudyn(model, y0, t_eval, solver: ExudynSolver = ExudynSolver(), *
     phases = []
     if n1 > 0:
         h1 = lead / n1
-        every = max(1, round(max(dt, lead / 100) / h1))
+        # settling samples (for locating a failure) every `every` steps, a divisor of
+        # n1 so that the last sample is the state at t_eval[0]
+        every = min(n1, max(1, round(max(dt, lead / 100) / h1)))
+        while n1 % every:
+            every -= 1
         phases.append((t0, float(t_eval[0]), n1, h1 * every))
     if n2 > 0:
         phases.append((float(t_eval[0]), float(t_eval[-1]), n2, dt))
