@@ -3,8 +3,8 @@
 The surfaces come from the envelope of the tilted rack (gearbox.surface.generation).
 The references below are written from textbook geometry, not from that code:
 - an involute helicoid's transverse sections are involutes of one base circle, and
-  its lead 2 pi r_b / tan(beta_b) is constant (Litvin & Fuentes, Gear Geometry, 2nd
-  ed., sec. 12.4);
+  its lead 2 pi r_b / tan(beta_b) is constant (Litvin & Fuentes, Gear Geometry and
+  Applied Theory, 2nd ed. 2004, ch. 14 "Involute Helical Gears with Parallel Axes");
 - the transverse pressure angle of a tilted rack flank, tan a_t = tan a_n cos g / cos b
   -+ tan b sin g, from the flank plane's normal;
 - ISO 21771:2007 helical flanks (eqs for s_t, inv) for gamma = 0.

@@ -3,8 +3,8 @@
 Independent references:
 - involute helicoids on crossed axes are conjugate: the contact moves along one fixed
   straight line (the intersection of the two planes of action), along the common
-  normal, with a constant gear ratio (Litvin & Fuentes, Gear Geometry, 2nd ed.,
-  sec. 13.3 for crossed helical gears);
+  normal, with a constant gear ratio (Litvin & Fuentes, Gear Geometry and Applied
+  Theory, 2nd ed. 2004, ch. 16 "Involute Helical Gears with Crossed Axes");
 - the paper's Table 2 FPD angles (tests/data/paper_tables.toml, decoded from the
   paper's text) and the design stage's eqs (1), (8), (9);
 - the contact ellipse against the gap measured directly between the surfaces.

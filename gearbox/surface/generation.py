@@ -1,7 +1,8 @@
 """Flank surfaces by simulated generation with a tilted rack cutter.
 
-Method (the envelope of the tool surface family, Litvin & Fuentes, *Gear Geometry and
-Applied Theory*, 2nd ed., sections 6.1 and 6.4 "equation of meshing"):
+Method (the envelope of the tool surface family and its equation of meshing, Litvin &
+Fuentes, *Gear Geometry and Applied Theory*, 2nd ed. 2004, ch. 6 "Conjugated Surfaces
+and Curves"):
 
 1. Rack profile in its normal section (coordinates s along the rack's normal pitch,
    v outward, i.e. away from the gear axis): a straight flank through the reference

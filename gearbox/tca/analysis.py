@@ -19,8 +19,9 @@ each contact point, from the generated surfaces.
 
 Contact ellipse: the surfaces' curvature tensors in the common tangent plane are
 added (both convex-positive), and the separation ``delta`` gives the semi-axes
-``sqrt(2 delta / lambda_i)`` (Litvin & Fuentes, sec. 9.3, "instantaneous contact
-ellipse", marking-compound thickness 6.35 um by default).
+``sqrt(2 delta / lambda_i)`` (Litvin & Fuentes, 2nd ed. 2004, ch. 8 "Mating
+Surfaces: Curvature Relations, Contact Ellipse"; marking-compound thickness 6.35 um
+by default).
 """
 
 from __future__ import annotations

@@ -2,8 +2,8 @@
 
 Unknowns per problem: pinion flank parameters (z_1, u_1), gear flank parameters
 (z_2, u_2) and the gear angle phi_2; the pinion angle phi_1 is given. Conditions
-(Litvin & Fuentes, *Gear Geometry and Applied Theory*, 2nd ed., sec. 9.4, tooth
-contact analysis)::
+(Litvin & Fuentes, *Gear Geometry and Applied Theory*, 2nd ed. 2004, ch. 9
+"Computerized Simulation of Meshing and Contact")::
 
     r_f1(z_1, u_1, phi_1) - r_f2(z_2, u_2, phi_2) = 0       (3 equations)
     n_f2 . e_1 = 0,   n_f2 . e_2 = 0                        (normals collinear)
