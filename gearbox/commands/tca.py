@@ -103,7 +103,7 @@ def _figures(result, grids, out, write_atomic):
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    from ..surface.plot import plot_tooth
+    from ..surface.plot import plot_tooth, plot_tooth_sections
     from ..tca.plot import plot_contact_path, plot_transmission_error
 
     def save(fig, name):
@@ -121,7 +121,8 @@ def _figures(result, grids, out, write_atomic):
     plot_transmission_error(result, ax=ax)
     save(fig, "tca_transmission_error.png")
     for who, grid in grids.items():
-        fig = plt.figure(figsize=(6, 5))
-        ax = fig.add_subplot(projection="3d")
+        fig = plt.figure(figsize=(10, 5))
+        ax = fig.add_subplot(1, 2, 1, projection="3d")
         plot_tooth(grid, ax=ax, title=f"{who} tooth 0 (R blue, L red, fillet grey)")
+        plot_tooth_sections(grid, ax=fig.add_subplot(1, 2, 2), title="transverse sections")
         save(fig, f"{who}_tooth.png")
