@@ -48,8 +48,10 @@ class Compliance(Protocol):
     along the common normal at the grid points. ``line_load`` (N/m of contact line,
     shape (n,)) is the current load estimate; levels whose matrix depends on the
     load (``load_dependent = True``, e.g. contact flattening) use it, the solver
-    iterates them to a fixed point. ``tooth_compliance(grid)`` returns the part
-    without the local contact term (for the contact pattern's loaded separation).
+    iterates them to a fixed point. A load-dependent level splits its matrix into
+    ``tooth_matrix(grid)`` (load independent, shape (n, n), computed once per
+    position) and ``contact_diagonal(grid, line_load)`` (shape (n,), m/N, the local
+    flattening), so that ``matrix = tooth_matrix + diag(contact_diagonal)``.
     """
 
     name: str
@@ -58,6 +60,8 @@ class Compliance(Protocol):
     def matrix(self, grid: ContactGrid, line_load: np.ndarray | None = None) -> np.ndarray: ...
 
     def tooth_matrix(self, grid: ContactGrid) -> np.ndarray: ...
+
+    def contact_diagonal(self, grid: ContactGrid, line_load: np.ndarray) -> np.ndarray: ...
 
 
 def _pasternak_block(c_slot, width, lam):
@@ -161,10 +165,19 @@ def _half_thickness(teeth) -> np.ndarray:
 
 
 def compliance_for(fidelity: str) -> Compliance:
-    """The compliance level named by ``ltca.fidelity``."""
+    """The compliance level named by ``ltca.fidelity``: ``fast`` (:class:`FastCompliance`)
+    or ``fe`` (``gearbox.fe.compliance.FECompliance``, where installed)."""
     if fidelity == "fast":
         return FastCompliance()
     p = Problems()
-    p.add("ltca.fidelity", fidelity, "only 'fast' is available in this version ('fe' is planned)")
+    if fidelity == "fe":
+        try:
+            from ..fe.compliance import FECompliance
+        except ImportError as exc:
+            p.add("ltca.fidelity", fidelity, f"the finite-element level is not available ({exc})")
+        else:
+            return FECompliance()
+    else:
+        p.add("ltca.fidelity", fidelity, "must be 'fast' or 'fe'")
     p.raise_if_any("invalid loaded TCA fidelity")
     raise AssertionError  # pragma: no cover

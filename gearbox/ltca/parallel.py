@@ -221,37 +221,24 @@ def parallel_grid(pair: ParallelPair, fraction: float, n_face: int = 40) -> Cont
     # lies beyond this grid (corner contact outside the path of contact, from
     # deflections, is not modelled by the fast level)
     edge = np.zeros(n, dtype=bool)
-    teeth1 = ToothSections.uniform(
-        n,
-        radius=r1,
-        base_radius=rb1,
-        root_radius=pair.root_radius(0),
-        tip_radius=pair.tip_radius(0),
-        bore_radius=pair.bore_ratio * pair.root_radius(0),
-        base_half_angle=pair.base_half_angle(0),
-        teeth=pair.teeth[0],
-        normal_module=pair.normal_module,
-        normal_pressure_angle=pair.normal_pressure_angle,
-        helix_angle=abs(pair.helix_angle),
-        profile_shift=pair.profile_shift[0],
-        rack_dedendum=pair.dedendum_coefficient,
-        rack_root_radius=pair.root_radius_coefficient,
-    )
-    teeth2 = ToothSections.uniform(
-        n,
-        radius=r2,
-        base_radius=rb2,
-        root_radius=pair.root_radius(1),
-        tip_radius=pair.tip_radius(1),
-        bore_radius=pair.bore_ratio * pair.root_radius(1),
-        base_half_angle=pair.base_half_angle(1),
-        teeth=pair.teeth[1],
-        normal_module=pair.normal_module,
-        normal_pressure_angle=pair.normal_pressure_angle,
-        helix_angle=abs(pair.helix_angle),
-        profile_shift=pair.profile_shift[1],
-        rack_dedendum=pair.dedendum_coefficient,
-        rack_root_radius=pair.root_radius_coefficient,
+    teeth1, teeth2 = (
+        ToothSections.uniform(
+            n,
+            radius=r,
+            base_radius=pair.base_radius(i),
+            root_radius=pair.root_radius(i),
+            tip_radius=pair.tip_radius(i),
+            bore_radius=pair.bore_ratio * pair.root_radius(i),
+            base_half_angle=pair.base_half_angle(i),
+            teeth=pair.teeth[i],
+            normal_module=pair.normal_module,
+            normal_pressure_angle=pair.normal_pressure_angle,
+            helix_angle=abs(pair.helix_angle),
+            profile_shift=pair.profile_shift[i],
+            rack_dedendum=pair.dedendum_coefficient,
+            rack_root_radius=pair.root_radius_coefficient,
+        )
+        for i, r in ((0, r1), (1, r2))
     )
     # mesh point and normal in a pair frame: x along the centre line, z along the axis
     aw = pair.working_pressure_angle
