@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{e1c6dad7-3df5-b740-daae-c6afbbb41a85}"
+#define MODEL_GUID "{d7beada2-c9d3-c819-e9c6-7543ac813ff5}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

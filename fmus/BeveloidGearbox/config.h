@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{b8705cd8-422a-59c3-2321-7fe1fe547950}"
+#define MODEL_GUID "{43cd4363-454d-ae86-a73f-1f65fa6ecdc6}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

@@ -372,10 +372,18 @@ static void series(const double *c, int h, double N, const double *cs, const dou
     double s = c[0], ds = 0.0;
     for (k = 1; k <= h; k++) {
         s += c[k] * cs[k] + c[h + k] * sn[k];
-        ds += k * N * (c[h + k] * cs[k] - c[k] * sn[k]);
+        ds += k * (c[h + k] * cs[k] - c[k] * sn[k]);
     }
     *f = s;
-    *df = ds;
+    *df = N * ds;
+}
+
+/* value only */
+static double series_value(const double *c, int h, const double *cs, const double *sn) {
+    int k;
+    double s = c[0];
+    for (k = 1; k <= h; k++) s += c[k] * cs[k] + c[h + k] * sn[k];
+    return s;
 }
 
 /* Mesh forces F[2] (N), gaps, and LTE_drive at (t, x, v); docs section 3 */
@@ -400,7 +408,7 @@ static void mesh(const ModelInstance *m, double t, const double *x, const double
         }
     }
     for (f = 0; f < 2; f++) {
-        double kf, dk, ef, de, delta = 0.0, ddelta = 0.0, s, sd;
+        double kf, ef, de, delta = 0.0, ddelta = 0.0, s, sd;
         F[f] = 0.0;
         if (f >= d->nf) continue;
         for (i = 0; i < NDOF; i++) {
@@ -409,16 +417,14 @@ static void mesh(const ModelInstance *m, double t, const double *x, const double
         }
         /* s <= delta + max|e| - b: no contact possible, F = 0 without the series */
         if (delta + d->ebound[f] - d->bl[f] <= 0.0) continue;
-        series(d->coef + (3 * f) * nc, h, d->n1, cs, sn, &kf, &dk);
+        kf = series_value(d->coef + (3 * f) * nc, h, cs, sn);
         series(d->coef + (3 * f + 1) * nc, h, d->n1, cs, sn, &ef, &de);
         s = delta - ef - d->bl[f];
         sd = ddelta - de * (d->Omega + v[1]);
         if (s > 0.0) F[f] = fmax(kf * s + d->cm[f] * sd, 0.0);
     }
     if (lte_drive) {
-        double l, dl;
-        series(d->coef + 2 * nc, h, d->n1, cs, sn, &l, &dl);
-        *lte_drive = l;
+        *lte_drive = series_value(d->coef + 2 * nc, h, cs, sn);
     }
 }
 

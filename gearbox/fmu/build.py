@@ -29,7 +29,7 @@ from pathlib import Path
 
 from ..commands._common import write_atomic
 from ..errors import InputError, Problem
-from .codegen import config_h, model_c, model_description, with_solver
+from .codegen import config_h, model_c, model_description, variables_markdown, with_solver
 from .spec import FmuModel
 
 __all__ = ["RUNTIME_FILES", "FmuBuild", "build_folder", "build_fmu", "write_sources"]
@@ -110,7 +110,9 @@ def write_sources(model: FmuModel, folder: str | Path) -> Path:
     write_atomic(folder / "model.c", model_c(model))
     write_atomic(folder / "FMI2.xml", model_description(model, generation_tool=_tool()))
     if model.readme:
-        write_atomic(folder / "readme.md", model.readme)
+        write_atomic(
+            folder / "readme.md", model.readme.rstrip() + "\n\n" + variables_markdown(model)
+        )
     for name, text in model.resources.items():
         write_atomic(folder / "resources" / name, text)
     return folder

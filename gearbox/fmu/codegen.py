@@ -16,7 +16,15 @@ from xml.sax.saxutils import quoteattr
 
 from .spec import KINDS, FmuModel, Variable
 
-__all__ = ["SOLVER_VARIABLES", "config_h", "guid", "model_c", "model_description", "with_solver"]
+__all__ = [
+    "SOLVER_VARIABLES",
+    "config_h",
+    "guid",
+    "model_c",
+    "model_description",
+    "variables_markdown",
+    "with_solver",
+]
 
 #: Parameters of the internal Co-Simulation integrator, added to every FMU.
 SOLVER_VARIABLES = (
@@ -282,3 +290,29 @@ def model_description(model: FmuModel, *, generation_tool: str = "gearbox") -> s
         lines.append("    </InitialUnknowns>")
     lines += ["  </ModelStructure>", "</fmiModelDescription>", ""]
     return "\n".join(lines)
+
+
+def variables_markdown(model: FmuModel) -> str:
+    """The FMU's variables as a Markdown table (value reference, causality, unit,
+    start, accepted range, description)."""
+    lines = [
+        "## Variables",
+        "",
+        "| vr | name | kind | unit | start | accepted values | description |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for i, v in enumerate(model.variables):
+        if v.kind in ("parameter", "input"):
+            lo = "(" if v.min_open or math.isinf(v.min) else "["
+            hi = ")" if v.max_open or math.isinf(v.max) else "]"
+            rng = f"{lo}{v.min:g}, {v.max:g}{hi}"
+            start = f"{v.start:.6g}"
+        else:
+            rng = start = ""
+        kind = (
+            f"{v.kind} ({'fixed' if v.fixed else 'tunable'})" if v.kind == "parameter" else v.kind
+        )
+        lines.append(
+            f"| {i} | `{v.name}` | {kind} | {v.unit} | {start} | {rng} | {v.description} |"
+        )
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,225 @@
+"""Benchmark: the drivetrain FMU against real time and beside the Python solvers.
+
+One second of the default scene (models/marine_drive.toml) at 2000 rpm and the scene's
+operating torque, from the static equilibrium, mesh force sampled every 1e-4 s. Prints the median wall time over
+repeats, the real-time factor (simulated time over wall time), the ratio to the FMU
+in Co-Simulation (the baseline, measured in the same run) and the error of the mesh
+force: RMS difference over the AC RMS of a reference run (the FMU in Co-Simulation at
+rtol 1e-12; tests/test_fmu.py checks the FMU against the scipy solver).
+
+    python3 benchmarks/bench_fmu.py            # all rows (about 2 minutes)
+    python3 benchmarks/bench_fmu.py --quick    # FMU rows only
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import shutil
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gearbox import load_scene
+from gearbox.drivetrain.model import outputs
+from gearbox.fmu import build_fmu, drivetrain_fmu
+from gearbox.fmu.cosim import build_cosim_fmus, cosim_drivetrain
+from gearbox.fmu.models import model_from_scene
+from gearbox.fmu.run import ac_relative_error, simulate_fmu
+
+SCENE = Path(__file__).parents[1] / "models" / "marine_drive.toml"
+SPEED_RPM = 2000.0
+STOP = 1.0
+DT = 1e-4
+
+
+def median_time(fn, repeats):
+    times, out = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), out
+
+
+def c_driver_runs(fmu_path: str, tmp: Path, repeats: int) -> list[tuple[str, float]]:
+    """Wall times from fmus/harness/fmu_bench.c: the FMU driven from C, no Python importer."""
+    import subprocess
+    import zipfile
+
+    from fmpy import read_model_description
+
+    md = read_model_description(fmu_path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    d = tmp / "unzipped"
+    zipfile.ZipFile(fmu_path).extractall(d)
+    exe = tmp / "fmu_bench"
+    src = Path(__file__).parents[1] / "fmus" / "harness" / "fmu_bench.c"
+    subprocess.run(
+        ["gcc", "-std=c11", "-O2", "-I", str(d / "sources"), str(src), "-ldl", "-o", str(exe)],
+        check=True,
+    )
+    out = []
+    for rtol in (1e-4, 1e-6, 1e-8):
+        for step in (DT, STOP):
+            p = subprocess.run(
+                [
+                    str(exe),
+                    str(d),
+                    md.coSimulation.modelIdentifier,
+                    md.guid,
+                    str(vr["solver.rtol"]),
+                    repr(rtol),
+                    repr(STOP),
+                    repr(step),
+                    str(max(repeats, 3)),
+                ],
+                capture_output=True,
+                text=True,
+                check=True,
+            )
+            wall = float(p.stdout.split()[2])
+            label = f"DOPRI5 rtol {rtol:.0e}, " + ("10^4 steps" if step == DT else "1 doStep")
+            out.append((label, wall))
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true", help="FMU rows only")
+    ap.add_argument("--repeats", type=int, default=3)
+    args = ap.parse_args()
+    scene = load_scene(SCENE)
+    d = scene["drivetrain"]
+    # same engine torque as the scene's operating point (inside the mesh table), at 2000 rpm
+    torque = d["engine_power_kW"] * 1e3 / (d["engine_speed_rpm"] * math.pi / 30)
+    scene = scene.replaced(
+        drivetrain={
+            "engine_speed_rpm": SPEED_RPM,
+            "engine_power_kW": torque * SPEED_RPM * math.pi / 30 / 1e3,
+        }
+    )
+    model, table = model_from_scene(scene)
+    tmp = Path(tempfile.mkdtemp(prefix="bench_fmu_"))
+    fmu = build_fmu(drivetrain_fmu(model, table), tmp).fmu
+    t_ref, ch, _ = simulate_fmu(fmu, stop_time=STOP, step=DT, rtol=1e-12, outputs=["mesh.force"])
+    f_ref = ch["mesh.force"]
+    print(
+        f"scene {SCENE.name} at {SPEED_RPM:g} rpm, {STOP:g} s simulated, "
+        f"mesh frequency {model.mesh_frequency:.1f} Hz, outputs every {DT:g} s"
+    )
+    print(
+        f"reference: FMU Co-Simulation, DOPRI5 rtol 1e-12; mesh force AC RMS {np.std(f_ref):.1f} N"
+    )
+    rows = []
+
+    def row(name, setting, wall, t, f, note=""):
+        err = ac_relative_error(t, f, t_ref, f_ref) if f is not None else float("nan")
+        rows.append((name, setting, wall, err, note))
+
+    for rtol in (1e-4, 1e-6, 1e-8):
+        wall, (t, c, _) = median_time(
+            lambda r=rtol: simulate_fmu(
+                fmu, stop_time=STOP, step=DT, rtol=r, outputs=["mesh.force"]
+            ),
+            args.repeats,
+        )
+        row(
+            "FMU Co-Simulation (fmpy)",
+            f"DOPRI5 rtol {rtol:.0e}, 10^4 steps",
+            wall,
+            t,
+            c["mesh.force"],
+        )
+    for label, wall in c_driver_runs(fmu, tmp, args.repeats):
+        row("FMU Co-Simulation (C driver)", label, wall, None, None, "error: fmpy row, same rtol")
+    wall, (t, c, _) = median_time(
+        lambda: simulate_fmu(
+            fmu,
+            interface="ModelExchange",
+            stop_time=STOP,
+            step=DT,
+            rtol=1e-8,
+            outputs=["mesh.force"],
+        ),
+        1,
+    )
+    row("FMU Model Exchange (fmpy CVode)", "rtol 1e-8", wall, t, c["mesh.force"])
+    builds = build_cosim_fmus(model, table, tmp / "cosim")
+    for step in (1e-4, 5e-5):
+        wall, res = median_time(
+            lambda s=step: cosim_drivetrain(
+                model, table, tmp / "cosim", step=s, stop_time=STOP, builds=builds
+            ),
+            1,
+        )
+        k = np.abs(t_ref / step - np.round(t_ref / step)) < 1e-6
+        err = ac_relative_error(
+            res.time,
+            res["mesh_force_N"],
+            t_ref[k & (t_ref <= res.time[-1])],
+            f_ref[k & (t_ref <= res.time[-1])],
+        )
+        rows.append(
+            (
+                "libcosim: engine + gearbox + propeller",
+                f"step {step:g} s, rates",
+                wall,
+                err,
+                "coupling error",
+            )
+        )
+    if not args.quick:
+        y0 = model.static_state()
+        t_eval = t_ref
+        from gearbox.drivetrain.scipy_backend import ScipySolver, integrate_scipy
+
+        wall, (t, y, _) = median_time(
+            lambda: integrate_scipy(model, y0, t_eval, ScipySolver(rtol=1e-6)), 1
+        )
+        row("scipy solve_ivp DOP853", "rtol 1e-6", wall, t, outputs(model, t, y)["mesh_force_N"])
+        try:
+            from gearbox.drivetrain.diffrax_backend import DiffraxSolver, integrate_diffrax
+
+            wall0, _ = median_time(
+                lambda: integrate_diffrax(model, y0, t_eval, DiffraxSolver(rtol=1e-6)), 1
+            )
+            wall, (t, y, _) = median_time(
+                lambda: integrate_diffrax(model, y0, t_eval, DiffraxSolver(rtol=1e-6)), 1
+            )
+            row(
+                "diffrax Tsit5 (jit)",
+                "rtol 1e-6",
+                wall,
+                t,
+                outputs(model, t, y)["mesh_force_N"],
+                f"first call {wall0:.2f} s incl. compile",
+            )
+        except Exception as exc:  # a backend missing on this machine is a row, not a crash
+            rows.append(("diffrax Tsit5", "rtol 1e-6", float("nan"), float("nan"), repr(exc)[:60]))
+        try:
+            from gearbox.drivetrain.exudyn_backend import ExudynSolver, integrate_exudyn
+
+            wall, (t, y, _) = median_time(
+                lambda: integrate_exudyn(model, y0, t_eval, ExudynSolver()), 1
+            )
+            row("exudyn", "RK67, default step", wall, t, outputs(model, t, y)["mesh_force_N"])
+        except Exception as exc:
+            rows.append(("exudyn", "RK67", float("nan"), float("nan"), repr(exc)[:60]))
+    base = rows[2][2]  # FMU Co-Simulation (fmpy) at rtol 1e-8
+    print()
+    print(f"| {'method':<38} | {'setting':<28} | wall (s) | x real time | / FMU CS | error | note")
+    print(f"|{'-' * 40}|{'-' * 30}|---|---|---|---|---|")
+    for name, setting, wall, err, note in rows:
+        print(
+            f"| {name:<38} | {setting:<28} | {wall:8.3f} | {STOP / wall:11.0f} | "
+            f"{wall / base:8.2f} | {err:.1e} | {note}"
+        )
+    shutil.rmtree(tmp, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
