@@ -16,7 +16,13 @@ import numpy as np
 import pytest
 from scipy.optimize import least_squares
 
-from gearbox.surface import ToothBlank, flank_points, profile_range, tip_parameter
+from gearbox.surface import (
+    ToothBlank,
+    flank_points,
+    parameter_at_radius,
+    profile_range,
+    tip_parameter,
+)
 
 D = math.radians
 
@@ -221,8 +227,13 @@ def test_fillet_joins_involute_smoothly_and_reaches_root_cone(name):
         u = np.linspace(u_min, ut.min(), 200)
         r = flank_points(b, side, z[:, None], u[None, :]).radius
         assert np.all(np.diff(r, axis=1) > 0)
-        # the tip parameter lands on the tip cone
+        # the tip parameter lands on the tip cone, and any radius on the flank is found
         assert np.allclose(flank_points(b, side, z, ut).radius, b.tip_radius(z), atol=1e-12)
+        r_target = np.linspace(r[:, 0].max() + 1e-4, b.tip_radius(z).min(), 7)
+        ur, _ = parameter_at_radius(b, side, z[:, None], r_target[None, :])
+        assert np.allclose(
+            flank_points(b, side, z[:, None], ur).radius, r_target[None, :], atol=1e-12
+        )
 
 
 @pytest.mark.parametrize("name", ["case03-pinion", "steep"])

@@ -22,6 +22,7 @@ from .generation import profile_range as profile_range
 from .generation import undercut_margin as undercut_margin
 from .sample import SolveFailure as SolveFailure
 from .sample import flank_grid as flank_grid
+from .sample import parameter_at_radius as parameter_at_radius
 from .sample import tip_parameter as tip_parameter
 from .sample import tooth_csv as tooth_csv
 from .sample import tooth_grid as tooth_grid
@@ -35,6 +36,7 @@ __all__ = [
     "flank_grid",
     "flank_jets",
     "flank_points",
+    "parameter_at_radius",
     "principal_curvatures",
     "profile_range",
     "tip_parameter",

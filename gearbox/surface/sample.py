@@ -11,7 +11,14 @@ from ..errors import InputError, Problem
 from .blank import SIDES, ToothBlank
 from .generation import FlankPoints, flank_jets, flank_points, profile_range
 
-__all__ = ["tip_parameter", "flank_grid", "tooth_grid", "tooth_csv", "SolveFailure"]
+__all__ = [
+    "parameter_at_radius",
+    "tip_parameter",
+    "flank_grid",
+    "tooth_grid",
+    "tooth_csv",
+    "SolveFailure",
+]
 
 MAX_ITER = 30
 
@@ -20,35 +27,59 @@ class SolveFailure(InputError):
     """A bounded iteration did not converge (names the quantity and the iterations)."""
 
 
-def tip_parameter(blank: ToothBlank, side: str, z, *, tol: float = 1e-12) -> tuple[np.ndarray, int]:
-    """Rack-profile parameter u where the flank meets the tip cone r = r_a(z).
+def parameter_at_radius(
+    blank: ToothBlank, side: str, z, radius, *, tol: float = 1e-12, max_iter: int = MAX_ITER
+) -> tuple[np.ndarray, int]:
+    """Rack-profile parameter u of the flank point at a given radius in sections z.
 
-    Bounded Newton iteration on ``|r(z, u)| - r_a(z)`` (the radius grows with u on the
-    involute part). Returns ``(u_tip, iterations)``; raises :class:`SolveFailure` when
-    ``MAX_ITER`` steps do not reach ``tol`` (m).
+    Safeguarded Newton iteration on ``|r(z, u)| - radius`` with exact derivatives: the
+    radius grows with u from the root cone (u_min) to beyond the tip when there is no
+    undercut, so a bracket is kept and a step that leaves it is replaced by bisection
+    (the radius is nearly stationary at the bottom of the fillet). Started from the rack
+    height ``(radius - r_p - X(z)) cos(gamma)``. Arrays z and radius broadcast.
+    Returns ``(u, iterations)``; raises :class:`SolveFailure` when ``max_iter`` steps do
+    not reach ``tol`` (m).
     """
-    z = np.asarray(z, dtype=float)
-    ra = blank.tip_radius(z)
+    z, radius = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(radius, dtype=float))
     sa, ca = math.sin(blank.normal_pressure_angle), math.cos(blank.normal_pressure_angle)
     vt = -blank.tool_addendum + blank.tool_tip_radius * (1 - sa)
-    u = np.full(z.shape, (blank.addendum - vt) / ca)
-    for it in range(1, MAX_ITER + 1):
+    height = (radius - blank.reference_pitch_radius - blank.rack_shift(z)) * math.cos(
+        blank.cone_angle
+    )
+    lo = np.full(z.shape, profile_range(blank)[0])
+    hi = np.full(z.shape, (blank.addendum + 2 * blank.normal_module - vt) / ca)
+    u = np.clip((height - vt) / ca, lo, hi)
+    for it in range(1, max_iter + 1):
         r, _, _ = flank_jets(blank, side, z, u)
         x, y = r[0], r[1]
         rad = np.hypot(x.val, y.val)
-        drad = (x.val * x.d[2] + y.val * y.d[2]) / rad
-        step = (rad - ra) / drad
-        u = u - np.clip(step, -blank.normal_module, blank.normal_module)
-        if np.all(np.abs(rad - ra) <= tol):
+        f = rad - radius
+        if np.all(np.abs(f) <= tol):
             return u, it
+        drad = (x.val * x.d[2] + y.val * y.d[2]) / rad
+        lo = np.where(f < 0, u, lo)
+        hi = np.where(f > 0, u, hi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = u - f / drad
+        inside = np.isfinite(newton) & (newton > lo) & (newton < hi)
+        u = np.where(inside, newton, 0.5 * (lo + hi))
     raise SolveFailure(
         Problem(
-            f"tip_parameter[{side}]",
-            float(np.max(np.abs(rad - ra))),
-            f"Newton iteration for the tip cone did not reach {tol} m in {MAX_ITER} steps",
+            f"parameter_at_radius[{side}]",
+            float(np.max(np.abs(f))),
+            f"Newton iteration for the flank radius did not reach {tol} m in {max_iter} steps",
         ),
         "flank limits",
     )
+
+
+def tip_parameter(blank: ToothBlank, side: str, z, *, tol: float = 1e-12) -> tuple[np.ndarray, int]:
+    """Rack-profile parameter u where the flank meets the tip cone r = r_a(z).
+
+    :func:`parameter_at_radius` with the tip-cone radius. Returns ``(u_tip, iterations)``.
+    """
+    z = np.asarray(z, dtype=float)
+    return parameter_at_radius(blank, side, z, blank.tip_radius(z), tol=tol)
 
 
 def flank_grid(
