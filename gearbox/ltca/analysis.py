@@ -83,7 +83,8 @@ class CycleResult:
     root_stress_pinion, root_stress_gear (T, P) Pa, largest over the face;
     root_stress_face_pinion, root_stress_face_gear (T, S) Pa, largest over the cycle
     per face slot; pair_index (K,) and pair_share (T, P, K) load share of each tooth
-    pair; mesh_point, line_of_action (T, P, 3) in the grid's frame;
+    pair; pair_root_stress (T, P, K, 2) largest root stress of each tooth pair (Pa,
+    pinion and gear); mesh_point, line_of_action (T, P, 3) in the grid's frame;
     pattern_pressure (T, U, V) Pa, largest Hertz pressure met by each cell over the
     cycle (0 = never in contact); pattern_area_fraction (T,);
     edge_load_fraction (T, P); iterations (T, P) active-set iterations;
@@ -104,6 +105,7 @@ class CycleResult:
     root_stress_face_gear: np.ndarray
     pair_index: np.ndarray
     pair_share: np.ndarray
+    pair_root_stress: np.ndarray
     mesh_point: np.ndarray
     line_of_action: np.ndarray
     pattern_pressure: np.ndarray
@@ -132,10 +134,18 @@ class CycleResult:
         Returns (x, share): x in mesh cycles from the first position where the pair
         can touch, shape (K P,), and its share of the normal load.
         """
+        return self._engagement(self.pair_share[t])
+
+    def tooth_root_stress(self, t: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """Largest root stress of one tooth (pinion, gear) through its engagement, as
+        the load moves along the profile (paper Fig. 15(a)): (x, stress (K P, 2) Pa)."""
+        return self._engagement(self.pair_root_stress[t])
+
+    def _engagement(self, per_pair):
         # pair k's contact line lies k base pitches further along the path: at
         # position f it is the tooth that entered f + k cycles earlier
         x = np.concatenate([self.fraction + k for k in self.pair_index])
-        v = np.concatenate([self.pair_share[t, :, kk] for kk in range(self.pair_index.size)])
+        v = np.concatenate([per_pair[:, kk] for kk in range(self.pair_index.size)])
         o = np.argsort(x)
         return x[o] - x.min(), v[o]
 
@@ -221,6 +231,7 @@ def ltca_cycle(
     converged = np.ones((T, P), dtype=bool)
     lte0 = np.zeros(P)
     share = np.zeros((T, P, pair_index.size))
+    pair_rs = np.zeros((T, P, pair_index.size, 2))
     mesh_point = np.zeros((T, P, 3))
     loa = np.zeros((T, P, 3))
     rs_face1 = np.zeros((T, S))
@@ -281,7 +292,10 @@ def ltca_cycle(
             np.maximum.at(rs_face1[t], grid.slot, s1)
             np.maximum.at(rs_face2[t], grid.slot, s2)
             for kk, k in enumerate(pair_index):
-                share[t, j, kk] = float(F[grid.pair == k].sum()) / Fn
+                on = grid.pair == k
+                share[t, j, kk] = float(F[on].sum()) / Fn
+                if on.any():
+                    pair_rs[t, j, kk] = (float(s1[on].max()), float(s2[on].max()))
             mesh_point[t, j] = (F @ grid.position) / Fn
             nv = F @ grid.normal
             loa[t, j] = nv / np.linalg.norm(nv)
@@ -336,6 +350,7 @@ def ltca_cycle(
         root_stress_face_gear=rs_face2,
         pair_index=pair_index,
         pair_share=share,
+        pair_root_stress=pair_rs,
         mesh_point=mesh_point,
         line_of_action=loa,
         pattern_pressure=pattern,

@@ -14,6 +14,7 @@ __all__ = [
     "plot_lte",
     "plot_mesh_stiffness",
     "plot_root_stress_face",
+    "plot_root_stress_profile",
     "save_figures",
 ]
 
@@ -75,6 +76,20 @@ def plot_lte(results, t: int = 0, ax=None):
     return ax
 
 
+def plot_root_stress_profile(results, t: int = 0, ax=None):
+    """Largest root stress (MPa) of one tooth through its engagement, as its load moves
+    along the profile (Fig. 15(a))."""
+    ax = _axes(ax)
+    for label, res in results.items():
+        x, s = res.tooth_root_stress(t)
+        ax.plot(x, s[:, 0] / 1e6, label=f"{label} pinion")
+        ax.plot(x, s[:, 1] / 1e6, ls="--", label=f"{label} gear")
+    ax.set_xlabel("engagement of one tooth (mesh cycles)")
+    ax.set_ylabel("root stress (MPa)")
+    ax.legend()
+    return ax
+
+
 def plot_root_stress_face(results, t: int = 0, ax=None):
     """Largest root stress (MPa) over the cycle along the face width (Fig. 15(b))."""
     ax = _axes(ax)
@@ -119,9 +134,12 @@ def save_figures(results, out_dir, t: int = 0) -> list:
     for name, fn in (
         ("mesh_stiffness.png", plot_mesh_stiffness),
         ("lte.png", plot_lte),
-        ("root_stress.png", plot_root_stress_face),
     ):
         fig, ax = plt.subplots(figsize=(6, 4))
         fn(results, t, ax=ax)
         save(fig, name)
+    fig, axs = plt.subplots(1, 2, figsize=(11, 4))
+    plot_root_stress_profile(results, t, ax=axs[0])
+    plot_root_stress_face(results, t, ax=axs[1])
+    save(fig, "root_stress.png")
     return paths
