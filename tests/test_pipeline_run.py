@@ -250,3 +250,63 @@ def test_interrupted_run_leaves_no_half_written_report(tmp_path, where):
     assert (out / "report.html").read_text() == old
     leftovers = [p.name for p in out.iterdir() if p.name not in ("report.html", "run_summary.json")]
     assert leftovers == [], leftovers
+
+
+@pytest.mark.slow
+def test_default_scene_end_to_end_through_the_cli(tmp_path, capsys):
+    """The README's first command on the default scene, shortened (fewer mesh cycles
+    and speeds), through the default process pool; every stage produces."""
+    text = MARINE.read_text()
+    for old, new in (
+        ("settled_mesh_cycles = 900", "settled_mesh_cycles = 60"),
+        ("sweep_speeds = 10", "sweep_speeds = 2"),
+        ("samples_per_mesh_cycle = 32", "samples_per_mesh_cycle = 16"),
+    ):
+        assert old in text
+        text = text.replace(old, new)
+    scene = tmp_path / "marine_drive.toml"
+    scene.write_text(text)
+    out = tmp_path / "out"
+    rc = main(
+        [
+            "run",
+            str(scene),
+            "--out",
+            str(out),
+            "--cache",
+            str(tmp_path / "c"),
+            "--jobs",
+            "2",
+            "--no-progress",
+            "--json",
+        ]
+    )
+    printed = json.loads(capsys.readouterr().out)
+    assert rc == 0, printed
+    got = {r["name"]: r["status"] for r in printed["summary"]["records"]}
+    assert got == {name: "computed" for name in got}, got
+    assert set(got) >= {
+        "design",
+        "tca",
+        "ltca",
+        "tables",
+        "dynamics",
+        "spectra",
+        "waterfall",
+        "campbell",
+    }
+    html = (out / "report.html").read_text()
+    for anchor in (
+        "design",
+        "tca",
+        "ltca",
+        "tables",
+        "dynamics",
+        "spectra",
+        "waterfall",
+        "campbell",
+        "provenance",
+    ):
+        assert f'id="{anchor}"' in html, anchor
+    assert "report section could not be drawn" not in html
+    assert (out / "tables.nc").exists() and (out / "dynamics.csv").exists()
