@@ -310,3 +310,21 @@ def test_default_scene_end_to_end_through_the_cli(tmp_path, capsys):
         assert f'id="{anchor}"' in html, anchor
     assert "report section could not be drawn" not in html
     assert (out / "tables.nc").exists() and (out / "dynamics.csv").exists()
+
+
+def test_fmu_stage_writes_a_valid_fmu(marine, tmp_path):
+    fmpy_validate = pytest.importorskip("fmpy.validation")
+    import shutil
+
+    if shutil.which("gcc") is None and not os.environ.get("CC"):
+        pytest.skip("no C compiler")
+    scene = marine.replaced(outputs={"mesh_tables": "analytical"})
+    run = run_pipeline(scene, ["fmu"], cache=tmp_path / "c")
+    assert statuses(run) == {"design": "computed", "tables": "computed", "fmu": "computed"}
+    from gearbox.pipeline.outputs import write_outputs
+
+    files = write_outputs(run, tmp_path / "out")
+    fmu = tmp_path / "out" / "fmu" / "BeveloidDrivetrain.fmu"
+    assert fmu in files
+    assert fmu.read_bytes() == run["fmu"].data
+    assert fmpy_validate.validate_fmu(str(fmu)) == []

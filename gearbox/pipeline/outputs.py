@@ -5,7 +5,9 @@
   ``design.json``; ``sweep/<study>.csv``; ``tca.json`` (summary); ``ltca.json`` (summary); ``tables.nc`` (netCDF, needs the
   ``tables`` extra) and ``tables.csv``; ``dynamics.csv`` (time first) and
   ``dynamics.json`` (metrics, modes); ``spectra.json``; ``waterfall.json``;
-  ``campbell.json``; any other result with ``to_dict()`` as ``<stage>.json``;
+  ``campbell.json``; ``fmu/<identifier>.fmu``; results with their own
+  ``write_files(folder)`` write themselves; any other result with ``to_dict()`` as
+  ``<stage>.json``;
 - ``report.html`` when ``report`` is requested, written last.
 """
 
@@ -124,6 +126,8 @@ def write_outputs(run, folder: str | Path) -> list[Path]:
             continue
         if name in WRITERS:
             files += WRITERS[name](result, folder)
+        elif hasattr(result, "write_files"):
+            files += [Path(p) for p in result.write_files(folder)]
         elif hasattr(result, "to_dict"):
             files += _json(folder / f"{name}.json", result.to_dict())
     if "report" in run.summary.requested:

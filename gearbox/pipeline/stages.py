@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
-from .adapters import dynamics, geometry, mesh
+from .adapters import dynamics, fmu, geometry, mesh
 from .adapters._require import require
 from .stage import Stage
 
@@ -106,6 +106,15 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             code=("gearbox.drivetrain", "gearbox.meshtable", "gearbox.spectrum"),
             validate=_check_sweep,
             doc="Eigenfrequencies against speed with excitation orders and crossings.",
+        ),
+        "fmu": Stage(
+            "fmu",
+            fmu.compute_fmu,
+            reads=_DRIVE,
+            depends=("tables",),
+            code=("gearbox.fmu", "gearbox.drivetrain", "gearbox.meshtable"),
+            validate=_check_torques,
+            doc="The drivetrain at the operating point as an FMI 2.0 FMU (C, gcc).",
         ),
     }
 )

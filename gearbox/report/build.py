@@ -30,6 +30,7 @@ def _renderers() -> dict[str, Callable]:
         "spectra": dynamics.render_spectra,
         "waterfall": dynamics.render_waterfall,
         "campbell": dynamics.render_campbell,
+        "fmu": dynamics.render_fmu,
     }
 
 

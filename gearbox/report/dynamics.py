@@ -9,7 +9,13 @@ import numpy as np
 
 from .html import ReportWarning, Section, esc, figure, fmt, new_figure, table
 
-__all__ = ["render_campbell", "render_dynamics", "render_spectra", "render_waterfall"]
+__all__ = [
+    "render_campbell",
+    "render_dynamics",
+    "render_fmu",
+    "render_spectra",
+    "render_waterfall",
+]
 
 _RPM = 30.0 / math.pi
 #: At most this many crossings are listed one by one in the warnings.
@@ -303,3 +309,24 @@ def render_campbell(cd, run) -> Section:
         )
     )
     return Section("Campbell diagram", body, tuple(warnings), anchor="campbell")
+
+
+def render_fmu(art, run) -> Section:
+    """What was built: file, variables, states, platform, compiler command."""
+    b = art.build
+    rows = [
+        ("file (in the output folder)", f"fmu/{art.filename}"),
+        ("size (bytes)", len(art.data)),
+        ("model identifier", art.identifier),
+        ("GUID", b.get("guid", "")),
+        ("variables / states", f"{b.get('n_variables')} / {b.get('n_states')}"),
+        ("platform", b.get("platform", "")),
+        ("compiler command", " ".join(b.get("command", ()))),
+        ("compiler output", b.get("compiler_output", "") or "(none: clean build)"),
+    ]
+    body = (
+        '<p class="muted">FMI 2.0 FMU (Model Exchange and Co-Simulation) of the drivetrain at '
+        "the operating point, with the run's mesh tables in its resources (docs/fmu.md).</p>"
+        + table(["item", "value"], rows)
+    )
+    return Section("FMU", body, anchor="fmu")
