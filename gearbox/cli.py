@@ -35,6 +35,7 @@ EPILOG = """examples:
   gearbox design models/case03.toml            readable design table and checks
   gearbox design models/case03.toml --json     the same as one JSON object
   gearbox sweep models/case03.toml --out out/  parameter studies (paper Figs. 6-9)
+  gearbox tca models/case03.toml --out out/    unloaded contact paths, TE, FPD angles
   gearbox <verb> --help                        options of one verb
 """
 
