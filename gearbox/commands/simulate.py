@@ -98,6 +98,8 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
             "nfev": ts.nfev,
             "steps": ts.steps,
             "settling_change": ts.attrs.get("settling_change"),
+            "common_period_mesh_cycles": ts.attrs.get("common_period_mesh_cycles"),
+            "periodicity_residual": ts.attrs.get("periodicity_residual"),
             **mesh_force_metrics(ts, model),
         }
     )

@@ -321,6 +321,38 @@ class DrivetrainModel:
                 G[r, 5] = -proj
         return G
 
+    def common_period_mesh_cycles(self, max_cycles: int = 100_000) -> int:
+        """Mesh cycles in the common period of every excitation (0 if above ``max_cycles``).
+
+        Mesh (N_1 per pinion revolution), engine orders (per revolution) and propeller
+        orders (per gear revolution = N_1/N_2 per pinion revolution) with non-zero
+        amplitude are written as rational orders of the pinion revolution; the common
+        period is the least common multiple of their periods. The response settles to
+        a periodic one with this period (when it is stable), so one common period is
+        the natural record for spectra and the periodicity check.
+        """
+        from fractions import Fraction
+
+        eo, ea, po, pa = self.excitation_orders()
+        orders = [Fraction(self.pinion_teeth)]
+        orders += [Fraction(o).limit_denominator(1000) for o, a in zip(eo, ea, strict=True) if a]
+        ratio = Fraction(self.pinion_teeth, self.gear_teeth)
+        orders += [
+            Fraction(o).limit_denominator(1000) * ratio for o, a in zip(po, pa, strict=True) if a
+        ]
+        # period of order o (in revolutions) is 1/o = q/p; LCM of fractions q_i/p_i
+        num = 1
+        den = 0
+        for o in orders:
+            per = 1 / o
+            num = math.lcm(num, per.numerator)
+            den = math.gcd(den, per.denominator)
+        revs = Fraction(num, den)
+        cycles = revs * self.pinion_teeth
+        if cycles.denominator != 1 or cycles > max_cycles:
+            return 0
+        return int(cycles)
+
     def excitation_orders(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Engine (orders of Omega, amplitudes/T_op) and propeller (orders of Omega_2, amplitudes)."""
         eo, ea = [], []

@@ -7,7 +7,11 @@ settling time, then records ``mesh_cycles`` whole mesh cycles at
 checked, not assumed: the mesh-order amplitudes of the mesh force over the record's
 two halves (whole mesh cycles each) are compared (``attrs['settling_change']``,
 relative). Engine and propeller orders are not whole periods of a half record, so
-the total RMS is not used for this check.
+the total RMS is not used for this check. When the record holds one common period
+of all excitations (``DrivetrainModel.common_period_mesh_cycles``; 870 mesh cycles,
+30 pinion revolutions, for the default scene), ``attrs['periodicity_residual']``
+compares the state one common period apart: the settled response is periodic with
+that period.
 """
 
 from __future__ import annotations
@@ -88,6 +92,33 @@ def _settling_change(ts: TimeSeries, model: DrivetrainModel, samples_per_cycle: 
     return float(abs(a[k] - b[k]) / max(abs(b[k]), 1e-300))
 
 
+def periodicity_residual(
+    t: np.ndarray, Y: np.ndarray, model: DrivetrainModel, period_samples: int
+) -> float:
+    """max |c(t_end) - c(t_end - T)| / max |c - mean(c)| over the elastic coordinates c
+    (shaft twists, mesh deflection, bearing translations) and the speeds, over the last
+    common period T of the record (NaN when the record is shorter than T).
+
+    0 for an exactly periodic response; a transient still decaying, or a response that
+    is not periodic (e.g. chaotic impacts), gives a large value.
+    """
+    if period_samples <= 0 or len(t) <= period_samples:
+        return math.nan
+    n = model.n_dof
+    seg = Y[-period_samples - 1 :]
+    x, v = seg[:, :n], seg[:, n:]
+    # Elastic coordinates only: the rigid-body rotation may drift (the mean speed settles
+    # slightly off nominal: the quadratic propeller load rectifies the ripple).
+    cols = [x[:, 0] - x[:, 1], x @ model.mesh_vectors()[0], x[:, 2] - x[:, 3]]
+    cols += [x[:, i] for i in range(4, n)] + [v[:, i] for i in range(n)]
+    worst = 0.0
+    for c in cols:
+        spread = np.max(np.abs(c - c.mean()))
+        if spread > 0:
+            worst = max(worst, abs(c[-1] - c[0]) / spread)
+    return float(worst)
+
+
 def simulate(
     model: DrivetrainModel,
     solver: Any = None,
@@ -148,7 +179,15 @@ def simulate(
     if ts.success:
         import dataclasses
 
+        pc = model.common_period_mesh_cycles()
+        res = periodicity_residual(t, Y, model, pc * samples_per_cycle) if pc else math.nan
         ts = dataclasses.replace(
-            ts, attrs={**attrs, "settling_change": _settling_change(ts, model, samples_per_cycle)}
+            ts,
+            attrs={
+                **attrs,
+                "settling_change": _settling_change(ts, model, samples_per_cycle),
+                "common_period_mesh_cycles": pc,
+                "periodicity_residual": res,
+            },
         )
     return ts
