@@ -1,0 +1,495 @@
+"""Finite-element compliance level of the loaded TCA (``fidelity = "fe"``).
+
+Influence coefficients of each gear from a 3-D linear-elastic model of a few teeth and
+the rim (:mod:`gearbox.fe.mesh`, :mod:`gearbox.fe.model`), joined to the elastic
+half-space near the load by a matching depth, the combined surface-integral / finite
+element approach of Vijayakar, S.M., "A combined surface integral and finite element
+solution for a three-dimensional contact problem", Int. J. Numer. Meth. Engng 31
+(1991) 525-545:
+
+``c_ij = m_i . u_FE(x_i - d n_i | load j) + [w_B(x_i | j) - w_B(x_i - d n_i | j)]``
+
+for each gear: the finite-element model gives the displacement of the point at
+depth d below the contact point i (where a mesh of a few elements across the tooth
+is accurate), the half-space gives the displacement of the surface point relative to
+that depth point. ``m_i = -n_i`` is the inward normal, ``w_B`` the Boussinesq normal
+displacement (:mod:`gearbox.fe.boussinesq`) in the tangent plane of the load j.
+The FE's own local part near the load (the mesh-dependent flattening under a
+concentrated load) never enters: the FE is read only at depth d, and the part of
+the half-space solution down to depth d replaces it. The correction is applied
+between points of the same tooth; for points of other teeth it is below the
+half-space's own validity and is left out.
+
+- the depth term is load-independent; the surface self-term depends on the Hertz
+  half-width across the contact line (the cell is the contact-line length of the
+  slice times the Hertz width 2a, uniform pressure), so the level is load dependent
+  and its diagonal is re-evaluated by the contact solver's fixed-point iteration
+  (:meth:`FECompliance.contact_diagonal`);
+- one factorisation per gear; unit loads on a lattice of the loaded flank (spacing
+  ``lattice_spacing`` m_n in face and profile), solved once, and interpolated
+  bilinearly onto every contact grid: a mesh cycle costs one factorisation and a
+  lattice of solves per gear and flank.
+
+Load and response: a unit force along the inward normal spread uniformly over a
+square patch of side ``lattice_spacing m_n`` on the flank (3 x 3 Gauss points,
+consistent nodal loads); the response is the inward-normal displacement at depth d.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from ..errors import Problems
+from ..ltca.grid import ContactGrid
+from ..ltca.slice_model import hertz_half_width
+from ..surface.blank import ToothBlank
+from ..surface.generation import flank_jets, flank_points
+from ..surface.sample import tip_parameter
+from .boussinesq import depth_deflection, surface_deflection
+from .mesh import FEBuildError, MeshOptions, build_tooth_mesh, locate
+from .model import ToothModel, build_model
+
+__all__ = ["FEOptions", "FECompliance", "GearLoads", "gear_loads"]
+
+
+@dataclass(frozen=True)
+class FEOptions:
+    """Options of the finite-element level.
+
+    mesh: element counts (:class:`~gearbox.fe.mesh.MeshOptions`); matching_depth:
+    depth d of the matching points below the flank, over m_n; lattice_spacing: unit
+    load lattice spacing on the flank (face and profile), over m_n; neighbours: extra
+    unloaded teeth meshed on each side of the loaded ones.
+    """
+
+    mesh: MeshOptions = MeshOptions()
+    matching_depth: float = 0.25
+    lattice_spacing: float = 0.25
+    neighbours: int = 1
+
+    def __post_init__(self):
+        p = Problems()
+        p.in_range("fe.matching_depth", self.matching_depth, 0.05, 0.6)
+        p.in_range("fe.lattice_spacing", self.lattice_spacing, 0.05, 1.0)
+        p.check(
+            isinstance(self.neighbours, int) and self.neighbours >= 0,
+            "fe.neighbours",
+            self.neighbours,
+            "must be an integer >= 0",
+        )
+        p.raise_if_any("invalid FE options")
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict) -> FEOptions:
+        d = dict(d)
+        d["mesh"] = MeshOptions.from_dict(d["mesh"])
+        return cls(**d)
+
+
+@dataclass(frozen=True)
+class GearLoads:
+    """Where the grid points of one gear sit on its flanks (gear frame, SI).
+
+    blank: generating data of the gear; side: loaded flank ("R" or "L"); tooth:
+    tooth offset of every point, shape (n,); z, u: flank parameters (m), shape (n,);
+    bore_radius (m).
+    """
+
+    blank: ToothBlank
+    side: str
+    tooth: np.ndarray
+    z: np.ndarray
+    u: np.ndarray
+    bore_radius: float
+
+
+def _blank_of(sections, face_range) -> ToothBlank:
+    """Generating data of a cylindrical gear from a grid's tooth sections (point 0)."""
+    mn = float(sections.normal_module[0])
+    beta = float(sections.helix_angle[0])
+    x = float(sections.profile_shift[0])
+    z = int(sections.teeth[0])
+    rp = 0.5 * mn * z / math.cos(beta)
+    return ToothBlank(
+        teeth=z,
+        normal_module=mn,
+        normal_pressure_angle=float(sections.normal_pressure_angle[0]),
+        helix_angle=beta,
+        cone_angle=0.0,
+        profile_shift_xt=x * math.cos(beta),
+        face_width=float(face_range[1] - face_range[0]),
+        reference_section=-0.5 * float(face_range[0] + face_range[1]),
+        tool_addendum=float(sections.rack_dedendum[0]) * mn,
+        tool_tip_radius=float(sections.rack_root_radius[0]) * mn,
+        addendum=float(sections.tip_radius[0]) - rp - x * mn,
+    )
+
+
+def _u_at_radius(blank, side, z, r, *, tol=1e-12, max_iter=40):
+    """Rack-profile parameter u of the flank point at radius r in section z (Newton)."""
+    z = np.asarray(z, dtype=float)
+    r = np.asarray(r, dtype=float)
+    u = np.full(z.shape, 0.5 * blank.normal_module)
+    for _ in range(max_iter):
+        P, _, _ = flank_jets(blank, side, z, u)
+        x, y = P[0], P[1]
+        rad = np.hypot(x.val, y.val)
+        drad = (x.val * x.d[2] + y.val * y.d[2]) / rad
+        step = (rad - r) / drad
+        u = u - np.clip(step, -blank.normal_module, blank.normal_module)
+        if np.all(np.abs(rad - r) <= tol):
+            return u
+    raise FEBuildError(
+        [],
+        "a contact grid point lies off the generated flank (no flank point at its radius)",
+    )
+
+
+def _slope_sign(blank, side):
+    """Sign of d(radius)/dz along the involute helicoid's straight generator."""
+    P = flank_points(blank, side, np.array(0.0), np.array(0.8 * blank.normal_module))
+    n = P.normal
+    ez = np.array([0.0, 0.0, 1.0])
+    g = n * n[2] - ez
+    er = P.position * np.array([1.0, 1.0, 0.0])
+    er = er / np.linalg.norm(er)
+    return float(np.sign(np.dot(er, g) / g[2]))
+
+
+def gear_loads(grid: ContactGrid, gear: int) -> GearLoads:
+    """Locate the grid points of a parallel-axis grid on gear ``gear`` (0 pinion, 1 gear).
+
+    The flank is built with the hand for which the grid's contact lines (pinion radius
+    rising along +face, gear radius falling) are the straight generators of the
+    involute helicoid; a mirror image of a gear has the mirrored compliance, so the
+    hand of the grid's own gear pair does not change the result. Pair k sits on the
+    tooth that is k teeth ahead in the gear's sense of rotation (the driving pinion's
+    flank moves along its outward normal, the driven gear's against it).
+    """
+    sections = grid.tooth1 if gear == 0 else grid.tooth2
+    blank = _blank_of(sections, grid.face_range)
+    side = "R"
+    if abs(blank.helix_angle) > 0:
+        want = 1.0 if gear == 0 else -1.0
+        beta = abs(blank.helix_angle)
+        for h in (beta, -beta):
+            b = _replace_helix(blank, h)
+            if _slope_sign(b, side) == want:
+                blank = b
+                break
+    z = np.asarray(grid.face, dtype=float)
+    u = _u_at_radius(blank, side, z, sections.radius)
+    fp = flank_points(blank, side, np.array(0.0), np.array(0.8 * blank.normal_module))
+    ez = np.array([0.0, 0.0, 1.0])
+    sense = float(np.sign(np.dot(np.cross(ez, fp.position), fp.normal)))
+    if gear == 1:
+        sense = -sense
+    tooth = (sense * grid.pair).astype(int)
+    return GearLoads(blank, side, tooth, z, u, float(sections.bore_radius[0]))
+
+
+def _replace_helix(blank, beta):
+    d = blank.to_dict()
+    d["helix_angle"] = beta
+    return ToothBlank.from_dict(d)
+
+
+@dataclass
+class _Lattice:
+    """Unit-load lattice of one loaded tooth flank and its FE responses."""
+
+    z: np.ndarray  # (nz,)
+    u: np.ndarray  # (nu,)
+    compliance: dict = field(default_factory=dict)  # (tooth_a, tooth_b) -> (nz nu, nz nu)
+    stress: dict = field(default_factory=dict)  # tooth_b -> (n_fillet, nz nu) per load tooth
+
+
+@dataclass
+class _GearModel:
+    model: ToothModel
+    key: tuple
+    lattices: dict = field(default_factory=dict)  # (side) -> lattice geometry
+    responses: dict = field(default_factory=dict)  # (side, tooth_load) -> U (n_dofs, n_lat)
+
+
+class FECompliance:
+    """Finite-element compliance level (see the module docstring).
+
+    options: :class:`FEOptions`. The factorised models and the lattice responses are
+    cached on the instance, keyed by the gear's generating data, so one instance
+    serves a whole mesh cycle (and both flanks) with one factorisation per gear.
+    """
+
+    name = "fe"
+    load_dependent = True
+
+    def __init__(self, options: FEOptions = FEOptions(), *, teeth: dict | None = None):
+        self.options = options
+        self._teeth_hint = teeth or {}
+        self._models: dict = {}
+        self.stats = {"factorisations": 0, "solves": 0, "build_s": 0.0, "solve_s": 0.0}
+
+    # ------------------------------------------------------------------ models
+    def _model(self, loads: GearLoads, gear: int, E: float, nu: float) -> _GearModel:
+        key = (tuple(sorted(loads.blank.to_dict().items())), loads.bore_radius, E, nu)
+        lo, hi = int(loads.tooth.min()), int(loads.tooth.max())
+        lo, hi = self._teeth_hint.get(gear, (lo, hi)) if gear in self._teeth_hint else (lo, hi)
+        gm = self._models.get(key)
+        if gm is not None:
+            t = gm.model.mesh.teeth
+            nb = self.options.neighbours
+            if t[0] + nb <= int(loads.tooth.min()) and int(loads.tooth.max()) <= t[-1] - nb:
+                return gm
+            lo = min(lo, t[0] + nb)
+            hi = max(hi, t[-1] - nb)
+        import time
+
+        t0 = time.perf_counter()
+        nb = self.options.neighbours
+        mesh = build_tooth_mesh(
+            loads.blank,
+            tuple(range(lo - nb, hi + nb + 1)),
+            bore_radius=loads.bore_radius,
+            options=self.options.mesh,
+        )
+        model = build_model(mesh, E, nu)
+        self.stats["factorisations"] += 1
+        self.stats["build_s"] += time.perf_counter() - t0
+        gm = _GearModel(model=model, key=key)
+        self._models[key] = gm
+        return gm
+
+    def _lattice(self, gm: _GearModel, side: str) -> _Lattice:
+        lat = gm.lattices.get(side)
+        if lat is not None:
+            return lat
+        blank = gm.model.mesh.blank
+        h = self.options.lattice_spacing * blank.normal_module
+        nz = max(2, int(math.ceil(blank.face_width / h)) + 1)
+        z = np.linspace(blank.z_toe, blank.z_heel, nz)
+        u_tip = float(np.min(tip_parameter(blank, side, z)[0]))
+        nu = max(2, int(math.ceil(u_tip / h)) + 1)
+        u = np.linspace(0.0, u_tip, nu)
+        lat = _Lattice(z=z, u=u)
+        gm.lattices[side] = lat
+        return lat
+
+    def _candidates(self, mesh, tooth, side, z, u):
+        """Elements that may hold points near flank ``side`` of a tooth at flank
+        parameters (z, u): the layer and profile row of (z, u) and their neighbours,
+        the two tooth-block columns at the flank, and the rim's top row."""
+        zl = mesh.z_layers[0::2]
+        layer = np.clip(np.searchsorted(zl, z) - 1, 0, zl.size - 2)
+        ul = mesh.flank_u[side][0][0::2]
+        row = np.clip(np.searchsorted(ul, u) - 1, 0, ul.size - 2)
+        nc = mesh.options.across
+        col = mesh.element_col
+        blk = mesh.element_block
+        near = (blk == 0) & ((col <= 1) if side == "L" else (col >= nc - 2))
+        rim = (blk == 1) & (mesh.element_row == mesh.options.rim - 1)
+        base = np.flatnonzero((mesh.element_tooth == tooth) & (near | rim))
+        el = mesh.element_layer[base]
+        er = np.where(mesh.element_block[base] == 0, mesh.element_row[base], -1)
+        out = []
+        for ly, rw in zip(np.atleast_1d(layer), np.atleast_1d(row), strict=True):
+            ok = (np.abs(el - ly) <= 1) & ((np.abs(er - rw) <= 1) | ((er == -1) & (rw <= 1)))
+            out.append(base[ok])
+        return out
+
+    def _surface(self, blank, side, tooth, z, u):
+        """Points, outward normals and tangents of flank points of tooth ``tooth``."""
+        fp = flank_points(blank, side, z, u)
+        a = 2 * math.pi * tooth / blank.teeth
+        R = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]])
+        P = fp.position @ R.T
+        n = fp.normal @ R.T
+        t1 = fp.dr_dz @ R.T
+        t1 = t1 - np.sum(t1 * n, -1, keepdims=True) * n
+        t1 /= np.linalg.norm(t1, axis=-1, keepdims=True)
+        t2 = np.cross(n, t1)
+        return P, n, t1, t2
+
+    def _responses(self, gm: _GearModel, side: str, tooth: int):
+        """FE displacements for the lattice unit loads on one tooth, (n_dofs, n_lat)."""
+        key = (side, tooth)
+        if key in gm.responses:
+            return gm.responses[key]
+        import time
+
+        t0 = time.perf_counter()
+        model = gm.model
+        mesh = model.mesh
+        blank = mesh.blank
+        lat = self._lattice(gm, side)
+        Z, U = np.meshgrid(lat.z, lat.u, indexing="ij")
+        Z, U = Z.ravel(), U.ravel()
+        P, n, t1, t2 = self._surface(blank, side, tooth, Z, U)
+        half = 0.5 * self.options.lattice_spacing * blank.normal_module
+        g = np.array([-math.sqrt(0.6), 0.0, math.sqrt(0.6)])
+        w = np.array([5.0, 8.0, 5.0]) / 9.0
+        pts, wts, owner = [], [], []
+        for i, gi in enumerate(g):
+            for j, gj in enumerate(g):
+                pts.append(P + half * (gi * t1 + gj * t2))
+                wts.append(np.full(Z.size, 0.25 * w[i] * w[j]))
+                owner.append(np.arange(Z.size))
+        pts = np.concatenate(pts)
+        wts = np.concatenate(wts)
+        owner = np.concatenate(owner)
+        cands = self._candidates(mesh, tooth, side, pts[:, 2], U[owner])
+        cells, X, _ = locate(mesh, pts, cands)
+        Op = model.point_operator(cells, X)  # (3 q, n_dofs)
+        # unit force along the inward normal -n, weights of the patch quadrature
+        f = -(n[owner] * wts[:, None])  # (q, 3)
+        import scipy.sparse as sp
+
+        S = sp.csr_matrix(
+            (
+                f.ravel(),
+                (np.arange(3 * pts.shape[0]), np.repeat(owner, 3)),
+            ),
+            shape=(3 * pts.shape[0], Z.size),
+        )
+        F = (Op.T @ S).toarray()
+        Usol = model.solve(F)
+        gm.responses[key] = Usol
+        self.stats["solves"] += Z.size
+        self.stats["solve_s"] += time.perf_counter() - t0
+        return Usol
+
+    def _depth_operator(self, gm: _GearModel, side: str, tooth: int):
+        """(n_lat, n_dofs) inward-normal displacement at the lattice depth points."""
+        key = ("depth", side, tooth)
+        if key in gm.responses:
+            return gm.responses[key]
+        mesh = gm.model.mesh
+        blank = mesh.blank
+        lat = self._lattice(gm, side)
+        Z, U = np.meshgrid(lat.z, lat.u, indexing="ij")
+        P, n, _, _ = self._surface(blank, side, tooth, Z.ravel(), U.ravel())
+        d = self.options.matching_depth * blank.normal_module
+        Q = P - d * n
+        cands = self._candidates(mesh, tooth, side, Q[:, 2], U.ravel())
+        cells, X, miss = locate(mesh, Q, cands)
+        if np.max(miss) > 1e-6:
+            raise FEBuildError(
+                [],
+                f"matching points at depth {d:g} m leave the meshed tooth "
+                f"(reduce fe.matching_depth)",
+            )
+        Op = gm.model.point_operator(cells, X)
+        m = -n
+        import scipy.sparse as sp
+
+        S = sp.csr_matrix(
+            (m.ravel(), (np.repeat(np.arange(Z.size), 3), np.arange(3 * Z.size))),
+            shape=(Z.size, 3 * Z.size),
+        )
+        D = (S @ Op).tocsr()
+        gm.responses[key] = D
+        return D
+
+    def _weights(self, lat: _Lattice, z, u):
+        """Bilinear interpolation weights onto the lattice, shape (n, n_lat)."""
+        nz, nu = lat.z.size, lat.u.size
+        iz = np.clip(np.searchsorted(lat.z, z) - 1, 0, nz - 2)
+        iu = np.clip(np.searchsorted(lat.u, u) - 1, 0, nu - 2)
+        fz = np.clip((z - lat.z[iz]) / (lat.z[iz + 1] - lat.z[iz]), 0.0, 1.0)
+        fu = np.clip((u - lat.u[iu]) / (lat.u[iu + 1] - lat.u[iu]), 0.0, 1.0)
+        W = np.zeros((z.size, nz * nu))
+        r = np.arange(z.size)
+        for dz, wz in ((0, 1 - fz), (1, fz)):
+            for du, wu in ((0, 1 - fu), (1, fu)):
+                np.add.at(W, (r, (iz + dz) * nu + iu + du), wz * wu)
+        return W
+
+    # --------------------------------------------------------------- interface
+    def gear_matrix(self, grid: ContactGrid, gear: int) -> np.ndarray:
+        """FE part of one gear's compliance at the matching depth, shape (n, n), m/N."""
+        loads = gear_loads(grid, gear)
+        gm = self._model(loads, gear, grid.youngs_modulus, grid.poisson_ratio)
+        lat = self._lattice(gm, loads.side)
+        n = grid.size
+        C = np.zeros((n, n))
+        teeth = np.unique(loads.tooth)
+        W = {}
+        for t in teeth:
+            sel = loads.tooth == t
+            W[t] = (np.flatnonzero(sel), self._weights(lat, loads.z[sel], loads.u[sel]))
+        for tb in teeth:
+            D = self._depth_operator(gm, loads.side, int(tb))
+            ib, Wb = W[tb]
+            for ta in teeth:
+                Ua = self._responses(gm, loads.side, int(ta))
+                ia, Wa = W[ta]
+                Clat = D @ Ua  # (n_lat response on tb, n_lat loads on ta)
+                C[np.ix_(ib, ia)] = Wb @ Clat @ Wa.T
+        return 0.5 * (C + C.T)
+
+    def _frames(self, grid: ContactGrid):
+        """Contact-line direction t and across direction c at every point (pair frame)."""
+        n = grid.normal
+        t = np.zeros_like(n)
+        for k in grid.pairs():
+            idx = np.flatnonzero(grid.pair == k)
+            idx = idx[np.argsort(grid.slot[idx])]
+            if idx.size > 1:
+                d = np.gradient(grid.position[idx], axis=0)
+                t[idx] = d
+            else:
+                t[idx] = np.cross(n[idx], np.cross(np.array([0.0, 0.0, 1.0]), n[idx]))
+        t = t - np.sum(t * n, -1, keepdims=True) * n
+        t /= np.linalg.norm(t, axis=-1, keepdims=True)
+        c = np.cross(n, t)
+        return t, c
+
+    def local_matrix(self, grid: ContactGrid) -> np.ndarray:
+        """Half-space part between points of one tooth pair, both gears, without the
+        surface self-terms (m/N), shape (n, n)."""
+        E, nu = grid.youngs_modulus, grid.poisson_ratio
+        mn = float(grid.tooth1.normal_module[0])
+        d = self.options.matching_depth * mn
+        half = 0.5 * self.options.lattice_spacing * mn
+        t, c = self._frames(grid)
+        n = grid.size
+        C = np.zeros((n, n))
+        a0 = hertz_half_width(2.0e5, grid.curvature_radius, E, nu)
+        for k in grid.pairs():
+            idx = np.flatnonzero(grid.pair == k)
+            dP = grid.position[idx][:, None, :] - grid.position[idx][None, :, :]  # i - j
+            x = np.sum(dP * t[idx][None, :, :], -1)
+            y = np.sum(dP * c[idx][None, :, :], -1)
+            lj = 0.5 * grid.line_length[idx][None, :]
+            aj = a0[idx][None, :]
+            ws = surface_deflection(x, y, lj, aj, E, nu)
+            np.fill_diagonal(ws, 0.0)
+            wd = depth_deflection(x, y, d, half, half, E, nu)
+            C[np.ix_(idx, idx)] = 2.0 * (ws - wd)  # both gears, equal materials
+        return 0.5 * (C + C.T)
+
+    def tooth_matrix(self, grid: ContactGrid) -> np.ndarray:
+        """FE part of both gears plus the half-space coupling (m/N), shape (n, n)."""
+        C = self.gear_matrix(grid, 0) + self.gear_matrix(grid, 1)
+        return C + self.local_matrix(grid)
+
+    def contact_diagonal(self, grid: ContactGrid, line_load: np.ndarray) -> np.ndarray:
+        """Surface self-term of the half-space, both gears (m/N), shape (n,): a uniform
+        pressure over the contact-line length of the slice times the Hertz width."""
+        E, nu = grid.youngs_modulus, grid.poisson_ratio
+        q = np.maximum(np.asarray(line_load, dtype=float), 1.0e3)
+        a = hertz_half_width(q, grid.curvature_radius, E, nu)
+        return 2.0 * surface_deflection(0.0, 0.0, 0.5 * grid.line_length, a, E, nu)
+
+    def matrix(self, grid: ContactGrid, line_load: np.ndarray | None = None) -> np.ndarray:
+        C = self.tooth_matrix(grid)
+        if line_load is None:
+            line_load = np.full(grid.size, 1.0e5)
+        C[np.diag_indices_from(C)] += self.contact_diagonal(grid, line_load)
+        return C
