@@ -4,6 +4,8 @@ Public API (stage by stage, see docs/pipeline.md):
 
 - scene files: :func:`load_scene`, :class:`Scene`
 - geometry design (paper section 2): see :mod:`gearbox.geometry`
+- loaded TCA (paper section 3.2): :func:`scene_ltca`, :class:`ParallelPair`;
+  see :mod:`gearbox.ltca` and docs/ltca.md
 - spectra: :func:`order_spectrum`, :func:`campbell`, :func:`excitation_orders`;
   see :mod:`gearbox.spectrum`
 
@@ -18,6 +20,8 @@ from .geometry import PairDesign as PairDesign
 from .geometry import PairSpec as PairSpec
 from .geometry import ToolSpec as ToolSpec
 from .geometry import design_pair as design_pair
+from .ltca import ParallelPair as ParallelPair
+from .ltca.table import scene_ltca as scene_ltca
 from .scene import Scene as Scene
 from .scene import load_scene as load_scene
 from .spectrum import campbell as campbell
