@@ -438,3 +438,13 @@ def test_cli_simulate_json_and_bad_scene(tmp_path, capsys):
     rc = main(["simulate", str(path), "--speed-rpm", "-5"])
     assert rc == 2
     assert "--speed-rpm" in capsys.readouterr().err
+
+
+def test_common_excitation_period(base):
+    # Default scene: mesh 29/rev, firing order 4/rev, blade pass 3 x 29/45 = 87/45 per
+    # pinion revolution -> periods 1/29, 1/4, 15/29 rev -> LCM 15 revolutions = 435 mesh
+    # cycles. Half orders (period 2 rev, 1 rev, 2/3 rev) raise it to 30 rev = 870 cycles.
+    s, table, m = base
+    assert m.common_period_mesh_cycles() == 435
+    m2 = DrivetrainModel.from_scene(scene(half_order_ripple=0.01), table)
+    assert m2.common_period_mesh_cycles() == 870
