@@ -51,12 +51,16 @@ def timed(fn, repeats: int):
 
 
 def work_precision(m, cycles: int, quick: bool) -> None:
-    print(f"\n## 1. Work-precision: {cycles} mesh cycles ({cycles / m.mesh_frequency:.3f} s) at "
-          f"{m.speed * 30 / math.pi:.0f} rpm, after 20 settling cycles")
+    print(
+        f"\n## 1. Work-precision: {cycles} mesh cycles ({cycles / m.mesh_frequency:.3f} s) at "
+        f"{m.speed * 30 / math.pi:.0f} rpm, after 20 settling cycles"
+    )
     t0 = time.perf_counter()
     ref = simulate(m, ScipySolver(method="DOP853", rtol=1e-11), mesh_cycles=cycles)
-    print(f"reference scipy DOP853 rtol 1e-11: {time.perf_counter() - t0:.2f} s wall, "
-          f"status {ref.status}, nfev {ref.nfev}")
+    print(
+        f"reference scipy DOP853 rtol 1e-11: {time.perf_counter() - t0:.2f} s wall, "
+        f"status {ref.status}, nfev {ref.nfev}"
+    )
     r = mesh_force_metrics(ref, m)
     rows = []
     settings = [
@@ -79,38 +83,55 @@ def work_precision(m, cycles: int, quick: bool) -> None:
             a = mesh_force_metrics(ts, m)
             e_rms = abs(a["mesh_force_rms_N"] / r["mesh_force_rms_N"] - 1)
             e_dyn = abs(a["mesh_force_dynamic_rms_N"] / r["mesh_force_dynamic_rms_N"] - 1)
-            e_amp = abs(a["mesh_force_mesh_order_amplitude_N"] / r["mesh_force_mesh_order_amplitude_N"] - 1)
+            e_amp = abs(
+                a["mesh_force_mesh_order_amplitude_N"] / r["mesh_force_mesh_order_amplitude_N"] - 1
+            )
             rows.append((backend, method, rtol, wall, e_rms, e_dyn, e_amp, ts.nfev, ts.status))
-    print("| solver | method | rtol | wall (s, median) | err RMS | err dynamic RMS | err mesh-order amp | nfev | status |")
+    print(
+        "| solver | method | rtol | wall (s, median) | err RMS | err dynamic RMS | err mesh-order amp | nfev | status |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     for b, mth, rtol, wall, e1, e2, e3, nfev, st in rows:
-        print(f"| {b} | {mth} | {rtol:.0e} | {wall:.4f} | {e1:.1e} | {e2:.1e} | {e3:.1e} | {nfev} | {st} |")
+        print(
+            f"| {b} | {mth} | {rtol:.0e} | {wall:.4f} | {e1:.1e} | {e2:.1e} | {e3:.1e} | {nfev} | {st} |"
+        )
 
     def best(backend):
-        ok = [w for b, _, _, w, e1, e2, e3, _, st in rows
-              if b == backend and st == "success" and max(e1, e3) <= 1e-4]
+        ok = [
+            w
+            for b, _, _, w, e1, e2, e3, _, st in rows
+            if b == backend and st == "success" and max(e1, e3) <= 1e-4
+        ]
         return min(ok) if ok else math.nan
 
     bs, bd = best("scipy"), best("diffrax")
-    print(f"\nfastest to 1e-4 (RMS and mesh-order amplitude): scipy {bs:.4f} s, diffrax {bd:.4f} s, "
-          f"ratio {bs / bd:.1f}x")
+    print(
+        f"\nfastest to 1e-4 (RMS and mesh-order amplitude): scipy {bs:.4f} s, diffrax {bd:.4f} s, "
+        f"ratio {bs / bd:.1f}x"
+    )
 
 
 def one_second(m) -> None:
-    print("\n## 2. One second of simulated time at 2000 rpm, default solver (diffrax Tsit5 rtol 1e-6)")
+    print(
+        "\n## 2. One second of simulated time at 2000 rpm, default solver (diffrax Tsit5 rtol 1e-6)"
+    )
     cycles = int(round(1.0 * m.mesh_frequency))
     solver = DiffraxSolver()
     first = simulate(m, solver, mesh_cycles=cycles, settle_time=0.0)
     walls = [simulate(m, solver, mesh_cycles=cycles, settle_time=0.0).wall_time for _ in range(5)]
-    print(f"compile {first.attrs['compile_time_s']:.2f} s; run median {statistics.median(walls):.4f} s "
-          f"(min {min(walls):.4f}, max {max(walls):.4f}) over 5; steps {first.steps}, status {first.status}")
+    print(
+        f"compile {first.attrs['compile_time_s']:.2f} s; run median {statistics.median(walls):.4f} s "
+        f"(min {min(walls):.4f}, max {max(walls):.4f}) over 5; steps {first.steps}, status {first.status}"
+    )
 
 
 def sweep(n_speeds: int, cycles: int) -> None:
     import jax
 
-    print(f"\n## 3. Batched sweep: {n_speeds} speeds 500-3000 rpm, {cycles} mesh cycles each, "
-          f"device {jax.devices()[0].platform}")
+    print(
+        f"\n## 3. Batched sweep: {n_speeds} speeds 500-3000 rpm, {cycles} mesh cycles each, "
+        f"device {jax.devices()[0].platform}"
+    )
     rpms = np.linspace(500.0, 3000.0, n_speeds)
     base = model_at()
     ms = [base.with_speed(r * math.pi / 30) for r in rpms]
@@ -121,15 +142,29 @@ def sweep(n_speeds: int, cycles: int) -> None:
     total = time.perf_counter() - t0
     wall = infos[0]["batch_wall_time"]
     ok = sum(i["status"] == "success" for i in infos)
-    print(f"compile {infos[0]['compile_time']:.2f} s; batch run {wall:.3f} s = {1e3 * wall / n_speeds:.2f} ms "
-          f"per speed; total incl. setup {total:.2f} s; {ok}/{n_speeds} succeeded")
+    print(
+        f"compile {infos[0]['compile_time']:.2f} s; batch run {wall:.3f} s = {1e3 * wall / n_speeds:.2f} ms "
+        f"per speed; total incl. setup {total:.2f} s; {ok}/{n_speeds} succeeded"
+    )
     # single-speed baseline measured in the same run
-    one = simulate(ms[n_speeds // 2], DiffraxSolver(), mesh_cycles=cycles, settle_time=0.0,
-                   samples_per_cycle=16)
-    one = simulate(ms[n_speeds // 2], DiffraxSolver(), mesh_cycles=cycles, settle_time=0.0,
-                   samples_per_cycle=16)
-    print(f"one speed alone: {one.wall_time:.4f} s; batched/single time per speed ratio "
-          f"{(wall / n_speeds) / one.wall_time:.2f}")
+    one = simulate(
+        ms[n_speeds // 2],
+        DiffraxSolver(),
+        mesh_cycles=cycles,
+        settle_time=0.0,
+        samples_per_cycle=16,
+    )
+    one = simulate(
+        ms[n_speeds // 2],
+        DiffraxSolver(),
+        mesh_cycles=cycles,
+        settle_time=0.0,
+        samples_per_cycle=16,
+    )
+    print(
+        f"one speed alone: {one.wall_time:.4f} s; batched/single time per speed ratio "
+        f"{(wall / n_speeds) / one.wall_time:.4f}"
+    )
 
 
 def main() -> None:

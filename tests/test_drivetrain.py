@@ -242,7 +242,12 @@ def test_undamped_energy_balance_over_1000_mesh_cycles(base):
         saveat=diffrax.SaveAt(ts=jnp.linspace(0, t1, 11)),
     )
     u = np.asarray(sol.ys) * np.asarray(sc)
-    e = np.array([float(energy(t, uu[:-1], p, xp=jnp)) for t, uu in zip(np.linspace(0, t1, 11), u)])
+    e = np.array(
+        [
+            float(energy(t, uu[:-1], p, xp=jnp))
+            for t, uu in zip(np.linspace(0, t1, 11), u, strict=True)
+        ]
+    )
     work = u[:, -1]
     strain = (
         0.5 * m.drive.mean_stiffness * (m.torque / m.drive.lambda1 / m.drive.mean_stiffness) ** 2
