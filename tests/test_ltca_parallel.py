@@ -138,9 +138,7 @@ def test_integer_overlap_ratio_flattens_the_stiffness():
 def test_grid_convergence_of_the_contact_solution():
     # face slices 10 / 20 / 40 / 80: the mean stiffness settles; the change from
     # 40 to 80 slices is below 0.5 % and below the change from 10 to 20
-    means = [
-        _cycle(HELICAL, n_face=n, positions=8).stiffness[0].mean() for n in (10, 20, 40, 80)
-    ]
+    means = [_cycle(HELICAL, n_face=n, positions=8).stiffness[0].mean() for n in (10, 20, 40, 80)]
     d1 = abs(means[1] - means[0]) / means[3]
     d3 = abs(means[3] - means[2]) / means[3]
     assert d3 < 5e-3
@@ -215,3 +213,32 @@ def test_bad_input_is_refused_or_flagged():
 
     r = ltca_cycle(edged, [400.0], options=LTCAOptions(positions=6))
     assert r.edge_contact[0] and r.edge_load_fraction.max() > 0.3
+
+
+def test_slice_compliance_physics():
+    # a load nearer the tip bends the tooth more; all parts scale with 1/E except
+    # shear (1/G, same ratio at fixed nu); the fillet-foundation part is positive
+    from gearbox.ltca.slice_model import slice_compliance
+
+    g = parallel_grid(SPUR, 0.0, 10)
+    xi = np.linspace(0.2, 0.8, 7)
+    teeth = replace(
+        g.tooth1,
+        **{f: getattr(g.tooth1, f)[:1].repeat(7) for f in g.tooth1.__dataclass_fields__},
+    )
+    rb, ra = float(teeth.base_radius[0]), float(teeth.tip_radius[0])
+    radii = np.sqrt(rb**2 + (xi * np.sqrt(ra**2 - rb**2)) ** 2)
+    teeth = replace(teeth, radius=radii)
+    c = slice_compliance(teeth, 206e9, 0.3)
+    assert np.all(np.diff(c.total) > 0)
+    assert np.all(np.diff(c[0]) > 0)  # bending
+    assert np.all(c[3] > 0)
+    c2 = slice_compliance(teeth, 2 * 206e9, 0.3)
+    assert np.allclose(c2.total, 0.5 * c.total, rtol=1e-12)
+
+
+def test_line_contact_sweeps_the_whole_active_flank():
+    # perfect involute line contact: over a mesh cycle the loaded lines of all pairs
+    # cover the active flank (pattern raster 40 x 40: one cell row of tolerance)
+    r = _cycle(HELICAL, n_face=20)
+    assert r.pattern_area_fraction[0] > 0.97
