@@ -372,3 +372,18 @@ def test_sweep_from_inside_a_stage_uses_the_run_executor(scene, tmp_path):
         run = run_pipeline(scene, ["design"], stages={"design": sweep}, cache=False, executor=ex)
     assert run["design"] == (1, 4, 9)
     assert sorted(seen) == [(1,), (2,), (3,)]
+
+
+def test_preview_predicts_the_next_run(scene, tmp_path):
+    from gearbox.pipeline import preview
+
+    before = preview(scene, ["spectra"], stages=graph(), cache=tmp_path)
+    assert [c for _, _, c in before] == [False] * 5
+    run = run_pipeline(scene, ["spectra"], stages=graph(), cache=tmp_path)
+    assert [(n, k) for n, k, _ in before] == list(run.keys.items())
+    heavier = scene.replaced(drivetrain={"propeller_inertia_kgm2": 7.5})
+    predicted = {n: c for n, _, c in preview(heavier, ["spectra"], stages=graph(), cache=tmp_path)}
+    CALLS.clear()
+    actual = statuses(run_pipeline(heavier, ["spectra"], stages=graph(), cache=tmp_path))
+    assert predicted == {n: s == "cached" for n, s in actual.items()}
+    assert not CALLS["design"] and CALLS["dynamics"] == 1

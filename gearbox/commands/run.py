@@ -10,6 +10,7 @@ EXAMPLES = """\
   gearbox run models/case03.toml --only design report   other outputs than the scene's
   gearbox run models/marine_drive.toml --cache /tmp/gb  cache elsewhere (default ~/.cache/gearbox)
   gearbox run models/marine_drive.toml --no-cache --jobs 2 --json
+  gearbox run models/marine_drive.toml --dry-run        what would be computed or cached
 """
 
 
@@ -35,6 +36,11 @@ def add_arguments(parser):
         "--jobs", type=int, metavar="N", help="worker processes for sweeps (default: all cores)"
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bars")
+    parser.add_argument(
+        "--dry-run",
+        action="store_true",
+        help="validate and list the stages with their cache state; compute nothing",
+    )
     parser.add_argument("--json", action="store_true", help="print the run summary as JSON")
     parser.add_argument(
         "--strict",
@@ -59,6 +65,16 @@ def run(args) -> int:
     out = Path(args.out) if args.out else Path("out") / scene.name
     cache = False if args.no_cache else (args.cache or True)
     progress = not args.no_progress and sys.stderr.isatty()
+    if args.dry_run:
+        from ..pipeline import preview
+
+        rows = preview(scene, args.only, cache=cache)
+        if args.json:
+            print(dumps_json([{"stage": n, "key": k, "cached": c} for n, k, c in rows]))
+        else:
+            for n, k, c in rows:
+                print(f"{n:<10} {'cached' if c else 'compute':<8} {k[:12]}")
+        return 0
     result = run_pipeline(scene, args.only, cache=cache, jobs=args.jobs, progress=progress)
     files = write_outputs(result, out)
     s = result.summary

@@ -17,6 +17,7 @@ from .cache import default_cache_dir as default_cache_dir
 from .cache import stage_key as stage_key
 from .runner import PipelineRun as PipelineRun
 from .runner import plan as plan
+from .runner import preview as preview
 from .runner import run_pipeline as run_pipeline
 from .stage import Stage as Stage
 from .stage import StageContext as StageContext
@@ -38,6 +39,7 @@ __all__ = [
     "default_cache_dir",
     "map_items",
     "plan",
+    "preview",
     "run_pipeline",
     "stage_key",
 ]

@@ -20,7 +20,7 @@ from .stage import Stage, StageContext, StageUnavailable, read_values, restricte
 from .summary import RunSummary, StageRecord
 from .sweep import map_items
 
-__all__ = ["PipelineRun", "plan", "run_pipeline"]
+__all__ = ["PipelineRun", "plan", "preview", "run_pipeline"]
 
 #: Outputs that are not stages: made from whatever the stages produced.
 FINAL_OUTPUTS = ("report",)
@@ -108,6 +108,37 @@ def _as_cache(cache: Cache | str | Path | bool | None) -> Cache | None:
     if isinstance(cache, Cache):
         return cache
     return Cache(Path(cache))
+
+
+def preview(
+    scene: Scene,
+    requested: Iterable[str] | None = None,
+    *,
+    stages: Mapping[str, Stage] | None = None,
+    cache: Cache | str | Path | bool | None = True,
+) -> list[tuple[str, str, bool]]:
+    """What :func:`run_pipeline` would do, without computing: ``(stage, key, cached)``
+    per planned stage, upstream first.
+
+    Assumes every upstream stage produces its result (an unavailable optional
+    upstream changes the keys below it). Validation runs as in a real run.
+    """
+    if stages is None:
+        from .stages import STAGES as stages
+    requested = tuple(scene["outputs"]["requested"] if requested is None else requested)
+    names = plan(requested, stages, scene)
+    validate(scene, names, stages)
+    store = _as_cache(cache)
+    keys: dict[str, str] = {}
+    out = []
+    for name in names:
+        st = stages[name]
+        req, opt = st.upstream(scene)
+        upstream = {d: keys[d] for d in (*req, *opt)}
+        keys[name] = stage_key(name, read_values(scene, st.reads), upstream, st.code)
+        cached = bool(store is not None and st.cacheable and store.path(name, keys[name]).exists())
+        out.append((name, keys[name], cached))
+    return out
 
 
 def run_pipeline(
