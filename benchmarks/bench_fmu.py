@@ -7,8 +7,13 @@ in Co-Simulation (the baseline, measured in the same run) and the error of the m
 force: RMS difference over the AC RMS of a reference run (the FMU in Co-Simulation at
 rtol 1e-12; tests/test_fmu.py checks the FMU against the scipy solver).
 
-    python3 benchmarks/bench_fmu.py            # all rows (about 2 minutes)
-    python3 benchmarks/bench_fmu.py --quick    # FMU rows only
+    python3 benchmarks/bench_fmu.py            # all tables (about 3 minutes)
+    python3 benchmarks/bench_fmu.py --quick    # FMU rows of the performance table only
+
+Two more tables at the scene's own speed (3500 rpm): the agreement of the FMU (both
+interfaces) with the scipy solver at rtol 1e-10 over 0.1 s, and the coupling error of
+the libcosim co-simulation against the monolithic FMU (rtol 1e-10) over 0.05 s as a
+function of the communication step, with held and with extrapolated inputs.
 """
 
 from __future__ import annotations
@@ -218,7 +223,91 @@ def main():
             f"| {name:<38} | {setting:<28} | {wall:8.3f} | {STOP / wall:11.0f} | "
             f"{wall / base:8.2f} | {err:.1e} | {note}"
         )
+    if not args.quick:
+        agreement(tmp)
+        coupling(tmp)
     shutil.rmtree(tmp, ignore_errors=True)
+
+
+def agreement(tmp: Path) -> None:
+    from gearbox.drivetrain.scipy_backend import ScipySolver, integrate_scipy
+
+    model, table = model_from_scene(load_scene(SCENE))
+    fmu = build_fmu(drivetrain_fmu(model, table), tmp / "agree").fmu
+    stop = 0.1
+    t = np.linspace(0.0, stop, int(round(stop / DT)) + 1)
+    tt, y, _ = integrate_scipy(model, model.static_state(), t, ScipySolver(rtol=1e-10))
+    ref = outputs(model, tt, y)
+    pairs = {
+        "mesh.force": "mesh_force_N",
+        "mesh.dte": "dynamic_transmission_error_m",
+        "input_shaft.torque": "input_shaft_torque_Nm",
+        "output_shaft.torque": "output_shaft_torque_Nm",
+        "engine.w": "engine_speed_rad_per_s",
+    }
+    print(
+        f"\nagreement with scipy DOP853 rtol 1e-10, {SCENE.name} at "
+        f"{model.speed * 30 / math.pi:g} rpm, {stop:g} s: RMS error / AC RMS of scipy"
+    )
+    print("| interface | rtol | " + " | ".join(pairs) + " |")
+    print("|---|---|" + "---|" * len(pairs))
+    for interface in ("CoSimulation", "ModelExchange"):
+        for rtol in (1e-6, 1e-8):
+            t1, ch, _ = simulate_fmu(
+                fmu, interface=interface, stop_time=stop, step=DT, rtol=rtol, outputs=list(pairs)
+            )
+            errs = [ac_relative_error(t1, ch[k], tt, ref[v]) for k, v in pairs.items()]
+            print(f"| {interface} | {rtol:.0e} | " + " | ".join(f"{e:.1e}" for e in errs) + " |")
+
+
+def coupling(tmp: Path) -> None:
+    model, table = model_from_scene(load_scene(SCENE))
+    stop = 0.05
+    mono = build_fmu(drivetrain_fmu(model, table), tmp / "coupling").fmu
+    t, ch, _ = simulate_fmu(
+        mono,
+        stop_time=stop,
+        step=5e-6,
+        rtol=1e-10,
+        outputs=["mesh.force", "input_shaft.torque", "output_shaft.torque"],
+    )
+    builds = build_cosim_fmus(model, table, tmp / "coupling")
+    print(
+        f"\ncoupling error against the monolithic FMU, {SCENE.name} at "
+        f"{model.speed * 30 / math.pi:g} rpm, {stop:g} s: RMS error / AC RMS at the "
+        "communication points"
+    )
+    print(
+        "| step (s) | inputs | mesh force | input shaft torque | output shaft torque | wall (s) |"
+    )
+    print("|---|---|---|---|---|---|")
+    for step in (1e-4, 5e-5, 2e-5, 1e-5, 5e-6):
+        for extrapolate in (False, True):
+            res = cosim_drivetrain(
+                model,
+                table,
+                tmp / "coupling",
+                step=step,
+                stop_time=stop,
+                builds=builds,
+                extrapolate=extrapolate,
+            )
+            k = np.abs(t / step - np.round(t / step)) < 1e-6
+            k &= t <= res.time[-1] + 1e-12
+            errs = [
+                ac_relative_error(res.time, res[a], t[k], ch[b][k])
+                for a, b in (
+                    ("mesh_force_N", "mesh.force"),
+                    ("input_shaft_torque_Nm", "input_shaft.torque"),
+                    ("output_shaft_torque_Nm", "output_shaft.torque"),
+                )
+            ]
+            how = "extrapolated" if extrapolate else "held"
+            print(
+                f"| {step:g} | {how} | "
+                + " | ".join(f"{e:.1e}" for e in errs)
+                + f" | {res.wall_time:.2f} |"
+            )
 
 
 if __name__ == "__main__":
