@@ -242,3 +242,32 @@ def test_line_contact_sweeps_the_whole_active_flank():
     # cover the active flank (pattern raster 40 x 40: one cell row of tolerance)
     r = _cycle(HELICAL, n_face=20)
     assert r.pattern_area_fraction[0] > 0.97
+
+
+def test_spur_root_stress_is_iso_6336_3_nominal_stress_at_the_hpstc():
+    # ISO 6336-3 method B: sigma_F0 = F_t / (b m_n) Y_F Y_S with the load at the outer
+    # point of single pair contact, ISO's d_en: pinion roll distance
+    # xi_tip - p_bt (eps_alpha - 1) = xi_A + p_bt along the path of contact. With the
+    # whole load on one pair there, the largest slice root stress of
+    # the pinion over the cycle is that stress; 96 positions put a position within
+    # 1/96 of a base pitch of the point: 1 % tolerance
+    from gearbox.ltca import iso_root_section
+
+    T = 400.0
+    r = _cycle(SPUR, torques=(T,), positions=96, n_face=10)
+    rb1 = SPUR.base_radius(0)
+    xa, xe = SPUR.roll_limits
+    eps = SPUR.transverse_contact_ratio
+    d_en = 2 * math.sqrt(rb1**2 + (xe - SPUR.base_pitch * (eps - 1)) ** 2)
+    sec = iso_root_section(
+        zn=SPUR.teeth[0],
+        normal_module=SPUR.normal_module,
+        normal_pressure_angle=SPUR.normal_pressure_angle,
+        profile_shift=0.0,
+        rack_dedendum=SPUR.dedendum_coefficient,
+        rack_root_radius=SPUR.root_radius_coefficient,
+        load_diameter=d_en,
+    )
+    Ft = T / SPUR.pitch_radius(0)
+    sigma_iso = Ft / (SPUR.face_width * SPUR.normal_module) * float(sec.Y_F * sec.Y_S)
+    assert r.root_stress_pinion[0].max() == pytest.approx(sigma_iso, rel=0.01)
