@@ -171,13 +171,16 @@ def system_structure(
     *,
     initial_values: dict[str, dict[str, float]] | None = None,
     extrapolate: bool = True,
+    connections: tuple | None = None,
 ) -> str:
     """OSP system structure (``OspSystemStructure.xml``) text coupling the three FMUs.
 
     fmus: simulator name -> FMU path (relative to the structure file, or absolute);
     step: communication step (s); initial_values: simulator -> variable -> value;
     extrapolate: also connect :data:`RATE_CONNECTIONS` (second-order coupling),
-    otherwise every exchanged value is held over a step (zero-order hold).
+    otherwise every exchanged value is held over a step (zero-order hold);
+    connections: ((from simulator, variable), (to simulator, variable)) pairs that
+    replace the engine-gearbox-propeller ones (``()`` for a single FMU).
     """
     initial_values = initial_values or {}
     lines = [
@@ -205,7 +208,9 @@ def system_structure(
             lines.append("            </InitialValues>")
         lines.append("        </Simulator>")
     lines += ["    </Simulators>", "    <Connections>"]
-    for (s1, v1), (s2, v2) in CONNECTIONS + (RATE_CONNECTIONS if extrapolate else ()):
+    if connections is None:
+        connections = CONNECTIONS + (RATE_CONNECTIONS if extrapolate else ())
+    for (s1, v1), (s2, v2) in connections:
         lines += [
             "        <VariableConnection>",
             f"            <Variable simulator={quoteattr(s1)} name={quoteattr(v1)}/>",
