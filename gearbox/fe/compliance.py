@@ -42,7 +42,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..errors import Problems
+from ..errors import Problem, Problems
 from ..ltca.grid import ContactGrid
 from ..ltca.slice_model import hertz_half_width
 from ..surface.blank import ToothBlank
@@ -146,9 +146,15 @@ def _u_at_radius(blank, side, z, r, *, tol=1e-12, max_iter=40):
         u = u - np.clip(step, -blank.normal_module, blank.normal_module)
         if np.all(np.abs(rad - r) <= tol):
             return u
+    i = int(np.argmax(np.abs(rad - r)))
     raise FEBuildError(
-        [],
-        "a contact grid point lies off the generated flank (no flank point at its radius)",
+        Problem(
+            f"grid.radius[{i}]",
+            float(r[i]),
+            f"no point of the generated {side} flank at this radius in section "
+            f"z = {float(z[i]):.6g} m (Newton: {max_iter} steps)",
+        ),
+        "a contact grid point lies off the generated flank",
     )
 
 
@@ -174,6 +180,7 @@ def gear_loads(grid: ContactGrid, gear: int) -> GearLoads:
     flank moves along its outward normal, the driven gear's against it).
     """
     sections = grid.tooth1 if gear == 0 else grid.tooth2
+    _require_cylindrical(grid, sections, gear)
     blank = _blank_of(sections, grid.face_range)
     side = "R"
     if abs(blank.helix_angle) > 0:
@@ -193,6 +200,41 @@ def gear_loads(grid: ContactGrid, gear: int) -> GearLoads:
         sense = -sense
     tooth = (sense * grid.pair).astype(int)
     return GearLoads(blank, side, tooth, z, u, float(sections.bore_radius[0]))
+
+
+def _require_cylindrical(grid, sections, gear):
+    """Raise unless the grid is a parallel-axis one (uniform sections, one normal)."""
+    p = Problems()
+    for name in (
+        "root_radius",
+        "tip_radius",
+        "bore_radius",
+        "teeth",
+        "normal_module",
+        "normal_pressure_angle",
+        "helix_angle",
+        "profile_shift",
+        "rack_dedendum",
+        "rack_root_radius",
+    ):
+        a = getattr(sections, name)
+        if np.ptp(a) > 1e-9 * max(1.0, float(np.max(np.abs(a)))):
+            p.add(
+                f"grid.tooth{gear + 1}.{name}",
+                f"varies over the grid ({float(np.min(a)):.6g} .. {float(np.max(a)):.6g})",
+                "the FE level meshes cylindrical (parallel-axis) gears from the grid's "
+                "tooth sections; beveloid grids need the generating blanks and the gear-"
+                "frame flank parameters of every point, which ContactGrid does not carry yet",
+            )
+            break
+    if np.max(np.ptp(grid.normal, axis=0)) > 1e-9:
+        p.add(
+            "grid.normal",
+            "varies over the grid",
+            "a parallel-axis grid has one plane of action (one normal); this grid is not "
+            "one the FE level can place on cylindrical teeth",
+        )
+    p.raise_if_any("the FE level cannot place this contact grid on its teeth")
 
 
 def _replace_helix(blank, beta):
@@ -380,9 +422,12 @@ class FECompliance:
         cells, X, miss = locate(mesh, Q, cands)
         if np.max(miss) > 1e-6:
             raise FEBuildError(
-                [],
-                f"matching points at depth {d:g} m leave the meshed tooth "
-                f"(reduce fe.matching_depth)",
+                Problem(
+                    "fe.matching_depth",
+                    self.options.matching_depth,
+                    f"matching points at depth {d:g} m leave the meshed tooth: reduce it",
+                ),
+                "the FE level cannot place its matching points",
             )
         Op = gm.model.point_operator(cells, X)
         m = -n
