@@ -29,7 +29,8 @@ if find_chromium() is None:
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
     scene = load_scene(ROOT / "models" / "marine_drive.toml")
-    # cheap stages with figures: parameter studies (4) and mesh tables (1)
+    # cheap stages with figures: parameter studies (4) and analytical mesh tables (1)
+    scene = scene.replaced(outputs={"mesh_tables": "analytical"})
     run = run_pipeline(scene, ["design", "sweep", "tables", "report"], cache=False)
     return write_report(run, tmp_path_factory.mktemp("r") / "report.html")
 
