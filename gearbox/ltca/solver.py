@@ -45,7 +45,7 @@ class ContactSolver:
     max_iter: int = 2000
     block_iter: int = 20
     max_outer: int = 40
-    outer_rtol: float = 1.0e-7
+    outer_rtol: float = 1.0e-6
 
     def __post_init__(self):
         p = Problems()
