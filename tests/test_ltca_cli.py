@@ -62,3 +62,20 @@ def test_ltca_bad_input_exits_2(tmp_path, capsys):
     rc = main(["ltca", str(SCENE), "--out", str(tmp_path), "--positions", "3"])
     assert rc == 2
     assert "positions" in capsys.readouterr().err
+
+
+def test_ltca_on_a_paper_case(tmp_path, capsys):
+    # the manufactured case 03, shortened to 4 positions: both flanks, figures, and
+    # the table's rotation radii keep the tooth ratio (lambda_2 / lambda_1 = N_2 / N_1
+    # for the mesh point on the pitch cones, within 1 %)
+    scene = Path(__file__).parent.parent / "models" / "case03.toml"
+    out = tmp_path / "c03"
+    assert main(["ltca", str(scene), "--out", str(out), "--json", "--positions", "4"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert set(summary["flanks"]) == {"drive", "coast"}
+    assert (out / "contact_pattern.png").stat().st_size > 0
+    t = MeshTable.from_netcdf(out / "mesh_table.nc")
+    lam1, lam2 = t.rotation_radii("drive", 300.0)
+    assert lam2 / lam1 == pytest.approx(45 / 29, rel=0.01)
+    c1, c2 = t.rotation_radii("coast", 300.0)
+    assert c1 < 0 and c2 < 0
