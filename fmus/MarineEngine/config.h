@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER MarineEngine
-#define MODEL_GUID "{1187f2a2-0ce5-fb19-f144-6dafdab4d810}"
+#define MODEL_GUID "{81625972-57af-5c37-6005-0cbe556f0dc4}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

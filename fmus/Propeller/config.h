@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER Propeller
-#define MODEL_GUID "{d111626c-95fa-ac2e-8f7b-47f29a5b0cf7}"
+#define MODEL_GUID "{96b20c15-4dbf-07df-19cc-5da26dfa533f}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

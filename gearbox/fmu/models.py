@@ -542,6 +542,32 @@ def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuMode
     )
 
 
+def _shaft_end(body: str, shaft: str, what: str, start: float, torque_desc: str) -> list:
+    """Shaft torque input with its rate input, and the body's outputs (engine, propeller)."""
+    symbol = what.split()[0]
+    return [
+        Variable(
+            f"{shaft}.torque",
+            "input",
+            "N.m",
+            f"Shaft torque {what}",
+            start=start,
+            rate=f"{shaft}.torque_rate",
+        ),
+        Variable(
+            f"{shaft}.torque_rate",
+            "input",
+            "N.m/s",
+            f"d {symbol} / dt (extrapolates {symbol} over a communication step; 0: hold)",
+            start=0.0,
+        ),
+        _out(f"{body}.a", "rad/s2", f"{body.capitalize()} acceleration"),
+        _out(f"{body}.phi", "rad", f"{body.capitalize()} angle (absolute)"),
+        _out(f"{body}.w", "rad/s", f"{body.capitalize()} speed"),
+        _out(f"{body}.torque", "N.m", torque_desc),
+    ]
+
+
 def engine_fmu(model, *, identifier: str = "MarineEngine") -> FmuModel:
     """Engine alone: input shaft torque in, angle and speed out (co-simulation partner)."""
     y0 = model.static_state()
@@ -554,25 +580,13 @@ def engine_fmu(model, *, identifier: str = "MarineEngine") -> FmuModel:
             float(y0[0]),
             fixed=True,
         ),
-        Variable(
-            "input_shaft.torque",
-            "input",
-            "N.m",
-            "Input shaft torque T_in (load on the engine)",
-            start=model.torque,
-            rate="input_shaft.torque_rate",
+        *_shaft_end(
+            "engine",
+            "input_shaft",
+            "T_in (load on the engine)",
+            model.torque,
+            "Engine torque T_e incl. governor",
         ),
-        Variable(
-            "input_shaft.torque_rate",
-            "input",
-            "N.m/s",
-            "d T_in / dt (extrapolates T_in over a communication step; 0: hold)",
-            start=0.0,
-        ),
-        _out("engine.a", "rad/s2", "Engine acceleration"),
-        _out("engine.phi", "rad", "Engine angle (absolute)"),
-        _out("engine.w", "rad/s", "Engine speed"),
-        _out("engine.torque", "N.m", "Engine torque T_e incl. governor"),
     ]
     states, ders = _states(model, [0])
     variables += [states[0], states[1], ders[0], ders[1]]
@@ -608,25 +622,13 @@ def propeller_fmu(model, *, identifier: str = "Propeller") -> FmuModel:
             fixed=True,
         ),
         *_propeller_params(model, full=True),
-        Variable(
-            "output_shaft.torque",
-            "input",
-            "N.m",
-            "Output shaft torque T_out (drives the propeller)",
-            start=tp0,
-            rate="output_shaft.torque_rate",
+        *_shaft_end(
+            "propeller",
+            "output_shaft",
+            "T_out (drives the propeller)",
+            tp0,
+            "Propeller load torque T_p",
         ),
-        Variable(
-            "output_shaft.torque_rate",
-            "input",
-            "N.m/s",
-            "d T_out / dt (extrapolates T_out over a communication step; 0: hold)",
-            start=0.0,
-        ),
-        _out("propeller.a", "rad/s2", "Propeller acceleration"),
-        _out("propeller.phi", "rad", "Propeller angle (absolute)"),
-        _out("propeller.w", "rad/s", "Propeller speed"),
-        _out("propeller.torque", "N.m", "Propeller load torque T_p"),
     ]
     states, ders = _states(model, [3])
     variables += [states[0], states[1], ders[0], ders[1]]
