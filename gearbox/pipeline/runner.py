@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import logging
 import sys
 import time
 from collections.abc import Iterable, Mapping
@@ -21,6 +22,8 @@ from .summary import RunSummary, StageRecord
 from .sweep import map_items
 
 __all__ = ["PipelineRun", "plan", "preview", "run_pipeline"]
+
+_log = logging.getLogger("gearbox.pipeline")
 
 #: Outputs that are not stages: made from whatever the stages produced.
 FINAL_OUTPUTS = ("report",)
@@ -171,8 +174,9 @@ def run_pipeline(
     progress : bool
         tqdm progress bars on stderr.
 
-    A stage that raises is recorded as ``failed`` (its message in the summary) and
-    the stages downstream of it as ``skipped``; :class:`InputError` from validation
+    A stage that raises is recorded as ``failed`` (its message in the summary, its
+    traceback logged to the ``gearbox.pipeline`` logger) and the stages downstream of
+    it as ``skipped``; :class:`InputError` from validation
     is raised before anything is computed, with every problem of every stage.
     """
     if stages is None:
@@ -234,6 +238,7 @@ def run_pipeline(
             continue
         except Exception as exc:  # InputError found mid-run too: recorded, run goes on
             msg = f"{type(exc).__name__}: {exc}"
+            _log.error("stage %s failed", name, exc_info=True)  # the traceback, on stderr
             records.append(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
             continue
         dt = time.perf_counter() - t0
