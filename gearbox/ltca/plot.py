@@ -11,6 +11,7 @@ import numpy as np
 
 __all__ = [
     "plot_contact_pattern",
+    "plot_load_sharing",
     "plot_lte",
     "plot_mesh_stiffness",
     "plot_root_stress_face",
@@ -76,6 +77,19 @@ def plot_lte(results, t: int = 0, ax=None):
     return ax
 
 
+def plot_load_sharing(results, t: int = 0, ax=None):
+    """Share of the normal load carried by one tooth pair through its engagement."""
+    ax = _axes(ax)
+    for label, res in results.items():
+        x, share = res.tooth_load_share(t)
+        ax.plot(x, share, label=label)
+    ax.set_xlabel("engagement of one tooth pair (mesh cycles)")
+    ax.set_ylabel("load share (-)")
+    ax.set_ylim(0, 1.05)
+    ax.legend()
+    return ax
+
+
 def plot_root_stress_profile(results, t: int = 0, ax=None):
     """Largest root stress (MPa) of one tooth through its engagement, as its load moves
     along the profile (Fig. 15(a))."""
@@ -134,6 +148,7 @@ def save_figures(results, out_dir, t: int = 0) -> list:
     for name, fn in (
         ("mesh_stiffness.png", plot_mesh_stiffness),
         ("lte.png", plot_lte),
+        ("load_sharing.png", plot_load_sharing),
     ):
         fig, ax = plt.subplots(figsize=(6, 4))
         fn(results, t, ax=ax)
