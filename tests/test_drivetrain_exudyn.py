@@ -333,6 +333,9 @@ def test_bad_settings_and_requests_are_reported_together(small):
         integrate_exudyn(small, bad, np.array([1e-3, 2e-3]))
     with pytest.raises(InputError, match="t_end"):
         simulate_exudyn(small, -1.0)
+    # a very fine step meets the step cap before anything runs
+    with pytest.raises(InputError, match="max_steps"):
+        integrate_exudyn(small, y0, np.array([1e-3, 2e-3]), ExudynSolver(step=1e-9, max_steps=1000))
 
 
 def _resonant(small):
