@@ -14,6 +14,7 @@ exudyn, jax and FMU building are not imported by ``import gearbox``.
 
 __version__ = "0.1.0"
 
+from .drivetrain import DrivetrainModel as DrivetrainModel
 from .errors import InputError as InputError
 from .geometry import GearSpec as GearSpec
 from .geometry import PairDesign as PairDesign
@@ -22,6 +23,7 @@ from .geometry import ToolSpec as ToolSpec
 from .geometry import design_pair as design_pair
 from .ltca import ParallelPair as ParallelPair
 from .ltca.table import scene_ltca as scene_ltca
+from .meshtable import MeshTable as MeshTable
 from .scene import Scene as Scene
 from .scene import load_scene as load_scene
 from .spectrum import campbell as campbell
