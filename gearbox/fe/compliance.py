@@ -418,6 +418,9 @@ class FECompliance:
         P, n, _, _ = self._surface(blank, side, tooth, Z.ravel(), U.ravel())
         d = self.options.matching_depth * blank.normal_module
         Q = P - d * n
+        # a helical flank's normal leans along the axis: near the face ends the depth
+        # point is kept inside the face (the matching point moves by at most d sin(beta_b))
+        Q[:, 2] = np.clip(Q[:, 2], blank.z_toe, blank.z_heel)
         cands = self._candidates(mesh, tooth, side, Q[:, 2], U.ravel())
         cells, X, miss = locate(mesh, Q, cands)
         if np.max(miss) > 1e-6:
