@@ -28,11 +28,11 @@ from pathlib import Path
 
 import numpy as np
 
-from gearbox.drivetrain.diffrax_backend import DiffraxSolver, integrate_diffrax_batch
-from gearbox.drivetrain.linear import periodic_start_state
+from gearbox.drivetrain.diffrax_backend import DiffraxSolver
 from gearbox.drivetrain.model import DrivetrainModel
 from gearbox.drivetrain.scipy_backend import ScipySolver
-from gearbox.drivetrain.simulate import mesh_force_metrics, record_times, simulate
+from gearbox.drivetrain.simulate import mesh_force_metrics, simulate
+from gearbox.drivetrain.sweep import speed_sweep
 from gearbox.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -134,18 +134,16 @@ def sweep(n_speeds: int, cycles: int) -> None:
     )
     rpms = np.linspace(500.0, 3000.0, n_speeds)
     base = model_at()
-    ms = [base.with_speed(r * math.pi / 30) for r in rpms]
-    y0s = np.stack([periodic_start_state(mm) for mm in ms])
-    tev = np.stack([record_times(mm, 0.0, cycles, 16) for mm in ms])
     t0 = time.perf_counter()
-    Y, infos = integrate_diffrax_batch(ms, y0s, tev, DiffraxSolver())
+    sw = speed_sweep(base, rpms, DiffraxSolver(), settle_cycles=0, mesh_cycles=cycles)
     total = time.perf_counter() - t0
-    wall = infos[0]["batch_wall_time"]
-    ok = sum(i["status"] == "success" for i in infos)
+    wall = sw.wall_time
+    ok = sum(st == "success" for st in sw.status)
     print(
-        f"compile {infos[0]['compile_time']:.2f} s; batch run {wall:.3f} s = {1e3 * wall / n_speeds:.2f} ms "
+        f"compile {sw.compile_time:.2f} s; batch run {wall:.3f} s = {1e3 * wall / n_speeds:.2f} ms "
         f"per speed; total incl. setup {total:.2f} s; {ok}/{n_speeds} succeeded"
     )
+    ms = [base.with_speed(r * math.pi / 30) for r in rpms]
     # single-speed baseline measured in the same run
     one = simulate(
         ms[n_speeds // 2],

@@ -233,8 +233,9 @@ def analytical_table(
 
     torques: pinion torque levels (N m), increasing. positions: per mesh cycle (>= 4).
     Frame (the table's Sf): pinion axis +z through the origin; gear axis -z through
-    (r_1 + r_2 N..., 0, 0) so that the rotation radii keep the tooth ratio; mesh point
-    at the pinion's working pitch radius on +x. Drive and coast flanks are mirror
+    (r_w1 (1 + N_2/N_1), 0, 0), so that the rotation radii keep the tooth ratio
+    (lambda_2 / lambda_1 = N_2 / N_1); mesh point at the pinion's working pitch radius
+    r_w1 on +x; drive line of action (-sin a_wt cos b_b, cos a_wt cos b_b, sin b_b). Drive and coast flanks are mirror
     images (same stiffness, lines of action mirrored about the x-z plane).
     """
     from . import __version__

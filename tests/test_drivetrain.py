@@ -453,3 +453,55 @@ def test_common_excitation_period(base):
     assert m.common_period_mesh_cycles() == 435
     m2 = DrivetrainModel.from_scene(scene(half_order_ripple=0.01), table)
     assert m2.common_period_mesh_cycles() == 870
+
+
+def test_timeseries_round_trips(base, tmp_path):
+    from gearbox.drivetrain.timeseries import TimeSeries
+
+    _, _, m = base
+    ts = simulate(m, DiffraxSolver(), mesh_cycles=4, samples_per_cycle=8)
+    back = TimeSeries.from_dict(json.loads(json.dumps(ts.to_dict())))
+    assert np.array_equal(back.time, ts.time)
+    assert all(np.array_equal(back[k], ts[k]) for k in ts.channels)
+    assert back.status == ts.status and back.steps == ts.steps and back.units == ts.units
+    text = ts.to_csv(tmp_path / "ts.csv")
+    assert text.splitlines()[0].split(",")[:2] == ["time_s", "engine_angle_rad"]
+    assert len(text.splitlines()) == 1 + ts.time.size
+    pytest.importorskip("xarray")
+    import xarray as xr
+
+    ts.to_netcdf(tmp_path / "ts.nc")
+    with xr.open_dataset(tmp_path / "ts.nc") as ds:
+        assert np.array_equal(ds["mesh_force_N"].values, ts["mesh_force_N"])
+        assert ds["mesh_force_N"].attrs["units"] == "N"
+
+
+def test_speed_sweep_batched_matches_single_runs(base):
+    # The vmap batch and separate runs integrate the same equations from the same
+    # start: metrics agree to 1e-6 (different step sequences at rtol 1e-9).
+    from gearbox.drivetrain.sweep import speed_sweep
+
+    _, _, m = base
+    sw = speed_sweep(
+        m,
+        [1200.0, 2400.0],
+        DiffraxSolver(rtol=1e-9),
+        settle_cycles=5,
+        mesh_cycles=8,
+        keep_timeseries=True,
+    )
+    assert sw.status == ("success", "success") and len(sw.timeseries) == 2
+    for rpm, amp in zip(sw.rpm, sw.metrics["mesh_force_mesh_order_amplitude_N"], strict=True):
+        mm = m.with_speed(rpm * math.pi / 30)
+        one = simulate(
+            mm,
+            DiffraxSolver(rtol=1e-9),
+            settle_time=5 / mm.mesh_frequency,
+            mesh_cycles=8,
+            samples_per_cycle=16,
+        )
+        assert amp == pytest.approx(
+            mesh_force_metrics(one, mm)["mesh_force_mesh_order_amplitude_N"], rel=1e-6
+        )
+    with pytest.raises(InputError, match="rpms"):
+        speed_sweep(m, [-1.0])

@@ -240,7 +240,7 @@ class DrivetrainModel:
             **kw,
         )
 
-    def with_speed(self, speed: float, table: MeshTable | None = None) -> DrivetrainModel:
+    def with_speed(self, speed: float) -> DrivetrainModel:
         """Same model at another speed Omega (rad/s); torque and mesh law unchanged."""
         return dataclasses.replace(self, speed=float(speed))
 
@@ -598,12 +598,19 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     n = model.n_dof
     x = y[:, :n]
     v = y[:, n:]
-    forces = np.empty((t.size, 2))
-    te = np.empty(t.size)
-    tp = np.empty(t.size)
-    for i in range(t.size):
-        forces[i] = mesh_forces(t[i], x[i], v[i], p)[0]
-        te[i], tp[i] = external_torques(t[i], x[i], v[i], p)
+    # Vectorised over samples: the same formulas as mesh_forces / external_torques.
+    theta1 = p["Omega"] * t + x[:, 1] + p["phase"]
+    k, _, e, de = mesh_laws(theta1[:, None, None], p)  # (n_t, 2)
+    s = x @ p["G"].T - e - p["bl"]
+    sdot = v @ p["G"].T - de * (p["Omega"] + v[:, 1])[:, None]
+    forces = np.where(s > 0, np.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
+    tt = t[:, None]
+    te = p["T"] * (1.0 + np.sum(p["ea"] * np.sin(p["eo"] * p["Omega"] * tt), axis=-1))
+    te = te - p["Kp"] * v[:, 0] - p["Ki"] * (x[:, 0] - p["qe0"])
+    wp = p["Omega2"] + v[:, 3]
+    tp = (
+        p["kappa"] * wp * wp * (1.0 + np.sum(p["pa"] * np.sin(p["po"] * p["Omega2"] * tt), axis=-1))
+    )
     theta1 = p["Omega"] * t + x[:, 1] + p["phase"]
     la = model.drive.lte_coef
     hh = (la.size - 1) // 2
