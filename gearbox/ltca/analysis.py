@@ -381,6 +381,7 @@ def cycle_summary(res: CycleResult) -> dict:
                 "mean_tangent_stiffness_N_per_m": float(res.tangent_stiffness[t].mean()),
                 "lte_mean_m": float(e.mean()),
                 "lte_peak_to_peak_m": float(e.max() - e.min()),
+                "unloaded_te_peak_to_peak_m": float(np.ptp(res.lte_unloaded)),
                 "mesh_point_m": [float(v) for v in res.mesh_point[t].mean(axis=0)],
                 "line_of_action": [float(v) for v in n / np.linalg.norm(n)],
                 "contact_pattern_area_fraction": float(res.pattern_area_fraction[t]),

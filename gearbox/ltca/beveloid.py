@@ -503,7 +503,8 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
     sense = float(np.sign(np.nanmean(np.where(has, arm_raw, np.nan))))
     arm = sense * arm_raw
     proj = np.sqrt(np.maximum(1 - (nf @ zaxis) ** 2, 1e-12))
-    grids = []
+    # first pass: the points of every position and their rigid rotation to contact
+    picks = []
     for j in range(positions):
         ks, slots, fi = [], [], []
         for k in range(-8, 9):
@@ -523,7 +524,12 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
         keep = m_i > 0
         phi0 = np.min(s_i[keep] / m_i[keep])
         keep &= (s_i - m_i * phi0) < reach
-        ks, slots, fi, s_i, m_i = ks[keep], slots[keep], fi[keep], s_i[keep], m_i[keep]
+        picks.append((ks[keep], slots[keep], fi[keep], s_i[keep], m_i[keep]))
+    # one rigid rotation for all positions (the nominal phase is arbitrary): what is
+    # left of each position's rotation to first contact is the unloaded TE
+    phi_ref = min(float(np.min(p[3] / p[4])) for p in picks)
+    grids = []
+    for ks, slots, fi, s_i, m_i in picks:
         z1 = field.z[slots]
         rad1 = np.hypot(pt[fi, slots, 0], pt[fi, slots, 1])
         grids.append(
@@ -533,7 +539,7 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
                 face=z1,
                 width=np.full(ks.size, dz),
                 line_length=dz / proj[fi, slots],
-                separation=s_i - m_i * phi0,
+                separation=s_i - m_i * phi_ref,
                 arm=m_i,
                 transverse_projection=proj[fi, slots],
                 curvature_radius=1.0 / curv[fi, slots],
