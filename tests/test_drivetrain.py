@@ -505,3 +505,30 @@ def test_speed_sweep_batched_matches_single_runs(base):
         )
     with pytest.raises(InputError, match="rpms"):
         speed_sweep(m, [-1.0])
+
+
+def test_bearing_dofs_carry_the_mesh_force_statically(base):
+    # Moment and force balance: in the static state each bearing carries the normal mesh
+    # force F_n = T / lambda_1 (pinion pushed along -n, gear along +n); 1e-9: a linear solve.
+    s, table, _ = base
+    m = DrivetrainModel.from_scene(scene(bearing_dofs=True), table)
+    y = m.static_state()
+    fn = m.torque / m.drive.lambda1
+    assert m.pinion_bearing_stiffness * y[4] == pytest.approx(-fn, rel=1e-9)
+    assert m.gear_bearing_stiffness * y[5] == pytest.approx(fn, rel=1e-9)
+    ts = simulate(m, DiffraxSolver(), mesh_cycles=10)
+    assert ts.success
+    assert ts["gear_bearing_force_N"].mean() == pytest.approx(fn, rel=2e-2)
+    # Bearings in series with the mesh lower the mesh mode.
+    assert modes(m).frequencies[-2] < modes(DrivetrainModel.from_scene(s, table)).frequencies[-1]
+
+
+def test_governor_turns_the_rigid_body_mode_into_a_slow_oscillation(base):
+    # PI governor: the integral gain K_i is a torsional spring to ground on the engine;
+    # the rigid-body mode becomes sqrt(K_i / J_total) / (2 pi), J_total referred to the
+    # engine = J_e + J_1 + (J_2 + J_p (1 + added)) (N_1/N_2)^2. The shafts are 30x stiffer
+    # in frequency, so 1 % covers the coupling.
+    s, table, _ = base
+    m = DrivetrainModel.from_scene(scene(governor=True, governor_ki_Nm_per_rad=500.0), table)
+    jt = 2.0 + 0.05 + (0.12 + 5.0 * 1.25) * (29 / 45) ** 2
+    assert modes(m).frequencies[0] == pytest.approx(math.sqrt(500.0 / jt) / (2 * math.pi), rel=1e-2)
