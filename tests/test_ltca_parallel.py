@@ -271,3 +271,16 @@ def test_spur_root_stress_is_iso_6336_3_nominal_stress_at_the_hpstc():
     Ft = T / SPUR.pitch_radius(0)
     sigma_iso = Ft / (SPUR.face_width * SPUR.normal_module) * float(sec.Y_F * sec.Y_S)
     assert r.root_stress_pinion[0].max() == pytest.approx(sigma_iso, rel=0.01)
+
+
+def test_cycle_result_round_trips_through_a_dict():
+    import json
+
+    from gearbox.ltca import CycleResult
+
+    r = _cycle(SPUR, positions=4, n_face=6)
+    back = CycleResult.from_dict(json.loads(json.dumps(r.to_dict())))
+    for name in ("stiffness", "lte", "pair_share", "pattern_pressure", "converged", "iterations"):
+        a, b = getattr(r, name), getattr(back, name)
+        assert a.dtype == b.dtype and np.array_equal(a, b), name
+    assert back.profile_range == r.profile_range and back.meta == r.meta

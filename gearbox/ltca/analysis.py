@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -150,10 +150,36 @@ class CycleResult:
         return x[o] - x.min(), v[o]
 
     def to_dict(self) -> dict:
+        """Plain JSON-ready dict (arrays as nested lists, SI)."""
         d = {}
         for k, v in self.__dict__.items():
-            d[k] = v.tolist() if isinstance(v, np.ndarray) else v
+            if isinstance(v, np.ndarray):
+                d[k] = v.tolist()
+            elif isinstance(v, tuple):
+                d[k] = list(v)
+            elif isinstance(v, dict):
+                d[k] = {kk: (vv.item() if hasattr(vv, "item") else vv) for kk, vv in v.items()}
+            else:
+                d[k] = v
         return d
+
+    @classmethod
+    def from_dict(cls, d) -> CycleResult:
+        """Inverse of :meth:`to_dict`."""
+        out = {}
+        for f in fields(cls):
+            v = d[f.name]
+            if f.name in ("profile_range", "face_range"):
+                out[f.name] = tuple(float(x) for x in v)
+            elif f.name == "meta":
+                out[f.name] = dict(v)
+            elif f.name in ("iterations", "pair_index"):
+                out[f.name] = np.asarray(v, dtype=int)
+            elif f.name == "converged":
+                out[f.name] = np.asarray(v, dtype=bool)
+            else:
+                out[f.name] = np.asarray(v, dtype=float)
+        return cls(**out)
 
 
 def _pattern(raster, profile_range, face_range, prof, face, half, width, pressure):
