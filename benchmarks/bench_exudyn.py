@@ -88,20 +88,9 @@ def prestep_run(model, t_eval, y0, step):
     size = len(mesh_dofs)
 
     def mesh(mbs_, t, itemNumber, q, q_t):
-        zero = esym.Real(0.0)
         total = None
         for fl, (k, e, de) in zip(plan.flanks, variables, strict=True):
-            delta, ddelta, gv = 0.0, 0.0, [0.0] * size
-            for dof, j in pos.items():
-                g = float(fl.G[dof])
-                if g != 0.0:
-                    delta = delta + g * q[j]
-                    ddelta = ddelta + g * q_t[j]
-                    gv[j] = -g
-            s = delta - e - fl.b
-            sdot = ddelta - de * (plan.omega + q_t[pos[1]])
-            F = esym.IfThenElse(s > 0.0, esym.max(zero, k * s + fl.c * sdot), zero)
-            term = F * esym.Vector(gv)
+            term = xb.flank_force_symbolic(plan, fl, pos, size, q, q_t, k, e, de)
             total = term if total is None else total + term
         return total
 

@@ -348,6 +348,39 @@ def _flank_arrays(fl: _Flank):
     return out
 
 
+def flank_force_symbolic(plan: _Plan, fl: _Flank, pos: dict[int, int], size: int, q, q_t, k, e, de):
+    """Symbolic generalised force vector -G_f F_f of one flank, length ``size``.
+
+    k, e, de: expressions (or symbolic variables) for k_f(theta_1) (N/m), e_f (m) and
+    e_f' (m/rad). Contact law of docs/drivetrain.md §3. The contact test uses the
+    bounds e_lo <= e_f <= e_hi of the flank's error series where they decide: u =
+    delta - b > e_hi means contact, u <= e_lo none, and only in between is the gap s
+    itself tested. Same result, one series evaluation fewer per call in loaded running
+    and none for a flank out of contact (exudyn's trees have no common
+    subexpressions: each use of e re-evaluates it).
+    """
+    import exudyn as exu
+
+    esym = exu.symbolic
+    zero = esym.Real(0.0)
+    delta, ddelta, gv = 0.0, 0.0, [0.0] * size
+    for dof, j in pos.items():
+        g = float(fl.G[dof])
+        if g != 0.0:
+            delta = delta + g * q[j]
+            ddelta = ddelta + g * q_t[j]
+            gv[j] = -g
+    s = delta - e - fl.b
+    sdot = ddelta - de * (plan.omega + q_t[pos[1]])
+    force = esym.max(zero, k * s + fl.c * sdot)
+    e_lo, e_hi = _bounds(fl.e, fl.e_harmonics)
+    u = delta - fl.b
+    F = esym.IfThenElse(
+        u > e_hi, force, esym.IfThenElse(u > e_lo, esym.IfThenElse(s > 0.0, force, zero), zero)
+    )
+    return F * esym.Vector(gv)
+
+
 def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, symbolic: bool):
     """Generalised mesh forces -sum_f G_f F_f (N or N m), a vector of length ``size``.
 
@@ -367,37 +400,12 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
         import exudyn as exu
 
         esym = exu.symbolic
-        zero = esym.Real(0.0)
         total = None
         for fl in plan.flanks:
-            delta = 0.0
-            ddelta = 0.0
-            gv = [0.0] * size
-            for dof, j in pos.items():
-                g = float(fl.G[dof])
-                if g != 0.0:
-                    delta = delta + g * q[j]
-                    ddelta = ddelta + g * q_t[j]
-                    gv[j] = -g
             e = _fourier_terms(fl.e, fl.e_harmonics, theta, esym.cos)
             de = _fourier_derivative_terms(fl.e, fl.e_harmonics, theta, esym.sin)
             k = _fourier_terms(fl.k, fl.k_harmonics, theta, esym.cos)
-            s = delta - e - fl.b
-            sdot = ddelta - de * (plan.omega + q_t[ip])
-            force = esym.max(zero, k * s + fl.c * sdot)
-            # Contact test without the error series where its bounds decide:
-            # e_lo <= e(theta) <= e_hi, so delta - b > e_hi means contact and
-            # delta - b <= e_lo means none; only in between is s itself tested.
-            # Same result, one series fewer per call in loaded running, none for a
-            # flank out of contact (no common subexpressions in exudyn's trees).
-            e_lo, e_hi = _bounds(fl.e, fl.e_harmonics)
-            u = delta - fl.b
-            F = esym.IfThenElse(
-                u > e_hi,
-                force,
-                esym.IfThenElse(u > e_lo, esym.IfThenElse(s > 0.0, force, zero), zero),
-            )
-            term = F * esym.Vector(gv)
+            term = flank_force_symbolic(plan, fl, pos, size, q, q_t, k, e, de)
             total = term if total is None else total + term
         return total
     out = np.zeros(size)
