@@ -39,7 +39,7 @@ def builds(tmp_path_factory):
 def test_the_four_folders_are_there():
     assert set(FOLDERS) == {"BeveloidDrivetrain", "BeveloidGearbox", "MarineEngine", "Propeller"}
     for name in FOLDERS:
-        for f in ("config.h", "model.c", "FMI2.xml", "readme.md", f"{name}_ref.csv"):
+        for f in ("config.h", "model.c", "FMI2.xml", "FMI3.xml", "readme.md", f"{name}_ref.csv"):
             assert (FMUS / name / f).exists(), f"{name}/{f}"
 
 
@@ -49,6 +49,18 @@ def test_folder_builds_and_validates(builds, name):
 
     assert builds[name].compiler_output == ""
     assert validate_fmu(builds[name].fmu) == []
+
+
+def test_folder_builds_as_fmi3_and_reproduces_the_reference(tmp_path):
+    from fmpy.validation import validate_fmu
+
+    b = build_folder(FMUS / "BeveloidDrivetrain", tmp_path, fmi_version=3)
+    assert validate_fmu(b.fmu) == []
+    ref = _ref("BeveloidDrivetrain")
+    t, ch, _ = simulate_fmu(
+        b.fmu, stop_time=float(ref["time"][-1]), step=1e-4, rtol=1e-8, outputs=["mesh.force"]
+    )
+    assert ac_relative_error(t, ch["mesh.force"], ref["time"], ref["mesh.force"]) < 1e-5
 
 
 @pytest.mark.parametrize("interface, tol", [("CoSimulation", 1e-5), ("ModelExchange", 5e-5)])

@@ -1,9 +1,10 @@
 """``gearbox fmu build``: export the drivetrain (or its parts) as FMI 2.0 FMUs."""
 
-HELP = "Build FMUs (FMI 2.0, Model Exchange + Co-Simulation) of the drivetrain or its parts."
+HELP = "Build FMUs (FMI 2.0 or 3.0, Model Exchange + Co-Simulation) of the drivetrain or its parts."
 EXAMPLES = """  gearbox fmu build models/marine_drive.toml --out out/fmu
   gearbox fmu build models/marine_drive.toml --out out/fmu --kind gearbox
   gearbox fmu build models/marine_drive.toml --out out/fmu --kind all --json
+  gearbox fmu build models/marine_drive.toml --out out/fmu --fmi-version 3
   gearbox fmu build models/case03.toml --out out/fmu --table out/ltca/mesh_table.nc
 """
 
@@ -26,6 +27,13 @@ def add_arguments(parser):
     )
     parser.add_argument(
         "--speed-rpm", type=float, default=None, help="engine speed (rpm), overrides the scene"
+    )
+    parser.add_argument(
+        "--fmi-version",
+        type=int,
+        choices=(2, 3),
+        default=2,
+        help="FMI 2.0 (default, <id>.fmu) or FMI 3.0 (<id>_fmi3.fmu)",
     )
     parser.add_argument("--json", action="store_true", help="print the builds as one JSON object")
 
@@ -51,7 +59,7 @@ def run(args) -> int:
         "propeller": lambda: propeller_fmu(model),
     }
     kinds = KINDS if args.kind == "all" else (args.kind,)
-    builds = {k: build_fmu(makers[k](), args.out) for k in kinds}
+    builds = {k: build_fmu(makers[k](), args.out, fmi_version=args.fmi_version) for k in kinds}
     if args.json:
         print(dumps_json({k: b.to_dict() for k, b in builds.items()}))
     else:

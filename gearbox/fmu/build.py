@@ -29,10 +29,24 @@ from pathlib import Path
 
 from ..commands._common import write_atomic
 from ..errors import InputError, Problem
-from .codegen import config_h, model_c, model_description, variables_markdown, with_solver
+from .codegen import (
+    config_h,
+    model_c,
+    model_description,
+    model_description_fmi3,
+    variables_markdown,
+    with_solver,
+)
 from .spec import FmuModel
 
-__all__ = ["RUNTIME_FILES", "FmuBuild", "build_folder", "build_fmu", "write_sources"]
+__all__ = [
+    "RUNTIME_FILES",
+    "RUNTIME_FILES_FMI3",
+    "FmuBuild",
+    "build_folder",
+    "build_fmu",
+    "write_sources",
+]
 
 #: Files of the generic runtime (package data in gearbox/fmu/c/).
 RUNTIME_FILES = (
@@ -41,6 +55,14 @@ RUNTIME_FILES = (
     "fmi2Functions.h",
     "fmi2FunctionTypes.h",
     "fmi2TypesPlatform.h",
+)
+
+#: Added for FMI 3.0: the FMI 3.0 layer over the FMI 2.0 runtime and its headers.
+RUNTIME_FILES_FMI3 = (
+    "fmi3_runtime.c",
+    "fmi3Functions.h",
+    "fmi3FunctionTypes.h",
+    "fmi3PlatformTypes.h",
 )
 
 #: Compiler flags; warnings are errors.
@@ -85,16 +107,21 @@ class FmuBuild:
         return cls(**{**d, "command": tuple(d["command"])})
 
 
-def _platform() -> str:
+def _platform(fmi_version: int = 2) -> str:
+    """binaries/ subfolder: FMI 2.0 names (linux64) or FMI 3.0 tuples (x86_64-linux)."""
     system = platform.system()
-    bits = "64" if platform.machine().endswith("64") else "32"
+    machine = platform.machine().lower()
+    bits = "64" if machine.endswith("64") else "32"
+    if system not in ("Linux", "Darwin", "Windows"):
+        raise InputError(Problem("platform", system, "FMU build supports Linux, macOS, Windows"))
+    if fmi_version == 3:
+        arch = {"amd64": "x86_64", "arm64": "aarch64"}.get(machine, machine)
+        return f"{arch}-{system.lower()}"
     if system == "Linux":
         return f"linux{bits}"
     if system == "Darwin":
         return "darwin64"
-    if system == "Windows":
-        return f"win{bits}"
-    raise InputError(Problem("platform", system, "FMU build supports Linux, macOS, Windows"))
+    return f"win{bits}"
 
 
 def _runtime_text(name: str) -> str:
@@ -109,6 +136,7 @@ def write_sources(model: FmuModel, folder: str | Path) -> Path:
     write_atomic(folder / "config.h", config_h(model))
     write_atomic(folder / "model.c", model_c(model))
     write_atomic(folder / "FMI2.xml", model_description(model, generation_tool=_tool()))
+    write_atomic(folder / "FMI3.xml", model_description_fmi3(model, generation_tool=_tool()))
     if model.readme:
         write_atomic(
             folder / "readme.md", model.readme.rstrip() + "\n\n" + variables_markdown(model)
@@ -130,63 +158,73 @@ def build_fmu(
     *,
     cc: str | None = None,
     source_dir: str | Path | None = None,
+    fmi_version: int = 2,
 ) -> FmuBuild:
     """Generate, compile (warnings as errors) and zip one FMU into ``out_dir``.
 
     ``cc`` defaults to ``$CC`` or ``gcc``. ``source_dir`` (default
-    ``out_dir/<identifier>``) receives the generated source folder. Raises
+    ``out_dir/<identifier>``) receives the generated source folder. ``fmi_version`` 2
+    writes ``<id>.fmu`` (FMI 2.0), 3 writes ``<id>_fmi3.fmu`` (FMI 3.0). Raises
     :class:`~gearbox.errors.InputError` when no compiler is found and
     :class:`RuntimeError` with the compiler's output when compiling fails.
     """
     model = with_solver(model)
     out_dir = Path(out_dir)
     src = write_sources(model, source_dir or out_dir / model.identifier)
-    return build_folder(src, out_dir, cc=cc)
+    return build_folder(src, out_dir, cc=cc, fmi_version=fmi_version)
 
 
-def build_folder(src: str | Path, out_dir: str | Path, *, cc: str | None = None) -> FmuBuild:
+def build_folder(
+    src: str | Path, out_dir: str | Path, *, cc: str | None = None, fmi_version: int = 2
+) -> FmuBuild:
     """Compile and zip an FMU from a source folder written by :func:`write_sources`
-    (``config.h``, ``model.c``, ``FMI2.xml``, ``readme.md``, ``resources/``), such as
-    the folders under ``fmus/``."""
+    (``config.h``, ``model.c``, ``FMI2.xml``, ``FMI3.xml``, ``readme.md``,
+    ``resources/``), such as the folders under ``fmus/``."""
     import xml.etree.ElementTree as ET
 
     src = Path(src)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    root = ET.parse(src / "FMI2.xml").getroot()
+    if fmi_version not in (2, 3):
+        raise InputError(Problem("fmi_version", fmi_version, "must be 2 or 3"))
+    xml = src / f"FMI{fmi_version}.xml"
+    root = ET.parse(xml).getroot()
     ident = root.find("CoSimulation").get("modelIdentifier")
     n_vars = len(root.find("ModelVariables"))
-    derivatives = root.find("ModelStructure").find("Derivatives")
-    n_states = 0 if derivatives is None else len(derivatives)
+    if fmi_version == 3:
+        n_states = len(root.find("ModelStructure").findall("ContinuousStateDerivative"))
+    else:
+        derivatives = root.find("ModelStructure").find("Derivatives")
+        n_states = 0 if derivatives is None else len(derivatives)
     resources = sorted((src / "resources").iterdir()) if (src / "resources").is_dir() else []
     cc = cc or os.environ.get("CC") or "gcc"
     if shutil.which(cc) is None:
         raise InputError(Problem("cc", cc, "a C compiler on PATH (set CC or install gcc)"))
-    plat = _platform()
-    suffix = {"linux": ".so", "darwi": ".dylib", "win32": ".dll", "win64": ".dll"}[plat[:5]]
+    plat = _platform(fmi_version)
+    suffix = {"Linux": ".so", "Darwin": ".dylib", "Windows": ".dll"}[platform.system()]
+    files = RUNTIME_FILES + (RUNTIME_FILES_FMI3 if fmi_version == 3 else ())
     with tempfile.TemporaryDirectory(prefix=f"gbx_{ident}_") as tmp:
         tmp = Path(tmp)
         sources = tmp / "sources"
         sources.mkdir()
-        for name in RUNTIME_FILES:
+        for name in files:
             (sources / name).write_text(_runtime_text(name), encoding="utf-8")
         shutil.copy(src / "config.h", sources / "config.h")
         shutil.copy(src / "model.c", sources / "model.c")
         binary = tmp / "binaries" / plat / f"{ident}{suffix}"
         binary.parent.mkdir(parents=True)
-        cmd = (
-            cc, *CFLAGS, "-I", str(sources), "-o", str(binary),
-            str(sources / "fmi2_runtime.c"), str(sources / "model.c"), "-lm",
-        )  # fmt: skip
+        c_files = [str(sources / f) for f in files if f.endswith(".c")] + [str(sources / "model.c")]
+        defines = ("-DGBX_FMI3",) if fmi_version == 3 else ()
+        cmd = (cc, *CFLAGS, *defines, "-I", str(sources), "-o", str(binary), *c_files, "-lm")
         proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
         if proc.returncode != 0:
             raise RuntimeError(f"compiling {ident} failed ({' '.join(cmd)}):\n{proc.stderr}")
-        fmu_path = out_dir / f"{ident}.fmu"
+        fmu_path = out_dir / (f"{ident}.fmu" if fmi_version == 2 else f"{ident}_fmi3.fmu")
         fd, tmp_zip = tempfile.mkstemp(dir=out_dir, prefix=f".{ident}.", suffix=".fmu.tmp")
         os.close(fd)
         try:
             with zipfile.ZipFile(tmp_zip, "w", zipfile.ZIP_DEFLATED) as z:
-                z.writestr("modelDescription.xml", (src / "FMI2.xml").read_text(encoding="utf-8"))
+                z.writestr("modelDescription.xml", xml.read_text(encoding="utf-8"))
                 z.write(binary, f"binaries/{plat}/{binary.name}")
                 for f in sorted(sources.iterdir()):
                     z.write(f, f"sources/{f.name}")

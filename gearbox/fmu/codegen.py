@@ -22,6 +22,7 @@ __all__ = [
     "guid",
     "model_c",
     "model_description",
+    "model_description_fmi3",
     "variables_markdown",
     "with_solver",
 ]
@@ -316,3 +317,81 @@ def variables_markdown(model: FmuModel) -> str:
             f"| {i} | `{v.name}` | {kind} | {v.unit} | {start} | {rng} | {v.description} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def model_description_fmi3(model: FmuModel, *, generation_tool: str = "gearbox") -> str:
+    """``modelDescription.xml`` for FMI 3.0 (Model Exchange and Co-Simulation).
+
+    The same variables and value references as FMI 2.0, plus the independent variable
+    ``time`` (value reference = number of variables); derivatives refer to their
+    state by value reference (FMI 3.0 section 2.4.7).
+    """
+    ident = model.identifier
+    units = {v.unit for v in model.variables if v.unit} | {"s"}
+    vr = {v.name: i for i, v in enumerate(model.variables)}
+    common = ' canGetAndSetFMUState="false" canSerializeFMUState="false"'
+    lines = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        "<fmiModelDescription",
+        '  fmiVersion="3.0"',
+        f"  modelName={quoteattr(ident)}",
+        f'  instantiationToken="{guid(model)}"',
+        f"  description={quoteattr(model.description)}",
+        f"  generationTool={quoteattr(generation_tool)}",
+        '  variableNamingConvention="structured">',
+        f'  <ModelExchange modelIdentifier="{ident}"{common}/>',
+        f'  <CoSimulation modelIdentifier="{ident}"{common}'
+        ' canHandleVariableCommunicationStepSize="true" hasEventMode="false"/>',
+    ]
+    lines += _unit_definitions(units)
+    lines += [
+        "  <LogCategories>",
+        '    <Category name="logEvents" description="Instantiation, termination, solver work"/>',
+        '    <Category name="logStatusError" description="Errors: invalid arguments, parameters,'
+        ' resources, integration failures"/>',
+        "  </LogCategories>",
+        f'  <DefaultExperiment startTime="0" stopTime="{_num(model.stop_time)}"'
+        f' stepSize="{_num(model.step_size)}"/>',
+        "  <ModelVariables>",
+        f'    <Float64 name="time" valueReference="{len(model.variables)}" causality="independent"'
+        ' variability="continuous" unit="s" description="Simulation time"/>',
+    ]
+    for i, v in enumerate(model.variables):
+        attrs = [f"name={quoteattr(v.name)}", f'valueReference="{i}"']
+        if v.description:
+            attrs.append(f"description={quoteattr(v.description)}")
+        if v.kind == "parameter":
+            var = "fixed" if v.fixed else "tunable"
+            attrs += ['causality="parameter"', f'variability="{var}"']
+        elif v.kind == "input":
+            attrs += ['causality="input"', 'variability="continuous"']
+        elif v.kind == "output":
+            attrs += ['causality="output"', 'variability="continuous"', 'initial="calculated"']
+        else:
+            attrs += ['causality="local"', 'variability="continuous"', 'initial="calculated"']
+        if v.unit:
+            attrs.append(f"unit={quoteattr(v.unit)}")
+            if UNITS[v.unit][1]:
+                attrs.append(f'displayUnit="{UNITS[v.unit][1][0]}"')
+        if v.kind == "derivative":
+            attrs.append(f'derivative="{vr[v.derivative_of]}"')
+        if v.kind == "state":
+            attrs.append(f'nominal="{_num(v.nominal)}"')
+        if v.kind in ("parameter", "input"):
+            attrs.append(f'start="{_num(v.start)}"')
+            if math.isfinite(v.min):
+                attrs.append(f'min="{_num(v.min)}"')
+            if math.isfinite(v.max):
+                attrs.append(f'max="{_num(v.max)}"')
+        lines.append(f"    <Float64 {' '.join(attrs)}/>")
+    lines += ["  </ModelVariables>", "  <ModelStructure>"]
+    outputs = [vr[v.name] for v in model.by_kind("output")]
+    derivs = [vr[v.name] for v in model.by_kind("derivative")]
+    states = [vr[v.name] for v in model.states]
+    lines += [f'    <Output valueReference="{k}"/>' for k in outputs]
+    lines += [f'    <ContinuousStateDerivative valueReference="{k}"/>' for k in derivs]
+    lines += [
+        f'    <InitialUnknown valueReference="{k}"/>' for k in sorted(outputs + derivs + states)
+    ]
+    lines += ["  </ModelStructure>", "</fmiModelDescription>", ""]
+    return "\n".join(lines)

@@ -17,6 +17,14 @@
 
 #include "gbx_model.h"
 
+/* The FMI 2.0 functions are defined as GBX2(name): fmi2<name> in an FMI 2.0 build, and
+ * gbx_fmi2<name> (internal) in an FMI 3.0 build, where fmi3_runtime.c adapts them. */
+#if defined(GBX_FMI3)
+#define GBX2(name) gbx_fmi2##name
+#else
+#define GBX2(name) fmi2##name
+#endif
+
 #define GBX_MAX_SUBSTEPS 10000000L
 
 /* ------------------------------------------------------------------ services */
@@ -225,10 +233,10 @@ static void reset_values(ModelInstance *m) {
 
 /* ----------------------------------------------------------- common functions */
 
-const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
-const char *fmi2GetVersion(void) { return fmi2Version; }
+const char *GBX2(GetTypesPlatform)(void) { return fmi2TypesPlatform; }
+const char *GBX2(GetVersion)(void) { return fmi2Version; }
 
-fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
+fmi2Status GBX2(SetDebugLogging)(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[]) {
     ModelInstance *m = (ModelInstance *)c;
     (void)categories;
@@ -238,7 +246,7 @@ fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nC
     return fmi2OK;
 }
 
-fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+fmi2Component GBX2(Instantiate)(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
                               fmi2String fmuResourceLocation,
                               const fmi2CallbackFunctions *functions, fmi2Boolean visible,
                               fmi2Boolean loggingOn) {
@@ -302,7 +310,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     return m;
 }
 
-void fmi2FreeInstance(fmi2Component c) {
+void GBX2(FreeInstance)(fmi2Component c) {
     ModelInstance *m = (ModelInstance *)c;
     if (!m) return;
     gbx_log(m, fmi2OK, "logEvents", "freed after %ld steps, %ld rejected, %ld right-hand sides",
@@ -313,7 +321,7 @@ void fmi2FreeInstance(fmi2Component c) {
     gbx_free(m, m);
 }
 
-fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
+fmi2Status GBX2(SetupExperiment)(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
     ModelInstance *m = (ModelInstance *)c;
     (void)stopTimeDefined;
@@ -338,7 +346,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fm
     return fmi2OK;
 }
 
-fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
+fmi2Status GBX2(EnterInitializationMode)(fmi2Component c) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2EnterInitializationMode", MASK_INSTANTIATED)) return fmi2Error;
     m->state = GBX_ST_INIT;
@@ -346,7 +354,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
     return fmi2OK;
 }
 
-fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
+fmi2Status GBX2(ExitInitializationMode)(fmi2Component c) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2ExitInitializationMode", MASK_INIT)) return fmi2Error;
     m->x_pending = 1;
@@ -360,7 +368,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     return fmi2OK;
 }
 
-fmi2Status fmi2Terminate(fmi2Component c) {
+fmi2Status GBX2(Terminate)(fmi2Component c) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2Terminate", MASK_EVENT | MASK_CONT | MASK_STEP | MASK_ERROR))
         return fmi2Error;
@@ -370,7 +378,7 @@ fmi2Status fmi2Terminate(fmi2Component c) {
     return fmi2OK;
 }
 
-fmi2Status fmi2Reset(fmi2Component c) {
+fmi2Status GBX2(Reset)(fmi2Component c) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2Reset", MASK_ANY)) return fmi2Error;
     reset_values(m);
@@ -380,7 +388,7 @@ fmi2Status fmi2Reset(fmi2Component c) {
 
 /* ------------------------------------------------------------- get / set */
 
-fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+fmi2Status GBX2(GetReal)(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
     ModelInstance *m = (ModelInstance *)c;
     size_t i;
     int outputs_done = 0, derivs_done = 0;
@@ -421,7 +429,7 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
     return fmi2OK;
 }
 
-fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+fmi2Status GBX2(SetReal)(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                        const fmi2Real value[]) {
     ModelInstance *m = (ModelInstance *)c;
     size_t i;
@@ -488,7 +496,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
 }
 
 #define NO_VARIABLES(kind, ctype)                                                                  \
-    fmi2Status fmi2Get##kind(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,          \
+    fmi2Status GBX2(Get##kind)(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,          \
                              ctype value[]) {                                                      \
         ModelInstance *m = (ModelInstance *)c;                                                     \
         (void)vr;                                                                                  \
@@ -498,7 +506,7 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
         gbx_log(m, fmi2Error, "logStatusError", "fmi2Get" #kind ": the model has no such variables"); \
         return fmi2Error;                                                                          \
     }                                                                                              \
-    fmi2Status fmi2Set##kind(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,          \
+    fmi2Status GBX2(Set##kind)(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,          \
                              const ctype value[]) {                                                \
         ModelInstance *m = (ModelInstance *)c;                                                     \
         (void)vr;                                                                                  \
@@ -522,36 +530,36 @@ NO_VARIABLES(String, fmi2String)
         return fmi2Error;                                                                          \
     }
 
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) {
+fmi2Status GBX2(GetFMUstate)(fmi2Component c, fmi2FMUstate *s) {
     (void)s;
     UNSUPPORTED("fmi2GetFMUstate")
 }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) {
+fmi2Status GBX2(SetFMUstate)(fmi2Component c, fmi2FMUstate s) {
     (void)s;
     UNSUPPORTED("fmi2SetFMUstate")
 }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) {
+fmi2Status GBX2(FreeFMUstate)(fmi2Component c, fmi2FMUstate *s) {
     (void)s;
     UNSUPPORTED("fmi2FreeFMUstate")
 }
-fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *n) {
+fmi2Status GBX2(SerializedFMUstateSize)(fmi2Component c, fmi2FMUstate s, size_t *n) {
     (void)s;
     (void)n;
     UNSUPPORTED("fmi2SerializedFMUstateSize")
 }
-fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n) {
+fmi2Status GBX2(SerializeFMUstate)(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n) {
     (void)s;
     (void)b;
     (void)n;
     UNSUPPORTED("fmi2SerializeFMUstate")
 }
-fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *s) {
+fmi2Status GBX2(DeSerializeFMUstate)(fmi2Component c, const fmi2Byte b[], size_t n, fmi2FMUstate *s) {
     (void)s;
     (void)b;
     (void)n;
     UNSUPPORTED("fmi2DeSerializeFMUstate")
 }
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[], size_t nu,
+fmi2Status GBX2(GetDirectionalDerivative)(fmi2Component c, const fmi2ValueReference u[], size_t nu,
                                         const fmi2ValueReference z[], size_t nz,
                                         const fmi2Real dv[], fmi2Real dz[]) {
     (void)u;
@@ -565,14 +573,14 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
 
 /* ------------------------------------------------------------ Model Exchange */
 
-fmi2Status fmi2EnterEventMode(fmi2Component c) {
+fmi2Status GBX2(EnterEventMode)(fmi2Component c) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2EnterEventMode", MASK_EVENT | MASK_CONT)) return fmi2Error;
     m->state = GBX_ST_EVENT;
     return fmi2OK;
 }
 
-fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
+fmi2Status GBX2(NewDiscreteStates)(fmi2Component c, fmi2EventInfo *info) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2NewDiscreteStates", MASK_EVENT)) return fmi2Error;
     if (null_arg(m, "fmi2NewDiscreteStates", "fmi2eventInfo", info, 1)) return fmi2Error;
@@ -585,14 +593,14 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *info) {
     return fmi2OK;
 }
 
-fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) {
+fmi2Status GBX2(EnterContinuousTimeMode)(fmi2Component c) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2EnterContinuousTimeMode", MASK_EVENT)) return fmi2Error;
     m->state = GBX_ST_CONT;
     return fmi2OK;
 }
 
-fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+fmi2Status GBX2(CompletedIntegratorStep)(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation) {
     ModelInstance *m = (ModelInstance *)c;
     (void)noSetFMUStatePriorToCurrentPoint;
@@ -606,7 +614,7 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStat
     return fmi2OK;
 }
 
-fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
+fmi2Status GBX2(SetTime)(fmi2Component c, fmi2Real time) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2SetTime", MASK_EVENT | MASK_CONT)) return fmi2Error;
     if (!isfinite(time)) {
@@ -618,7 +626,7 @@ fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) {
     return fmi2OK;
 }
 
-fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx) {
+fmi2Status GBX2(SetContinuousStates)(fmi2Component c, const fmi2Real x[], size_t nx) {
     ModelInstance *m = (ModelInstance *)c;
     size_t i;
     if (not_allowed(m, "fmi2SetContinuousStates", MASK_EVENT | MASK_CONT)) return fmi2Error;
@@ -639,7 +647,7 @@ fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n
     return fmi2OK;
 }
 
-fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx) {
+fmi2Status GBX2(GetDerivatives)(fmi2Component c, fmi2Real derivatives[], size_t nx) {
     ModelInstance *m = (ModelInstance *)c;
     size_t i;
     if (not_allowed(m, "fmi2GetDerivatives", MASK_INIT | MASK_EVENT | MASK_CONT | MASK_TERMINATED | MASK_ERROR))
@@ -663,7 +671,7 @@ fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx
     return fmi2OK;
 }
 
-fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real ei[], size_t ni) {
+fmi2Status GBX2(GetEventIndicators)(fmi2Component c, fmi2Real ei[], size_t ni) {
     ModelInstance *m = (ModelInstance *)c;
     (void)ei;
     if (not_allowed(m, "fmi2GetEventIndicators", MASK_ANY)) return fmi2Error;
@@ -675,7 +683,7 @@ fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real ei[], size_t ni) {
     return fmi2OK;
 }
 
-fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
+fmi2Status GBX2(GetContinuousStates)(fmi2Component c, fmi2Real x[], size_t nx) {
     ModelInstance *m = (ModelInstance *)c;
     size_t i;
     if (not_allowed(m, "fmi2GetContinuousStates", MASK_INIT | MASK_EVENT | MASK_CONT | MASK_TERMINATED | MASK_ERROR))
@@ -691,7 +699,7 @@ fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx) {
     return fmi2OK;
 }
 
-fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real nominals[], size_t nx) {
+fmi2Status GBX2(GetNominalsOfContinuousStates)(fmi2Component c, fmi2Real nominals[], size_t nx) {
     ModelInstance *m = (ModelInstance *)c;
     int i;
     if (not_allowed(m, "fmi2GetNominalsOfContinuousStates", MASK_ANY)) return fmi2Error;
@@ -828,7 +836,7 @@ static int integrate(ModelInstance *m, double t1) {
     return 0;
 }
 
-fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+fmi2Status GBX2(SetRealInputDerivatives)(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                        const fmi2Integer order[], const fmi2Real value[]) {
     (void)vr;
     (void)nvr;
@@ -837,7 +845,7 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference
     UNSUPPORTED("fmi2SetRealInputDerivatives")
 }
 
-fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+fmi2Status GBX2(GetRealOutputDerivatives)(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                         const fmi2Integer order[], fmi2Real value[]) {
     (void)vr;
     (void)nvr;
@@ -846,7 +854,7 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
     UNSUPPORTED("fmi2GetRealOutputDerivatives")
 }
 
-fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
+fmi2Status GBX2(DoStep)(fmi2Component c, fmi2Real currentCommunicationPoint,
                       fmi2Real communicationStepSize, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
     ModelInstance *m = (ModelInstance *)c;
     double t1;
@@ -872,14 +880,14 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
     return fmi2OK;
 }
 
-fmi2Status fmi2CancelStep(fmi2Component c) UNSUPPORTED("fmi2CancelStep")
+fmi2Status GBX2(CancelStep)(fmi2Component c) UNSUPPORTED("fmi2CancelStep")
 
-fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
+fmi2Status GBX2(GetStatus)(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
     (void)s;
     (void)value;
     UNSUPPORTED("fmi2GetStatus")
 }
-fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
+fmi2Status GBX2(GetRealStatus)(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
     ModelInstance *m = (ModelInstance *)c;
     if (not_allowed(m, "fmi2GetRealStatus", MASK_ANY)) return fmi2Error;
     if (s == fmi2LastSuccessfulTime && value) {
@@ -889,17 +897,17 @@ fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *
     gbx_log(m, fmi2Error, "logStatusError", "fmi2GetRealStatus: only fmi2LastSuccessfulTime is supported");
     return fmi2Error;
 }
-fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
+fmi2Status GBX2(GetIntegerStatus)(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
     (void)s;
     (void)value;
     UNSUPPORTED("fmi2GetIntegerStatus")
 }
-fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
+fmi2Status GBX2(GetBooleanStatus)(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
     (void)s;
     (void)value;
     UNSUPPORTED("fmi2GetBooleanStatus")
 }
-fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
+fmi2Status GBX2(GetStringStatus)(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
     (void)s;
     (void)value;
     UNSUPPORTED("fmi2GetStringStatus")
