@@ -44,8 +44,9 @@ def inv(a):
 def inv_inverse(y, *, tol: float = 1e-15, max_iter: int = 30):
     """Angle a in [0, pi/2) with inv(a) = y (y >= 0), by bounded Newton iteration.
 
-    Raises :class:`InputError` for negative ``y`` or when the iteration does not
-    reach ``tol`` (relative) within ``max_iter`` steps.
+    Converged when the step is below ``tol`` (relative) or the residual reaches the
+    rounding floor of ``tan(a) - a``. Raises :class:`InputError` for negative ``y`` or
+    when neither happens within ``max_iter`` steps.
     """
     y = np.asarray(y, dtype=float)
     if np.any(y < 0) or not np.all(np.isfinite(y)):
@@ -56,11 +57,15 @@ def inv_inverse(y, *, tol: float = 1e-15, max_iter: int = 30):
     for _ in range(max_iter):
         t = np.tan(a)
         f = inv(a) - y
-        step = f / (t * t)  # d inv / da = tan^2 a
+        with np.errstate(invalid="ignore", divide="ignore"):
+            step = f / (t * t)  # d inv / da = tan^2 a
         step = np.where(t == 0, 0.0, step)
         a_new = np.clip(a - step, 0.5 * a, 0.5 * (a + np.pi / 2))
         a_new = np.where(y == 0, 0.0, a_new)
-        done = np.abs(a_new - a) <= tol * np.maximum(np.abs(a_new), 1e-300)
+        # converged: a small step, or a residual at the rounding floor of tan(a) - a
+        # (one ulp of tan(a) bounds a to ~ulp/tan^2, which can exceed tol * a)
+        floor = 4.0 * np.finfo(float).eps * (np.abs(t) + np.abs(a))
+        done = (np.abs(a_new - a) <= tol * np.maximum(np.abs(a_new), 1e-300)) | (np.abs(f) <= floor)
         a = a_new
         if np.all(done):
             return a if a.ndim else float(a)
