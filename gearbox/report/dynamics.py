@@ -3,6 +3,7 @@ waterfall and Campbell diagram, with their warnings (contact loss, resonances)."
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -228,10 +229,28 @@ def render_waterfall(sw, run) -> Section:
         '<p class="muted">Speed sweep on the propeller law: mean torque T(n) = T_op '
         "(n / n_op)^2; one settled simulation per speed, run in parallel.</p>"
     ]
+    from ..spectrum import excitation_orders_from_scene
+
+    excitations = excitation_orders_from_scene(run.scene)
+    top = 1.1 * max(e.order for e in excitations)
     for name, wf in sw.waterfalls.items():
-        fig, ax = new_figure(1, 1, size=(9, 4.2))
-        plot_waterfall(wf, ax[0, 0])
-        parts.append(figure(fig, f"Waterfall of {name}: order spectra against speed"))
+        fig, ax = new_figure(1, 2, size=(12, 4.4))
+        amps = np.array(wf.amplitudes, dtype=float)
+        amps[:, 0] = 0.0  # the mean (order 0) would set the scale
+        shown = dataclasses.replace(wf, amplitudes=amps)
+        a = plot_waterfall(shown, ax[0, 0], db=True, max_bin=top, excitations=excitations)
+        for mesh in a.collections:  # 80 dB of range: the lines, not the numerical floor
+            if hasattr(mesh, "set_clim"):
+                mesh.set_clim(-80.0, 0.0)
+        plot_waterfall(shown, ax[0, 1], kind="lines", max_bin=top)
+        ax[0, 1].set_title(f"{name}: spectra offset by speed (linear)", fontsize=9)
+        parts.append(
+            figure(
+                fig,
+                f"Waterfall of {name}: order spectra against speed; left in dB re the largest "
+                "line, excitation orders marked; right linear (the mean left out in both)",
+            )
+        )
     parts.append(
         table(
             [
