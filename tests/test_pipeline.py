@@ -387,3 +387,12 @@ def test_preview_predicts_the_next_run(scene, tmp_path):
     actual = statuses(run_pipeline(heavier, ["spectra"], stages=graph(), cache=tmp_path))
     assert predicted == {n: s == "cached" for n, s in actual.items()}
     assert not CALLS["design"] and CALLS["dynamics"] == 1
+
+
+def test_the_stage_functions_own_module_enters_the_key():
+    from gearbox.pipeline.runner import _code
+    from gearbox.pipeline.stages import STAGES
+
+    st = STAGES["dynamics"]
+    assert _code(st)[-1] == "gearbox.pipeline.adapters.dynamics"
+    assert set(st.code) < set(_code(st))

@@ -46,6 +46,12 @@ class PipelineRun:
         return self.results[stage]
 
 
+def _code(st: Stage) -> tuple[str, ...]:
+    """Modules whose source enters the key: the declared ones and the stage function's."""
+    mod = getattr(st.compute, "__module__", None)
+    return (*st.code, mod) if mod and mod not in st.code else tuple(st.code)
+
+
 def plan(
     requested: Iterable[str], stages: Mapping[str, Stage], scene: Scene | None = None
 ) -> list[str]:
@@ -138,7 +144,7 @@ def preview(
         st = stages[name]
         req, opt = st.upstream(scene)
         upstream = {d: keys[d] for d in (*req, *opt)}
-        keys[name] = stage_key(name, read_values(scene, st.reads), upstream, st.code)
+        keys[name] = stage_key(name, read_values(scene, st.reads), upstream, _code(st))
         cached = bool(store is not None and st.cacheable and store.path(name, keys[name]).exists())
         out.append((name, keys[name], cached))
     return out
@@ -199,7 +205,7 @@ def run_pipeline(
         req, opt = st.upstream(scene)
         used = (*req, *(d for d in opt if d in results))
         upstream = {d: keys[d] for d in used} | {d: "absent" for d in opt if d not in results}
-        keys[name] = stage_key(name, read_values(scene, st.reads), upstream, st.code)
+        keys[name] = stage_key(name, read_values(scene, st.reads), upstream, _code(st))
         missing = [d for d in req if d not in results]
         if missing:
             records.append(

@@ -53,7 +53,8 @@ class Stage:
         sees the whole scene, so what it reads must also be in ``reads``.
     code : tuple of str
         Modules or packages whose source enters the cache key, so that a changed
-        implementation is recomputed even without a version bump.
+        implementation is recomputed even without a version bump; the module of
+        ``compute`` itself is always added.
     validate : callable, optional
         ``validate(scene) -> None``: cheap checks of the stage's inputs, run for every
         planned stage before anything is computed; raises ``InputError``.
