@@ -220,9 +220,10 @@ class DrivetrainModel:
             lam1d = table.rotation_radii("drive", torque)[0] if "drive" in table.flanks else lam1
             fn = torque / abs(lam1d)
             e = lte - fn / kt
-            kc = np.concatenate(_fit(kt, mesh_harmonics))
-            ec = np.concatenate(_fit(e, mesh_harmonics))
-            lc = np.concatenate(_fit(lte, mesh_harmonics))
+            a0 = float(table.angle[0])
+            kc = np.concatenate(_fit(kt, mesh_harmonics, table.pinion_teeth, a0))
+            ec = np.concatenate(_fit(e, mesh_harmonics, table.pinion_teeth, a0))
+            lc = np.concatenate(_fit(lte, mesh_harmonics, table.pinion_teeth, a0))
             inv_m = lam1**2 / j1 + lam2**2 / j2
             c = 2 * mesh_damping_ratio * math.sqrt(kc[0] / inv_m) if kc[0] > 0 else 0.0
             return MeshFlank(kc, ec, lc, lam1, lam2, table.mean_direction(name, torque), c, b)
@@ -236,7 +237,6 @@ class DrivetrainModel:
             torque=torque,
             drive=drive,
             coast=coast,
-            phase=float(table.angle[0]) * 0.0,
             **kw,
         )
 
@@ -475,9 +475,18 @@ class DrivetrainModel:
         return cls(**d)
 
 
-def _fit(v: np.ndarray, harmonics: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _fit(
+    v: np.ndarray, harmonics: int, teeth: int, angle0: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Fourier coefficients in the absolute pinion angle of samples taken from ``angle0``.
+
+    The fit is in theta' = theta - angle0; rotating each harmonic by k N angle0 expresses
+    it in theta, so the right-hand side needs no table offset.
+    """
     a0, a, b = fourier_fit(v, harmonics)
-    return np.array([a0]), a, b
+    ph = np.arange(1, a.size + 1) * teeth * angle0
+    c, s = np.cos(ph), np.sin(ph)
+    return np.array([a0]), a * c - b * s, a * s + b * c
 
 
 def _split(c, xp):
