@@ -414,3 +414,22 @@ def test_model_variants_match_python_reference(tmp_path, variant, stop, tol):
             fmu, interface=interface, stop_time=stop, step=1e-4, rtol=1e-8, outputs=["mesh.force"]
         )
         assert ac_relative_error(t, ch["mesh.force"], tt, ref["mesh_force_N"]) < tol, interface
+
+
+@pytest.mark.parametrize("scene", sorted(p.name for p in (ROOT / "models").glob("*.toml")))
+def test_every_scene_exports_a_running_fmu(tmp_path, scene):
+    """Each scene in models/, shortened: the drivetrain FMU builds, validates and its
+    Co-Simulation run starts at the static equilibrium (mean mesh force = F_n)."""
+    from fmpy.validation import validate_fmu
+
+    model, table = model_from_scene(load_scene(ROOT / "models" / scene))
+    b = build_fmu(drivetrain_fmu(model, table), tmp_path)
+    assert validate_fmu(b.fmu) == []
+    t, ch, _ = simulate_fmu(b.fmu, stop_time=2e-3, step=1e-4, rtol=1e-6, outputs=["mesh.force"])
+    f = ch["mesh.force"]
+    assert np.all(np.isfinite(f))
+    # nominal mesh force T / lambda_1 (docs/drivetrain.md section 3): the mean over the
+    # first 2 ms is within 0.3 % of it on every scene (measured); 5 % still catches a
+    # wrong rotation radius or a wrong static state
+    fn = model.torque / model.drive.lambda1
+    assert abs(f.mean() - fn) < 0.05 * fn
