@@ -52,7 +52,7 @@ from .boussinesq import depth_deflection, surface_deflection
 from .mesh import FEBuildError, MeshOptions, build_tooth_mesh, locate
 from .model import ToothModel, build_model
 
-__all__ = ["FEOptions", "FECompliance", "GearLoads", "gear_loads"]
+__all__ = ["FEOptions", "FECompliance", "GearLoads", "beveloid_loads", "gear_loads"]
 
 
 @dataclass(frozen=True)
@@ -169,6 +169,61 @@ def _slope_sign(blank, side):
     return float(np.sign(np.dot(er, g) / g[2]))
 
 
+def beveloid_loads(grid: ContactGrid, gear: int, blanks) -> GearLoads:
+    """Locate the grid points of a beveloid grid (:mod:`gearbox.ltca.beveloid`) on gear
+    ``gear`` with its generating data ``blanks = (pinion, gear)``.
+
+    Pinion: the grid's face position and profile parameter are the pinion's own flank
+    parameters (z, u); the flank is the one whose radius there is the grid's. Gear:
+    its axial position follows from the local profile shift the grid carries,
+    ``x(z) m_n / cos(gamma) = x_t m_t + z tan(gamma)`` (the tilted rack's shift,
+    :meth:`~gearbox.surface.blank.ToothBlank.rack_shift`, needs gamma != 0), and u
+    from the radius. Pair k sits k teeth ahead in the gear's sense of rotation, as in
+    :func:`gear_loads`.
+    """
+    blank = blanks[gear]
+    sections = grid.tooth1 if gear == 0 else grid.tooth2
+    p = Problems()
+    if gear == 1:
+        p.check(
+            abs(blank.cone_angle) > 1e-9,
+            "gear.cone_angle",
+            blank.cone_angle,
+            "must be != 0 for the FE level to place beveloid grid points on the gear",
+        )
+    p.raise_if_any("the FE level cannot place this contact grid on its teeth")
+    r = np.asarray(sections.radius, dtype=float)
+    if gear == 0:
+        z = np.asarray(grid.face, dtype=float)
+        u = np.asarray(grid.profile, dtype=float)
+        err = {}
+        for s in ("R", "L"):
+            P, _, _ = flank_jets(blank, s, z, u)
+            err[s] = float(np.max(np.abs(np.hypot(P[0].val, P[1].val) - r)))
+        side = min(err, key=err.get)
+        if err[side] > 1e-6 * blank.normal_module:
+            raise FEBuildError(
+                Problem(
+                    "grid.profile",
+                    f"radius mismatch {err[side]:.3g} m",
+                    "the grid's pinion profile parameters must be those of the pinion blank",
+                ),
+                "the FE level cannot place this contact grid on its teeth",
+            )
+    else:
+        X = np.asarray(sections.profile_shift) * blank.normal_module / math.cos(blank.cone_angle)
+        z = (X - blank.profile_shift_xt * blank.transverse_module) / math.tan(blank.cone_angle)
+        side = beveloid_loads(grid, 0, blanks).side
+        u = _u_at_radius(blank, side, z, r)
+    fp = flank_points(blank, side, z[:1], u[:1])
+    ez = np.array([0.0, 0.0, 1.0])
+    sense = float(np.sign(np.dot(np.cross(ez, fp.position[0]), fp.normal[0])))
+    if gear == 1:
+        sense = -sense
+    tooth = (sense * grid.pair).astype(int)
+    return GearLoads(blank, side, tooth, z, u, float(np.min(sections.bore_radius)))
+
+
 def gear_loads(grid: ContactGrid, gear: int) -> GearLoads:
     """Locate the grid points of a parallel-axis grid on gear ``gear`` (0 pinion, 1 gear).
 
@@ -264,7 +319,10 @@ class _GearModel:
 class FECompliance:
     """Finite-element compliance level (see the module docstring).
 
-    options: :class:`FEOptions`. The factorised models and the lattice responses are
+    options: :class:`FEOptions`; blanks: ``(pinion, gear)``
+    :class:`~gearbox.surface.blank.ToothBlank` of a beveloid pair, whose grids
+    (:mod:`gearbox.ltca.beveloid`) are then placed by :func:`beveloid_loads`;
+    ``None`` for parallel-axis grids (:func:`gear_loads`). The factorised models and the lattice responses are
     cached on the instance, keyed by the gear's generating data, so one instance
     serves a whole mesh cycle (and both flanks) with one factorisation per gear.
     """
@@ -272,15 +330,18 @@ class FECompliance:
     name = "fe"
     load_dependent = True
 
-    def __init__(self, options: FEOptions = FEOptions(), *, teeth: dict | None = None):
+    def __init__(self, options: FEOptions = FEOptions(), *, blanks=None, teeth: dict | None = None):
         self.options = options
+        self.blanks = blanks
         self._teeth_hint = teeth or {}
+        self._bore: dict = {}
         self._models: dict = {}
         self.stats = {"factorisations": 0, "solves": 0, "build_s": 0.0, "solve_s": 0.0}
 
     # ------------------------------------------------------------------ models
     def _model(self, loads: GearLoads, gear: int, E: float, nu: float) -> _GearModel:
-        key = (tuple(sorted(loads.blank.to_dict().items())), loads.bore_radius, E, nu)
+        # one model per gear: the bore of the first grid (or of reserve()) is kept
+        key = (tuple(sorted(loads.blank.to_dict().items())), E, nu)
         lo, hi = int(loads.tooth.min()), int(loads.tooth.max())
         lo, hi = self._teeth_hint.get(gear, (lo, hi)) if gear in self._teeth_hint else (lo, hi)
         gm = self._models.get(key)
@@ -298,7 +359,7 @@ class FECompliance:
         mesh = build_tooth_mesh(
             loads.blank,
             tuple(range(lo - nb, hi + nb + 1)),
-            bore_radius=loads.bore_radius,
+            bore_radius=self._bore.get(gear, loads.bore_radius),
             options=self.options.mesh,
         )
         model = build_model(mesh, E, nu)
@@ -459,9 +520,25 @@ class FECompliance:
         return W
 
     # --------------------------------------------------------------- interface
+    def reserve(self, grids) -> None:
+        """Size the tooth models for all grids of a cycle at once (one factorisation
+        per gear, none repeated when a later position loads another tooth)."""
+        for gear in (0, 1):
+            teeth = [self.loads(g, gear).tooth for g in grids]
+            lo = min(int(t.min()) for t in teeth)
+            hi = max(int(t.max()) for t in teeth)
+            self._teeth_hint[gear] = (lo, hi)
+            self._bore[gear] = min(float(np.min(self.loads(g, gear).bore_radius)) for g in grids)
+
+    def loads(self, grid: ContactGrid, gear: int) -> GearLoads:
+        """Where the grid points sit on gear ``gear``'s teeth (0 pinion, 1 gear)."""
+        if self.blanks is not None:
+            return beveloid_loads(grid, gear, self.blanks)
+        return gear_loads(grid, gear)
+
     def gear_matrix(self, grid: ContactGrid, gear: int) -> np.ndarray:
         """FE part of one gear's compliance at the matching depth, shape (n, n), m/N."""
-        loads = gear_loads(grid, gear)
+        loads = self.loads(grid, gear)
         gm = self._model(loads, gear, grid.youngs_modulus, grid.poisson_ratio)
         lat = self._lattice(gm, loads.side)
         n = grid.size
