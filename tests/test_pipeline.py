@@ -353,10 +353,34 @@ def test_map_items_keeps_order_with_any_executor():
         assert ex.submit(_square, 4).result() == 16
 
 
-def test_map_items_default_process_pool():
+def test_map_items_process_pool():
     # math.sqrt pickles by reference, so the spawned workers need nothing from tests/
     got = map_items(math.sqrt, [0.0, 4.0, 9.0, 2.0], jobs=2)
     assert got == [0.0, 2.0, 3.0, math.sqrt(2.0)]
+
+
+def _pid(_):
+    import os
+
+    return os.getpid()
+
+
+def test_map_items_keeps_cheap_sweeps_in_this_process():
+    import os
+
+    # microseconds per item: starting workers can never pay off
+    assert map_items(_pid, range(6)) == [os.getpid()] * 6
+
+
+def test_pool_decision():
+    from gearbox.pipeline.sweep import use_pool
+
+    # 9 more items of 0.4 s on 2 workers: 3.6 s here against 3 + 0.4 + 1.8 s pooled
+    assert not use_pool(9, 0.4, 2, start_s=3.0)
+    # 9 more items of 3 s: 27 s here against 3 + 3 + 13.5 s pooled
+    assert use_pool(9, 3.0, 2, start_s=3.0)
+    assert not use_pool(9, 3.0, 1, start_s=3.0)  # one core: nothing to gain
+    assert not use_pool(1, 100.0, 8, start_s=3.0)  # one item left
 
 
 def test_sweep_from_inside_a_stage_uses_the_run_executor(scene, tmp_path):

@@ -33,7 +33,11 @@ def add_arguments(parser):
         help="outputs to produce instead of the scene's outputs.requested",
     )
     parser.add_argument(
-        "--jobs", type=int, metavar="N", help="worker processes for sweeps (default: all cores)"
+        "--jobs",
+        type=int,
+        metavar="N",
+        help="worker processes for sweeps; 1: none (default: a pool on all cores when "
+        "timing the first item says it pays)",
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bars")
     parser.add_argument(

@@ -1,27 +1,39 @@
 """Sweeps (speeds, torques, design variants) through a ``concurrent.futures.Executor``.
 
 :func:`map_items` runs ``fn(item)`` for every item and returns the results in the
-order of ``items``. It accepts any executor with ``submit``: the default is a
-``ProcessPoolExecutor`` on the machine's cores (started with the ``spawn`` method,
-since forking a process that has started jax's or BLAS's threads can deadlock); a
-cluster takes the sweep through Dask's executor::
+order of ``items``. It accepts any executor with ``submit``; a cluster takes the
+sweep through Dask's executor::
 
     from dask.distributed import Client
     client = Client("scheduler-address:8786")
     map_items(fn, items, executor=client.get_executor())
 
 ``fn`` and the items must then be picklable: a module-level function, not a lambda.
+
+Without an executor, ``jobs`` workers of a ``ProcessPoolExecutor`` run the items
+(started with the ``spawn`` method, since forking a process that has started jax's
+or BLAS's threads can deadlock); ``jobs=1`` runs them in this process. With neither
+given, the first item runs here and is timed, and the rest go to a pool on all cores
+only when that is expected to be faster (:func:`use_pool`): starting workers that
+import gearbox and jax cost 2.3-3.4 s on the 2-core development machine, more than a
+short sweep takes in one process.
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
+import time
 from collections.abc import Callable, Iterable
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from typing import Any
 
-__all__ = ["default_jobs", "map_items"]
+__all__ = ["POOL_START_S", "default_jobs", "map_items", "use_pool"]
+
+#: Assumed cost (s) of starting the worker processes of the default pool, importing
+#: gearbox and jax in them: 2.3-3.4 s measured for 2 workers on the development
+#: machine (spawn, 3 repetitions).
+POOL_START_S = 3.0
 
 
 def default_jobs() -> int:
@@ -30,6 +42,39 @@ def default_jobs() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not on Linux
         return max(1, os.cpu_count() or 1)
+
+
+def use_pool(n_rest: int, first_s: float, workers: int, start_s: float = POOL_START_S) -> bool:
+    """Whether ``n_rest`` items like the first (``first_s`` seconds each) finish sooner
+    on ``workers`` new processes than here.
+
+    Each worker pays the start ``start_s`` and, once, what the first item paid here
+    beyond the work itself (compilation): estimated as ``first_s`` again.
+    """
+    if workers < 2 or n_rest < 2:
+        return False
+    here = n_rest * first_s
+    pooled = start_s + first_s + n_rest * first_s / workers
+    return pooled < here
+
+
+def _pool(jobs: int) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn"))
+
+
+def _submit_all(fn, items, executor, bar) -> list[Any]:
+    futures: dict = {}
+    try:
+        futures = {executor.submit(fn, x): i for i, x in enumerate(items)}
+        results: list[Any] = [None] * len(items)
+        for fut in as_completed(futures):
+            results[futures[fut]] = fut.result()
+            bar.update()
+        return results
+    except BaseException:
+        for fut in futures:
+            fut.cancel()
+        raise
 
 
 def map_items(
@@ -41,16 +86,16 @@ def map_items(
     progress: bool = False,
     desc: str = "",
 ) -> list[Any]:
-    """``[fn(x) for x in items]``, in parallel.
+    """``[fn(x) for x in items]``, in parallel where that pays.
 
     Parameters
     ----------
     executor : concurrent.futures.Executor, optional
-        Used as given and not shut down. Default: a new ``ProcessPoolExecutor`` with
-        ``jobs`` workers, shut down on return.
+        Used as given for every item and not shut down.
     jobs : int, optional
-        Workers of the default executor (default :func:`default_jobs`). ``jobs=1``
-        without an executor runs in this process, one item after the other.
+        Without an executor: ``1`` runs here, one item after the other; ``N > 1``
+        runs on a new ``ProcessPoolExecutor`` of ``N`` workers, shut down on return;
+        None decides after timing the first item (module doc).
     progress : bool
         Show a tqdm progress bar on stderr.
     """
@@ -59,30 +104,23 @@ def map_items(
 
     bar = tqdm(total=len(items), desc=desc or None, disable=not progress, leave=False)
     try:
-        if executor is None and (jobs == 1 or len(items) <= 1):
-            out = []
-            for x in items:
-                out.append(fn(x))
+        if executor is not None:
+            return _submit_all(fn, items, executor, bar)
+        done: list[Any] = []
+        if jobs is None and items:
+            t0 = time.perf_counter()
+            done.append(fn(items[0]))
+            bar.update()
+            first_s = time.perf_counter() - t0
+            workers = min(default_jobs(), len(items) - 1)
+            jobs = workers if use_pool(len(items) - 1, first_s, workers) else 1
+        rest = items[len(done) :]
+        if jobs == 1 or len(rest) <= 1:
+            for x in rest:
+                done.append(fn(x))
                 bar.update()
-            return out
-        own = executor is None
-        if own:
-            n = min(jobs or default_jobs(), len(items))
-            executor = ProcessPoolExecutor(n, mp_context=multiprocessing.get_context("spawn"))
-        futures: dict = {}
-        try:
-            futures = {executor.submit(fn, x): i for i, x in enumerate(items)}
-            results: list[Any] = [None] * len(items)
-            for fut in as_completed(futures):
-                results[futures[fut]] = fut.result()
-                bar.update()
-            return results
-        except BaseException:
-            for fut in futures:
-                fut.cancel()
-            raise
-        finally:
-            if own:
-                executor.shutdown(wait=True, cancel_futures=True)
+            return done
+        with _pool(min(jobs, len(rest))) as pool:
+            return done + _submit_all(fn, rest, pool, bar)
     finally:
         bar.close()
