@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{d7beada2-c9d3-c819-e9c6-7543ac813ff5}"
+#define MODEL_GUID "{bf02b638-8d57-51b0-7856-0f7069c713e5}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 56
+#define GBX_NR 59
 #define GBX_NX 8
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -71,6 +71,9 @@
 #define VR_der_v_propeller 53
 #define VR_solver_rtol 54
 #define VR_solver_max_step 55
+#define VR_solver_steps 56
+#define VR_solver_rejected 57
+#define VR_solver_rhs_evaluations 58
 
 /* state indices */
 #define X_q_engine 0
@@ -84,6 +87,9 @@
 
 #define GBX_VR_SOLVER_RTOL VR_solver_rtol
 #define GBX_VR_SOLVER_MAX_STEP VR_solver_max_step
+#define GBX_VR_SOLVER_STEPS VR_solver_steps
+#define GBX_VR_SOLVER_REJECTED VR_solver_rejected
+#define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations
 
 typedef struct {
     int n1, n2, nf, nt, np, h, has_coast;

@@ -66,6 +66,9 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"der(v.propeller)", 4, 7, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 53 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 54 parameter */
     {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 55 parameter */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 56 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 57 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 58 output */
 };
 
 #define GBX_WITH_ENGINE 1

@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{43cd4363-454d-ae86-a73f-1f65fa6ecdc6}"
+#define MODEL_GUID "{92a60973-e25c-cc52-90c3-7f478d2041bc}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 39
+#define GBX_NR 42
 #define GBX_NX 4
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -54,6 +54,9 @@
 #define VR_der_v_gear 36
 #define VR_solver_rtol 37
 #define VR_solver_max_step 38
+#define VR_solver_steps 39
+#define VR_solver_rejected 40
+#define VR_solver_rhs_evaluations 41
 
 /* state indices */
 #define X_q_pinion 0
@@ -63,6 +66,9 @@
 
 #define GBX_VR_SOLVER_RTOL VR_solver_rtol
 #define GBX_VR_SOLVER_MAX_STEP VR_solver_max_step
+#define GBX_VR_SOLVER_STEPS VR_solver_steps
+#define GBX_VR_SOLVER_REJECTED VR_solver_rejected
+#define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations
 
 typedef struct {
     int n1, n2, nf, nt, np, h, has_coast;

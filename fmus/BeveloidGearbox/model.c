@@ -49,6 +49,9 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"der(v.gear)", 4, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 36 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 37 parameter */
     {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 38 parameter */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 39 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 40 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 41 output */
 };
 
 #define GBX_WITH_ENGINE 0

@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER MarineEngine
-#define MODEL_GUID "{81625972-57af-5c37-6005-0cbe556f0dc4}"
+#define MODEL_GUID "{5d9096e1-8d26-4061-1913-54848cff3f8c}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 21
+#define GBX_NR 24
 #define GBX_NX 2
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -36,6 +36,9 @@
 #define VR_der_v_engine 18
 #define VR_solver_rtol 19
 #define VR_solver_max_step 20
+#define VR_solver_steps 21
+#define VR_solver_rejected 22
+#define VR_solver_rhs_evaluations 23
 
 /* state indices */
 #define X_q_engine 0
@@ -43,6 +46,9 @@
 
 #define GBX_VR_SOLVER_RTOL VR_solver_rtol
 #define GBX_VR_SOLVER_MAX_STEP VR_solver_max_step
+#define GBX_VR_SOLVER_STEPS VR_solver_steps
+#define GBX_VR_SOLVER_REJECTED VR_solver_rejected
+#define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations
 
 typedef struct {
     int unused;

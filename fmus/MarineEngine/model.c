@@ -31,6 +31,9 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"der(v.engine)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 18 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 19 parameter */
     {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 20 parameter */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 21 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 22 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 23 output */
 };
 
 #define GBX_ENGINE_HARMONICS 3

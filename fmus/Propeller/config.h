@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER Propeller
-#define MODEL_GUID "{96b20c15-4dbf-07df-19cc-5da26dfa533f}"
+#define MODEL_GUID "{606bcfc6-c701-63c8-af10-b6f5b51548db}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 17
+#define GBX_NR 20
 #define GBX_NX 2
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -32,6 +32,9 @@
 #define VR_der_v_propeller 14
 #define VR_solver_rtol 15
 #define VR_solver_max_step 16
+#define VR_solver_steps 17
+#define VR_solver_rejected 18
+#define VR_solver_rhs_evaluations 19
 
 /* state indices */
 #define X_q_propeller 0
@@ -39,6 +42,9 @@
 
 #define GBX_VR_SOLVER_RTOL VR_solver_rtol
 #define GBX_VR_SOLVER_MAX_STEP VR_solver_max_step
+#define GBX_VR_SOLVER_STEPS VR_solver_steps
+#define GBX_VR_SOLVER_REJECTED VR_solver_rejected
+#define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations
 
 typedef struct {
     int unused;

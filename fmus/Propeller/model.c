@@ -27,6 +27,9 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"der(v.propeller)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 14 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 15 parameter */
     {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 16 parameter */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 17 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 18 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 19 output */
 };
 
 #define GBX_ENGINE_HARMONICS 1

@@ -49,6 +49,24 @@ SOLVER_VARIABLES = (
         max=1.0,
         min_open=True,
     ),
+    Variable(
+        "solver.steps",
+        "output",
+        "1",
+        "Accepted integrator steps since instantiation (Model Exchange: completed steps of the importer's integrator).",
+    ),
+    Variable(
+        "solver.rejected",
+        "output",
+        "1",
+        "Rejected internal integrator steps since instantiation (Co-Simulation).",
+    ),
+    Variable(
+        "solver.rhs_evaluations",
+        "output",
+        "1",
+        "Right-hand side evaluations since instantiation.",
+    ),
 )
 
 #: unit -> SI base-unit exponents (FMI 2.0.4 section 2.2.2) and optional display unit.
@@ -129,6 +147,9 @@ def config_h(model: FmuModel) -> str:
         "",
         "#define GBX_VR_SOLVER_RTOL VR_solver_rtol",
         "#define GBX_VR_SOLVER_MAX_STEP VR_solver_max_step",
+        "#define GBX_VR_SOLVER_STEPS VR_solver_steps",
+        "#define GBX_VR_SOLVER_REJECTED VR_solver_rejected",
+        "#define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations",
         "",
         "typedef struct {",
         model.c_data.rstrip() or "    int unused;",

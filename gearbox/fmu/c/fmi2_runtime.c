@@ -418,6 +418,9 @@ fmi2Status GBX2(GetReal)(fmi2Component c, const fmi2ValueReference vr[], size_t 
         case GBX_OUTPUT:
             if (!outputs_done) {
                 gbx_model_outputs(m, m->time, m->x);
+                m->r[GBX_VR_SOLVER_STEPS] = (double)m->n_steps;
+                m->r[GBX_VR_SOLVER_REJECTED] = (double)m->n_rejected;
+                m->r[GBX_VR_SOLVER_RHS] = (double)m->n_rhs;
                 outputs_done = 1;
             }
             value[i] = m->r[vr[i]];
