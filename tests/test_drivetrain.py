@@ -554,3 +554,10 @@ def test_table_angle_offset_is_honoured(base):
     k1 = mesh_laws(th, m.params())[0]
     k2 = mesh_laws(th, m2.params())[0]
     assert np.allclose(k1, k2, rtol=1e-9)
+
+
+def test_model_round_trips_through_json(base):
+    _, _, m = base
+    back = DrivetrainModel.from_dict(json.loads(json.dumps(m.to_dict())))
+    p1, p2 = m.params(), back.params()
+    assert all(np.array_equal(p1[k], p2[k]) for k in p1)
