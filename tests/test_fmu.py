@@ -442,3 +442,21 @@ def test_every_scene_exports_a_running_fmu(tmp_path, scene):
     # wrong rotation radius or a wrong static state
     fn = model.torque / model.drive.lambda1
     assert abs(f.mean() - fn) < 0.05 * fn
+
+
+def test_calls_in_the_wrong_state_are_errors_with_a_message(built):
+    from fmpy import extract, read_model_description
+
+    path = built["drivetrain"].fmu
+    md = read_model_description(path)
+    d = extract(path)
+    log = _Log()
+    try:
+        fmu = _slave(d, md)
+        fmu.instantiate(callbacks=log.callbacks)
+        with pytest.raises(Exception, match="fmi2DoStep"):
+            fmu.doStep(0.0, 1e-3)  # before initialization
+        assert any("must not be called in state 'instantiated'" in m for _, m in log.messages)
+        fmu.freeInstance()
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
