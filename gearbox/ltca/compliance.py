@@ -164,9 +164,11 @@ def _half_thickness(teeth) -> np.ndarray:
     return np.maximum(teeth.radius * np.sin(psi), 1e-6)
 
 
-def compliance_for(fidelity: str) -> Compliance:
+def compliance_for(fidelity: str, *, blanks=None) -> Compliance:
     """The compliance level named by ``ltca.fidelity``: ``fast`` (:class:`FastCompliance`)
-    or ``fe`` (``gearbox.fe.compliance.FECompliance``, where installed)."""
+    or ``fe`` (``gearbox.fe.compliance.FECompliance``, where installed). ``blanks``:
+    ``(pinion, gear)`` generating data of a beveloid pair, which the FE level needs to
+    place beveloid grids on its teeth (parallel-axis grids carry what it needs)."""
     if fidelity == "fast":
         return FastCompliance()
     p = Problems()
@@ -176,7 +178,7 @@ def compliance_for(fidelity: str) -> Compliance:
         except ImportError as exc:
             p.add("ltca.fidelity", fidelity, f"the finite-element level is not available ({exc})")
         else:
-            return FECompliance()
+            return FECompliance(blanks=blanks)
     else:
         p.add("ltca.fidelity", fidelity, "must be 'fast' or 'fe'")
     p.raise_if_any("invalid loaded TCA fidelity")
