@@ -83,7 +83,9 @@ def figure(fig, caption: str = "", *, dpi: int = 110) -> str:
 
     buf = io.BytesIO()
     try:
-        fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
+        # a figure with a layout engine is laid out already; "tight" would draw it twice
+        tight = None if fig.get_layout_engine() is not None else "tight"
+        fig.savefig(buf, format="png", dpi=dpi, bbox_inches=tight)
     finally:
         plt.close(fig)
     data = base64.b64encode(buf.getvalue()).decode("ascii")
