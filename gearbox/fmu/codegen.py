@@ -224,6 +224,39 @@ def _num(x: float) -> str:
     return repr(float(x))
 
 
+def _causality(v: Variable, fmi_version: int) -> list[str]:
+    """causality, variability, initial of a variable (FMI 2.0 section 2.2.7, FMI 3.0
+    section 2.4.7; FMI 3.0 takes no ``initial`` on parameters here)."""
+    if v.kind == "parameter":
+        out = ['causality="parameter"', f'variability="{"fixed" if v.fixed else "tunable"}"']
+        return out + (['initial="exact"'] if fmi_version == 2 else [])
+    if v.kind == "input":
+        return ['causality="input"', 'variability="continuous"']
+    causality = "output" if v.kind == "output" else "local"
+    return [f'causality="{causality}"', 'variability="continuous"', 'initial="calculated"']
+
+
+def _value_attrs(v: Variable, derivative_of: int | None) -> list[str]:
+    """unit, displayUnit, derivative (index or value reference of the state), nominal,
+    start, min, max of a real variable."""
+    out = []
+    if v.unit:
+        out.append(f"unit={quoteattr(v.unit)}")
+        if UNITS[v.unit][1]:
+            out.append(f'displayUnit="{UNITS[v.unit][1][0]}"')
+    if v.kind == "derivative":
+        out.append(f'derivative="{derivative_of}"')
+    if v.kind == "state":
+        out.append(f'nominal="{_num(v.nominal)}"')
+    if v.kind in ("parameter", "input"):
+        out.append(f'start="{_num(v.start)}"')
+        if math.isfinite(v.min):
+            out.append(f'min="{_num(v.min)}"')
+        if math.isfinite(v.max):
+            out.append(f'max="{_num(v.max)}"')
+    return out
+
+
 def model_description(model: FmuModel, *, generation_tool: str = "gearbox") -> str:
     """``modelDescription.xml`` for FMI 2.0, Model Exchange and Co-Simulation."""
     ident = model.identifier
@@ -265,30 +298,8 @@ def model_description(model: FmuModel, *, generation_tool: str = "gearbox") -> s
         attrs = [f"name={quoteattr(v.name)}", f'valueReference="{i}"']
         if desc:
             attrs.append(f"description={quoteattr(desc)}")
-        real = []
-        if v.kind == "parameter":
-            var = "fixed" if v.fixed else "tunable"
-            attrs += ['causality="parameter"', f'variability="{var}"', 'initial="exact"']
-        elif v.kind == "input":
-            attrs += ['causality="input"', 'variability="continuous"']
-        elif v.kind == "output":
-            attrs += ['causality="output"', 'variability="continuous"', 'initial="calculated"']
-        else:
-            attrs += ['causality="local"', 'variability="continuous"', 'initial="calculated"']
-        if v.unit:
-            real.append(f"unit={quoteattr(v.unit)}")
-            if UNITS[v.unit][1]:
-                real.append(f'displayUnit="{UNITS[v.unit][1][0]}"')
-        if v.kind == "derivative":
-            real.append(f'derivative="{index[v.derivative_of]}"')
-        if v.kind == "state":
-            real.append(f'nominal="{_num(v.nominal)}"')
-        if v.kind in ("parameter", "input"):
-            real.append(f'start="{_num(v.start)}"')
-            if math.isfinite(v.min):
-                real.append(f'min="{_num(v.min)}"')
-            if math.isfinite(v.max):
-                real.append(f'max="{_num(v.max)}"')
+        attrs += _causality(v, 2)
+        real = _value_attrs(v, index.get(v.derivative_of))
         lines.append(f"    <!-- {i + 1} -->")
         lines.append(f"    <ScalarVariable {' '.join(attrs)}>")
         lines.append(f"      <Real {' '.join(real)}/>")
@@ -381,29 +392,7 @@ def model_description_fmi3(model: FmuModel, *, generation_tool: str = "gearbox")
         attrs = [f"name={quoteattr(v.name)}", f'valueReference="{i}"']
         if v.description:
             attrs.append(f"description={quoteattr(v.description)}")
-        if v.kind == "parameter":
-            var = "fixed" if v.fixed else "tunable"
-            attrs += ['causality="parameter"', f'variability="{var}"']
-        elif v.kind == "input":
-            attrs += ['causality="input"', 'variability="continuous"']
-        elif v.kind == "output":
-            attrs += ['causality="output"', 'variability="continuous"', 'initial="calculated"']
-        else:
-            attrs += ['causality="local"', 'variability="continuous"', 'initial="calculated"']
-        if v.unit:
-            attrs.append(f"unit={quoteattr(v.unit)}")
-            if UNITS[v.unit][1]:
-                attrs.append(f'displayUnit="{UNITS[v.unit][1][0]}"')
-        if v.kind == "derivative":
-            attrs.append(f'derivative="{vr[v.derivative_of]}"')
-        if v.kind == "state":
-            attrs.append(f'nominal="{_num(v.nominal)}"')
-        if v.kind in ("parameter", "input"):
-            attrs.append(f'start="{_num(v.start)}"')
-            if math.isfinite(v.min):
-                attrs.append(f'min="{_num(v.min)}"')
-            if math.isfinite(v.max):
-                attrs.append(f'max="{_num(v.max)}"')
+        attrs += _causality(v, 3) + _value_attrs(v, vr.get(v.derivative_of))
         lines.append(f"    <Float64 {' '.join(attrs)}/>")
     lines += ["  </ModelVariables>", "  <ModelStructure>"]
     outputs = [vr[v.name] for v in model.by_kind("output")]
