@@ -420,3 +420,10 @@ def test_the_stage_functions_own_module_enters_the_key():
     st = STAGES["dynamics"]
     assert _code(st)[-1] == "gearbox.pipeline.adapters.dynamics"
     assert set(st.code) < set(_code(st))
+
+
+def test_on_stage_reports_each_stage_as_it_ends(scene, tmp_path):
+    seen = []
+    run = run_pipeline(scene, ["tables"], stages=graph(), cache=tmp_path, on_stage=seen.append)
+    assert seen == list(run.summary.records)
+    assert [r.name for r in seen] == ["design", "ltca", "tables"]

@@ -79,7 +79,19 @@ def run(args) -> int:
             for n, k, c in rows:
                 print(f"{n:<10} {'cached' if c else 'compute':<8} {k[:12]}")
         return 0
-    result = run_pipeline(scene, args.only, cache=cache, jobs=args.jobs, progress=progress)
+
+    def note(rec):  # one line per stage when there are no progress bars (logs, pipes)
+        print(f"gearbox run: {rec.name} {rec.status} ({rec.seconds:.2f} s)", file=sys.stderr)
+
+    quiet = progress or args.no_progress
+    result = run_pipeline(
+        scene,
+        args.only,
+        cache=cache,
+        jobs=args.jobs,
+        progress=progress,
+        on_stage=None if quiet else note,
+    )
     files = write_outputs(result, out)
     s = result.summary
     if args.json:

@@ -6,7 +6,7 @@ import functools
 import logging
 import sys
 import time
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from datetime import UTC, datetime
@@ -159,6 +159,7 @@ def run_pipeline(
     executor: Executor | None = None,
     jobs: int | None = None,
     progress: bool = False,
+    on_stage: Callable[[StageRecord], None] | None = None,
 ) -> PipelineRun:
     """Compute, or load from the cache, every stage that ``requested`` needs.
 
@@ -179,6 +180,8 @@ def run_pipeline(
         Workers of the default process pool when no executor is given.
     progress : bool
         tqdm progress bars on stderr.
+    on_stage : callable, optional
+        Called with each stage's :class:`StageRecord` as soon as the stage is done.
 
     A stage that raises is recorded as ``failed`` (its message in the summary, its
     traceback logged to the ``gearbox.pipeline`` logger) and the stages downstream of
@@ -195,10 +198,17 @@ def run_pipeline(
     t_run = time.perf_counter()
     keys: dict[str, str] = {}
     results: dict[str, Any] = {}
-    records: list[StageRecord] = []
     from tqdm.auto import tqdm
 
     bar = tqdm(names, desc="gearbox run", disable=not progress, leave=False, file=sys.stderr)
+
+    records: list[StageRecord] = []
+
+    def record(rec: StageRecord) -> None:
+        records.append(rec)
+        if on_stage is not None:
+            on_stage(rec)
+
     for name in bar:
         st = stages[name]
         bar.set_postfix_str(name)
@@ -208,7 +218,7 @@ def run_pipeline(
         keys[name] = stage_key(name, read_values(scene, st.reads), upstream, _code(st))
         missing = [d for d in req if d not in results]
         if missing:
-            records.append(
+            record(
                 StageRecord(name, "skipped", key=keys[name], detail=f"needs {', '.join(missing)}")
             )
             continue
@@ -222,9 +232,7 @@ def run_pipeline(
                     detail = miss.reason
             else:
                 dt = time.perf_counter() - t0
-                records.append(
-                    StageRecord(name, "cached", dt, keys[name], "", meta.get("seconds", 0.0))
-                )
+                record(StageRecord(name, "cached", dt, keys[name], "", meta.get("seconds", 0.0)))
                 continue
         ctx = StageContext(
             name=name,
@@ -238,14 +246,12 @@ def run_pipeline(
         try:
             result = st.compute(ctx)
         except StageUnavailable as exc:
-            records.append(
-                StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc))
-            )
+            record(StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc)))
             continue
         except Exception as exc:  # InputError found mid-run too: recorded, run goes on
             msg = f"{type(exc).__name__}: {exc}"
             _log.error("stage %s failed", name, exc_info=True)  # the traceback, on stderr
-            records.append(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
+            record(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
             continue
         dt = time.perf_counter() - t0
         results[name] = result
@@ -256,7 +262,7 @@ def run_pipeline(
                 detail = (
                     detail + "; " if detail else ""
                 ) + f"not cached ({type(exc).__name__}: {exc})"
-        records.append(StageRecord(name, "computed", time.perf_counter() - t0, keys[name], detail))
+        record(StageRecord(name, "computed", time.perf_counter() - t0, keys[name], detail))
     bar.close()
     summary = RunSummary(
         records=tuple(records),
