@@ -310,3 +310,30 @@ def test_fmu_stage_writes_a_valid_fmu(marine, tmp_path):
     assert fmu in files
     assert fmu.read_bytes() == run["fmu"].data
     assert fmpy_validate.validate_fmu(str(fmu)) == []
+
+
+@pytest.mark.slow
+def test_speed_sweep_on_a_dask_cluster(marine):
+    """The documented cluster path: a Dask client's executor takes the sweep."""
+    distributed = pytest.importorskip("distributed")
+    scene = marine.replaced(outputs={"mesh_tables": "analytical"}, simulation={"sweep_speeds": 2})
+    with (
+        distributed.LocalCluster(
+            n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        ex = client.get_executor()
+        submitted = []
+        dask_submit = ex.submit
+
+        def counting_submit(fn, *args, **kwargs):
+            submitted.append(args)
+            return dask_submit(fn, *args, **kwargs)
+
+        ex.submit = counting_submit
+        run = run_pipeline(scene, ["waterfall"], cache=False, executor=ex)
+    assert len(submitted) == 2  # both speeds went through the Dask client
+    sw = run["waterfall"]
+    assert [p.status for p in sw.points] == ["success", "success"]
+    assert [p.speed_rpm for p in sw.points] == list(scene["simulation"]["speed_sweep_rpm"])
