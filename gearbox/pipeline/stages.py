@@ -31,6 +31,19 @@ def _check_sweep(scene):
     dynamics.validate_torques(scene, sweep=True)
 
 
+def _on_tables(name, compute, validate, doc, *code) -> Stage:
+    """A drivetrain stage: reads the drive sections, runs on the mesh tables."""
+    return Stage(
+        name,
+        compute,
+        reads=_DRIVE,
+        depends=("tables",),
+        code=("gearbox.drivetrain", "gearbox.meshtable", *code),
+        validate=validate,
+        doc=doc,
+    )
+
+
 STAGES: MappingProxyType[str, Stage] = MappingProxyType(
     {
         "design": Stage(
@@ -73,14 +86,11 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             code=("gearbox.meshtable", "gearbox.mesh_analytical"),
             doc="Mesh tables k(theta, T), LTE, P, n (loaded TCA or analytical).",
         ),
-        "dynamics": Stage(
+        "dynamics": _on_tables(
             "dynamics",
             dynamics.compute_dynamics,
-            reads=_DRIVE,
-            depends=("tables",),
-            code=("gearbox.drivetrain", "gearbox.meshtable"),
-            validate=_check_torques,
-            doc="Settled drivetrain response at the operating point.",
+            _check_torques,
+            "Settled drivetrain response at the operating point.",
         ),
         "spectra": Stage(
             "spectra",
@@ -89,32 +99,26 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             code=("gearbox.spectrum",),
             doc="Order spectra of mesh force, DTE and bearing forces.",
         ),
-        "waterfall": Stage(
+        "waterfall": _on_tables(
             "waterfall",
             dynamics.compute_waterfall,
-            reads=_DRIVE,
-            depends=("tables",),
-            code=("gearbox.drivetrain", "gearbox.meshtable", "gearbox.spectrum"),
-            validate=_check_sweep,
-            doc="Speed sweep on the propeller law: order spectra against speed.",
+            _check_sweep,
+            "Speed sweep on the propeller law: order spectra against speed.",
+            "gearbox.spectrum",
         ),
-        "campbell": Stage(
+        "campbell": _on_tables(
             "campbell",
             dynamics.compute_campbell,
-            reads=_DRIVE,
-            depends=("tables",),
-            code=("gearbox.drivetrain", "gearbox.meshtable", "gearbox.spectrum"),
-            validate=_check_sweep,
-            doc="Eigenfrequencies against speed with excitation orders and crossings.",
+            _check_sweep,
+            "Eigenfrequencies against speed with excitation orders and crossings.",
+            "gearbox.spectrum",
         ),
-        "fmu": Stage(
+        "fmu": _on_tables(
             "fmu",
             fmu.compute_fmu,
-            reads=_DRIVE,
-            depends=("tables",),
-            code=("gearbox.fmu", "gearbox.drivetrain", "gearbox.meshtable"),
-            validate=_check_torques,
-            doc="The drivetrain at the operating point as an FMI 2.0 FMU (C, gcc).",
+            _check_torques,
+            "The drivetrain at the operating point as an FMI 2.0 FMU (C, gcc).",
+            "gearbox.fmu",
         ),
     }
 )
