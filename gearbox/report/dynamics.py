@@ -229,10 +229,8 @@ def render_waterfall(sw, run) -> Section:
         '<p class="muted">Speed sweep on the propeller law: mean torque T(n) = T_op '
         "(n / n_op)^2; one settled simulation per speed, run in parallel.</p>"
     ]
-    from ..spectrum import excitation_orders_from_scene
-
-    excitations = excitation_orders_from_scene(run.scene)
-    top = 1.1 * max(e.order for e in excitations)
+    excitations = sw.excitations
+    top = 1.1 * max((e.order for e in excitations), default=100.0)
     for name, wf in sw.waterfalls.items():
         fig, ax = new_figure(1, 2, size=(12, 4.4))
         amps = np.array(wf.amplitudes, dtype=float)

@@ -191,12 +191,16 @@ class Spectra:
 
 
 def _orders(model) -> tuple:
+    """The model's excitation orders: mesh (3 harmonics), firing and blade-pass orders
+    with the harmonics the model applies, half orders when it has cylinder imbalance."""
     spectrum = require("gearbox.spectrum", "excitation_orders")
     return spectrum.excitation_orders(
         pinion_teeth=model.pinion_teeth,
         gear_teeth=model.gear_teeth,
         cylinders=model.engine_cylinders,
         blades=model.propeller_blades,
+        firing_harmonics=max(int(model.engine_harmonics), 1),
+        blade_harmonics=max(int(model.blade_pass_harmonics), 1),
         half_orders=model.half_order_ripple > 0,
     )
 
@@ -281,12 +285,14 @@ class SpeedSweep:
     """A speed sweep on the propeller law.
 
     ``points``: one :class:`SweepPoint` per speed; ``waterfalls``: channel ->
-    :class:`gearbox.spectrum.Waterfall` over the speeds that succeeded.
+    :class:`gearbox.spectrum.Waterfall` over the speeds that succeeded;
+    ``excitations``: the drive's excitation orders.
     """
 
     speeds_rpm: np.ndarray
     points: tuple[SweepPoint, ...]
     waterfalls: Mapping[str, Any] = field(default_factory=dict)
+    excitations: tuple = ()
 
 
 def compute_waterfall(ctx: StageContext) -> SpeedSweep:
@@ -311,7 +317,7 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
         revs = min(s.revs for s in specs)
         if all(math.isclose(s.revs, revs, rel_tol=1e-9) for s in specs):
             waterfalls[name] = spectrum.waterfall(specs, [p.speed_rpm for p in ok])
-    return SpeedSweep(speeds, points, waterfalls)
+    return SpeedSweep(speeds, points, waterfalls, tuple(_orders(jobs[0][1])))
 
 
 # -- Campbell --------------------------------------------------------------------------
