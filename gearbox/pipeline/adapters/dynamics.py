@@ -317,7 +317,7 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
         revs = min(s.revs for s in specs)
         if all(math.isclose(s.revs, revs, rel_tol=1e-9) for s in specs):
             waterfalls[name] = spectrum.waterfall(specs, [p.speed_rpm for p in ok])
-    return SpeedSweep(speeds, points, waterfalls, tuple(_orders(jobs[0][1])))
+    return SpeedSweep(speeds, points, waterfalls, tuple(_orders(jobs[0][0])))
 
 
 # -- Campbell --------------------------------------------------------------------------
