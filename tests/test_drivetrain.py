@@ -503,6 +503,12 @@ def test_speed_sweep_batched_matches_single_runs(base):
         assert amp == pytest.approx(
             mesh_force_metrics(one, mm)["mesh_force_mesh_order_amplitude_N"], rel=1e-6
         )
+    # The mesh force computed inside the batch (no TimeSeries kept) is the same force.
+    light = speed_sweep(
+        m, [1200.0, 2400.0], DiffraxSolver(rtol=1e-9), settle_cycles=5, mesh_cycles=8
+    )
+    for k, v in sw.metrics.items():
+        assert np.allclose(light.metrics[k], v, rtol=1e-9), k
     with pytest.raises(InputError, match="rpms"):
         speed_sweep(m, [-1.0])
 
