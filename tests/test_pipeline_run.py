@@ -292,6 +292,12 @@ def test_default_scene_end_to_end_through_the_cli(tmp_path, capsys):
         assert f'id="{anchor}"' in html, anchor
     assert "report section could not be drawn" not in html
     assert (out / "tables.nc").exists() and (out / "dynamics.csv").exists()
+    from gearbox.report.browser import browser_check, find_chromium
+
+    if find_chromium() is not None:  # the whole report in a real browser
+        seen = browser_check(out / "report.html")
+        assert seen.images == html.count("<img") >= 10
+        assert seen.decoded == seen.images, seen
 
 
 def test_fmu_stage_writes_a_valid_fmu(marine, tmp_path):
