@@ -308,6 +308,20 @@ class _Lattice:
     stress: dict = field(default_factory=dict)  # tooth_b -> (n_fillet, nz nu) per load tooth
 
 
+@dataclass(frozen=True)
+class _Solved:
+    """What is kept of the solutions for the lattice unit loads on one tooth.
+
+    depth: loadable tooth -> inward-normal displacement at its lattice depth points,
+    (n_lat, n_lat) m/N; dofs: unknowns of the fillet elements; fillet: their values,
+    (dofs, n_lat) m/N.
+    """
+
+    depth: dict
+    dofs: np.ndarray
+    fillet: np.ndarray
+
+
 @dataclass
 class _GearModel:
     model: ToothModel
@@ -419,8 +433,8 @@ class FECompliance:
         t2 = np.cross(n, t1)
         return P, n, t1, t2
 
-    def _responses(self, gm: _GearModel, side: str, tooth: int):
-        """FE displacements for the lattice unit loads on one tooth, (n_dofs, n_lat)."""
+    def _responses(self, gm: _GearModel, side: str, tooth: int) -> _Solved:
+        """Responses to the lattice unit loads on one tooth (one solve per load)."""
         key = (side, tooth)
         if key in gm.responses:
             return gm.responses[key]
@@ -460,12 +474,33 @@ class FECompliance:
             ),
             shape=(3 * pts.shape[0], Z.size),
         )
-        F = (Op.T @ S).toarray()
-        Usol = model.solve(F)
-        gm.responses[key] = Usol
+        F = (Op.T @ S).tocsc()
+        # only what the compliance and the fillet stresses need is kept: the depth
+        # responses on every loadable tooth and the unknowns of the fillet elements
+        from .stress import fillet_points
+
+        nb = self.options.neighbours
+        loadable = mesh.teeth[nb : len(mesh.teeth) - nb] or mesh.teeth
+        D = [self._depth_operator(gm, side, tb) for tb in loadable]
+        Dall = sp.vstack(D).tocsr()
+        fil = [fillet_points(self, gm, side, tb) for tb in loadable]
+        union = np.unique(np.concatenate([model.element_dofs(f[2]).ravel() for f in fil]))
+        depth = np.empty((Dall.shape[0], Z.size))
+        usub = np.empty((union.size, Z.size))
+        for j in range(Z.size):
+            u = model.solve(F[:, [j]].toarray()[:, 0])
+            depth[:, j] = Dall @ u
+            usub[:, j] = u[union]
+        sizes = np.cumsum([0] + [d.shape[0] for d in D])
+        solved = _Solved(
+            depth={tb: depth[sizes[i] : sizes[i + 1]] for i, tb in enumerate(loadable)},
+            dofs=union,
+            fillet=usub,
+        )
+        gm.responses[key] = solved
         self.stats["solves"] += Z.size
         self.stats["solve_s"] += time.perf_counter() - t0
-        return Usol
+        return solved
 
     def _depth_operator(self, gm: _GearModel, side: str, tooth: int):
         """(n_lat, n_dofs) inward-normal displacement at the lattice depth points."""
@@ -548,13 +583,12 @@ class FECompliance:
         for t in teeth:
             sel = loads.tooth == t
             W[t] = (np.flatnonzero(sel), self._weights(lat, loads.z[sel], loads.u[sel]))
-        for tb in teeth:
-            D = self._depth_operator(gm, loads.side, int(tb))
-            ib, Wb = W[tb]
-            for ta in teeth:
-                Ua = self._responses(gm, loads.side, int(ta))
-                ia, Wa = W[ta]
-                Clat = D @ Ua  # (n_lat response on tb, n_lat loads on ta)
+        for ta in teeth:
+            solved = self._responses(gm, loads.side, int(ta))
+            ia, Wa = W[ta]
+            for tb in teeth:
+                ib, Wb = W[tb]
+                Clat = solved.depth[int(tb)]  # (n_lat responses on tb, n_lat loads on ta)
                 C[np.ix_(ib, ia)] = Wb @ Clat @ Wa.T
         return 0.5 * (C + C.T)
 

@@ -20,7 +20,7 @@ from ..ltca.grid import ContactGrid
 from .compliance import FECompliance
 from .mesh import locate
 
-__all__ = ["FilletStress", "fillet_stress"]
+__all__ = ["FilletStress", "fillet_points", "fillet_stress"]
 
 
 @dataclass(frozen=True)
@@ -47,12 +47,15 @@ class FilletStress:
         return float(self.sigma1.max())
 
 
-def _fillet_operator(fe: FECompliance, gm, side: str, tooth: int):
+def fillet_points(fe, gm, side: str, tooth: int):
     """Where the fillet stresses of one tooth are evaluated.
 
     Returns (rows, layers, cells, X): node rows and layers of the points, their
-    elements and reference coordinates.
+    elements and reference coordinates. Cached on the gear model.
     """
+    key = ("fillet", side, tooth)
+    if key in gm.responses:
+        return gm.responses[key]
     mesh = gm.model.mesh
     nodes = mesh.flank_nodes[(tooth, side)]
     u_rows = mesh.flank_u[side][0]
@@ -70,7 +73,8 @@ def _fillet_operator(fe: FECompliance, gm, side: str, tooth: int):
     uu = np.tile(u_rows[rows], layers.size)
     cands = fe._candidates(mesh, tooth, side, zz, uu)
     cells, X, _ = locate(mesh, P, cands)
-    return rows, layers, cells, X
+    gm.responses[key] = (rows, layers, cells, X)
+    return gm.responses[key]
 
 
 def fillet_stress(fe: FECompliance, grid: ContactGrid, load, gear: int) -> FilletStress:
@@ -92,13 +96,11 @@ def fillet_stress(fe: FECompliance, grid: ContactGrid, load, gear: int) -> Fille
     out = []
     rows = None
     for tb in teeth:
-        key = ("fillet", loads.side, int(tb))
-        if key not in gm.responses:
-            gm.responses[key] = _fillet_operator(fe, gm, loads.side, int(tb))
-        rows, layers, cells, X = gm.responses[key]
+        rows, layers, cells, X = fillet_points(fe, gm, loads.side, int(tb))
         U = np.zeros(gm.model.n_dofs)
         for ta, w in lattice_load.items():
-            U += fe._responses(gm, loads.side, ta) @ w
+            solved = fe._responses(gm, loads.side, ta)
+            U[solved.dofs] += solved.fillet @ w
         sig = gm.model.stress(cells, X, U[:, None])[:, 0]
         s1 = np.linalg.eigvalsh(sig)[:, -1]
         out.append(s1.reshape(layers.size, rows.size))

@@ -1,0 +1,152 @@
+"""Work-precision of the loaded TCA: the fast level against the FE reference level.
+
+For each paper case (models/case01..04.toml) and flank (drive = R, coast = L), a
+full table (positions x the scene's torques) at both levels; printed per case and
+flank: the fast level's relative error against FE in mean mesh stiffness,
+peak-to-peak LTE, maximum contact pressure and maximum root stress (pinion, at the
+middle torque), and the wall time of each level with their ratio. The FE level's
+memory: the factors' size and the process's peak resident memory.
+
+    python benchmarks/bench_fe.py                     # all four cases, default mesh
+    python benchmarks/bench_fe.py --cases 03 --refine 0.5 --positions 8
+
+``--refine`` scales the FE mesh (``MeshOptions().refined(f)``; 1 = default mesh).
+Timings on a shared machine vary: compare ratios measured in the same run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from gearbox.fe import FECompliance, FEOptions, MeshOptions  # noqa: E402
+from gearbox.fe.stress import fillet_stress  # noqa: E402
+from gearbox.geometry import PairSpec, design_pair  # noqa: E402
+from gearbox.ltca import LTCAOptions, ltca_cycle, solve_contact  # noqa: E402
+from gearbox.ltca.beveloid import beveloid_grids, separation_field  # noqa: E402
+from gearbox.scene import load_scene  # noqa: E402
+from gearbox.surface import blanks_from_design  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _rel(a, b):
+    return (a - b) / b
+
+
+def run_case(case: str, side: str, positions: int, refine: float) -> dict:
+    scene = load_scene(ROOT / "models" / f"case{case}.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    lt = scene["ltca"]
+    field = separation_field(
+        design,
+        scene,
+        side,
+        n_profile=lt["grid_profile"],
+        n_face=lt["grid_face"],
+        positions=positions,
+    )
+    grids, _ = beveloid_grids(design, scene, field, positions)
+    torques = scene["load"]["torques_Nm"]
+    opts = LTCAOptions(positions=positions)
+
+    def grid_at(f):
+        return grids[int(round(f * positions)) % positions]
+
+    t0 = time.perf_counter()
+    fast = ltca_cycle(grid_at, torques, options=opts)
+    t_fast = time.perf_counter() - t0
+
+    fe = FECompliance(
+        FEOptions(mesh=MeshOptions().refined(refine)), blanks=blanks_from_design(design)
+    )
+    t0 = time.perf_counter()
+    fe.reserve(grids)
+    ref = ltca_cycle(grid_at, torques, options=opts, compliance=fe)
+    t_fe = time.perf_counter() - t0
+    # FE root stress at the middle torque: the FE contact loads on the FE fillet
+    tm = len(torques) // 2
+    t0 = time.perf_counter()
+    root_fe = 0.0
+    for g in grids:
+        sol = solve_contact(g, fe, torques[tm])
+        root_fe = max(root_fe, fillet_stress(fe, g, sol.load, 0).max)
+    t_root = time.perf_counter() - t0
+    models = list(fe._models.values())
+    return {
+        "case": case,
+        "flank": "drive" if side == "R" else "coast",
+        "k": _rel(fast.stiffness.mean(axis=1), ref.stiffness.mean(axis=1)),
+        "k_fe": ref.stiffness.mean(axis=1),
+        "lte": _rel(np.ptp(fast.lte, axis=1), np.ptp(ref.lte, axis=1)),
+        "p": _rel(fast.max_pressure.max(axis=1), ref.max_pressure.max(axis=1)),
+        "root": _rel(float(fast.root_stress_pinion[tm].max()), root_fe),
+        "root_fe": root_fe,
+        "t_fast": t_fast,
+        "t_fe": t_fe,
+        "t_root": t_root,
+        "dofs": [m.model.n_dofs for m in models],
+        "factor_MB": sum(m.model.factor_bytes for m in models) / 1e6,
+        "solves": fe.stats["solves"],
+        "torques": torques,
+        "converged": bool(ref.success and fast.success),
+    }
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", nargs="+", default=["01", "02", "03", "04"])
+    ap.add_argument("--flanks", nargs="+", default=["R", "L"])
+    ap.add_argument("--positions", type=int, default=24)
+    ap.add_argument("--refine", type=float, default=1.0)
+    a = ap.parse_args(argv)
+    print(
+        f"fast level against FE (mesh MeshOptions().refined({a.refine})), "
+        f"{a.positions} positions; errors = fast / FE - 1"
+    )
+    head = (
+        f"{'case':>4} {'flank':>5} {'torque':>7} {'k_FE N/um':>10} {'d k':>7} "
+        f"{'d LTEpp':>8} {'d pmax':>7}"
+    )
+    rows = []
+    for case in a.cases:
+        for side in a.flanks:
+            r = run_case(case, side, a.positions, a.refine)
+            rows.append(r)
+            print(head)
+            for i, tq in enumerate(r["torques"]):
+                print(
+                    f"{case:>4} {r['flank']:>5} {tq:7.0f} {r['k_fe'][i] / 1e6:10.1f} "
+                    f"{r['k'][i]:+7.1%} {r['lte'][i]:+8.1%} {r['p'][i]:+7.1%}"
+                )
+            print(
+                f"     root stress (pinion, middle torque): FE {r['root_fe'] / 1e6:.0f} MPa, "
+                f"fast {r['root']:+.1%}; time fast {r['t_fast']:.2f} s, FE {r['t_fe']:.1f} s "
+                f"(x{r['t_fe'] / r['t_fast']:.0f}) + root {r['t_root']:.1f} s; "
+                f"{r['solves']} solves, unknowns {r['dofs']}, factors {r['factor_MB']:.0f} MB; "
+                f"converged {r['converged']}",
+                flush=True,
+            )
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    kerr = np.concatenate([r["k"] for r in rows])
+    print(
+        f"\nmean-stiffness error of the fast level: median {np.median(kerr):+.1%}, "
+        f"range {kerr.min():+.1%} .. {kerr.max():+.1%} (target |error| <= 5 %)"
+    )
+    tfe = [r["t_fe"] for r in rows]
+    print(
+        f"FE table time per case and flank: median {np.median(tfe):.1f} s, max {max(tfe):.1f} s; "
+        f"peak resident memory {peak:.0f} MB"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
