@@ -127,12 +127,27 @@ def simulate(
     mesh_cycles: int = 200,
     samples_per_cycle: int = 32,
     y0: np.ndarray | None = None,
+    start: str = "operating_point",
 ) -> TimeSeries:
     """Integrate ``model`` with ``solver`` (ScipySolver, DiffraxSolver, ExudynSolver).
 
     settle_time (s): simulated before the record; default 20 mesh cycles (the start
-    state already holds the linear periodic response). Returns the record only.
+    state already holds the linear periodic response). start: 'operating_point'
+    (:func:`periodic_start_state`) or 'periodic' (the settled periodic response by
+    shooting, :func:`gearbox.drivetrain.shooting.periodic_response`; settle_time then
+    defaults to 0). Returns the record only.
     """
+    if start not in ("operating_point", "periodic"):
+        from ..errors import InputError, Problem
+
+        raise InputError(Problem("start", start, "must be 'operating_point' or 'periodic'"))
+    shoot = None
+    if start == "periodic" and y0 is None:
+        from .shooting import periodic_response
+
+        shoot = periodic_response(model)
+        y0 = shoot.y0
+        settle_time = 0.0 if settle_time is None else settle_time
     solver = solver if solver is not None else default_solver()
     tm = 1.0 / model.mesh_frequency
     settle = 20 * tm if settle_time is None else float(settle_time)
@@ -162,7 +177,14 @@ def simulate(
         "samples_per_mesh_cycle": samples_per_cycle,
         "mesh_frequency_Hz": model.mesh_frequency,
         "compile_time_s": info.get("compile_time", 0.0),
+        "start": start,
     }
+    if shoot is not None:
+        attrs.update(
+            shooting_iterations=shoot.iterations,
+            shooting_residual=shoot.residuals[-1],
+            shooting_converged=shoot.converged,
+        )
     attrs.update({f"model_{k}": v for k, v in model.meta.items()})
     ts = TimeSeries(
         time=t,
