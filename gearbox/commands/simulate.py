@@ -85,7 +85,7 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
     solver = default_solver(name, rtol)
     cycles = args.mesh_cycles if args.mesh_cycles is not None else sim["settled_mesh_cycles"]
     if args.periodic and args.mesh_cycles is None and model.common_period_mesh_cycles():
-        cycles = model.common_period_mesh_cycles() + 1  # one whole common period
+        cycles = model.common_period_mesh_cycles()  # one whole common period
     if cycles < 1:
         raise InputError(Problem("--mesh-cycles", cycles, "must be >= 1"))
     ts = simulate(

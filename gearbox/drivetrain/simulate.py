@@ -151,7 +151,10 @@ def simulate(
     solver = solver if solver is not None else default_solver()
     tm = 1.0 / model.mesh_frequency
     settle = 20 * tm if settle_time is None else float(settle_time)
-    t_eval = record_times(model, settle, mesh_cycles, samples_per_cycle)
+    t_rec = record_times(model, settle, mesh_cycles, samples_per_cycle)
+    # the state at the record's start (t = settle) is sampled too, for the periodicity
+    # check, and dropped from the record
+    t_eval = np.concatenate([[settle], t_rec]) if settle > 0 else t_rec
     y0 = periodic_start_state(model) if y0 is None else np.asarray(y0, float)
     name = getattr(solver, "name", type(solver).__name__)
     if name == "scipy":
@@ -166,8 +169,14 @@ def simulate(
         from . import exudyn_backend
 
         t, Y, info = exudyn_backend.integrate_exudyn(model, y0, t_eval, solver)
+    t, Y = np.asarray(t), np.asarray(Y)
+    if settle > 0 and len(t) and t[0] == settle:
+        t_start, y_start = t[0], Y[0]
+        t, Y = t[1:], Y[1:]
+    else:
+        t_start, y_start = 0.0, np.asarray(y0, float)
     ok = np.all(np.isfinite(Y), axis=1) if len(Y) else np.zeros(0, bool)
-    t, Y = np.asarray(t)[ok], np.asarray(Y)[ok]
+    t, Y = t[ok], Y[ok]
     ch = outputs(model, t, Y) if len(t) else {k: np.zeros(0) for k in CHANNEL_UNITS}
     attrs = {
         "solver": name,
@@ -202,7 +211,9 @@ def simulate(
         import dataclasses
 
         pc = model.common_period_mesh_cycles()
-        res = periodicity_residual(t, Y, model, pc * samples_per_cycle) if pc else math.nan
+        tt = np.concatenate([[t_start], t])
+        YY = np.concatenate([y_start[None, :], Y])
+        res = periodicity_residual(tt, YY, model, pc * samples_per_cycle) if pc else math.nan
         ts = dataclasses.replace(
             ts,
             attrs={
