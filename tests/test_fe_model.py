@@ -141,3 +141,26 @@ def test_mesh_options_name_the_bad_count():
 
     with pytest.raises(InputError, match="fe.mesh.across"):
         MeshOptions(across=0)
+
+
+def test_element_matches_scikit_fem():
+    # the same cantilever with scikit-fem's own triquadratic vector element
+    # (ElementHex2 on the same box, its generic form assembly): an independent
+    # implementation of the same discretisation, so the tip deflections agree to
+    # rounding (1e-9 relative)
+    skfem = pytest.importorskip("skfem")
+    from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+    E, nu, L, h, w = 200e9, 0.3, 0.1, 0.01, 0.01
+    mesh = skfem.MeshHex1.init_tensor(
+        np.linspace(0, L, 6), np.linspace(0, h, 2), np.linspace(0, w, 2)
+    )
+    basis = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementHex2()))
+    K = skfem.asm(linear_elasticity(*lame_parameters(E, nu)), basis)
+    clamped = basis.get_dofs(lambda x: np.isclose(x[0], 0.0)).all()
+    tip = basis.get_dofs(lambda x: np.isclose(x[0], L)).all("u^2")
+    f = np.zeros(K.shape[0])
+    f[tip] = -1.0 / tip.size
+    u = skfem.solve(*skfem.condense(K, f, D=clamped))
+    ref = -float(np.mean(u[tip]))
+    assert _cantilever(E, nu, L, h, w, (5, 1, 1)) == pytest.approx(ref, rel=1e-9)
