@@ -135,13 +135,20 @@ def sweep(n_speeds: int, cycles: int) -> None:
     rpms = np.linspace(500.0, 3000.0, n_speeds)
     base = model_at()
     t0 = time.perf_counter()
-    sw = speed_sweep(base, rpms, DiffraxSolver(), settle_cycles=0, mesh_cycles=cycles)
+    sw = speed_sweep(base, rpms, DiffraxSolver(), settle_cycles=0, mesh_cycles=cycles, batch="vmap")
     total = time.perf_counter() - t0
     wall = sw.wall_time
     ok = sum(st == "success" for st in sw.status)
     print(
         f"compile {sw.compile_time:.2f} s; batch run {wall:.3f} s = {1e3 * wall / n_speeds:.2f} ms "
         f"per speed; total incl. setup {total:.2f} s; {ok}/{n_speeds} succeeded"
+    )
+    t0 = time.perf_counter()
+    sl = speed_sweep(base, rpms, DiffraxSolver(), settle_cycles=0, mesh_cycles=cycles, batch="loop")
+    total = time.perf_counter() - t0
+    print(
+        f"loop of compiled single runs: {sl.wall_time:.3f} s = {1e3 * sl.time_per_speed:.2f} ms per "
+        f"speed (integration); total incl. setup and compile {total:.2f} s"
     )
     ms = [base.with_speed(r * math.pi / 30) for r in rpms]
     # single-speed baseline measured in the same run

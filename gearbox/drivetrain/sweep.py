@@ -9,7 +9,6 @@ speed changes (``DrivetrainModel.with_speed``).
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -61,11 +60,16 @@ def speed_sweep(
     mesh_cycles: int = 100,
     samples_per_cycle: int = 16,
     keep_timeseries: bool = False,
+    batch: str = "auto",
 ) -> SpeedSweep:
     """Run ``model`` at every engine speed in ``rpms`` (rpm).
 
-    A DiffraxSolver (default) runs all speeds as one ``vmap`` batch; other solvers run
-    one speed after the other through :func:`gearbox.drivetrain.simulate.simulate`.
+    With a DiffraxSolver (default), ``batch='vmap'`` runs all speeds as one ``vmap``
+    batch (all speeds step in lockstep until the slowest is done: right for a GPU),
+    ``batch='loop'`` one compiled run after the other (right for a CPU: measured 3x
+    cheaper per speed on 200 speeds, 500-3000 rpm, on a 2-core CPU); 'auto' picks vmap
+    on a GPU or TPU and loop on a CPU. Other solvers run one speed after the other
+    through :func:`gearbox.drivetrain.simulate.simulate`.
     """
     from .diffrax_backend import DiffraxSolver, integrate_diffrax_batch
 
@@ -74,11 +78,17 @@ def speed_sweep(
     p.check(r.size >= 1, "rpms", r.tolist(), "must hold at least one speed")
     p.check(bool(np.all(np.isfinite(r) & (r > 0))), "rpms", r.tolist(), "must be > 0 rpm")
     p.check(mesh_cycles >= 1, "mesh_cycles", mesh_cycles, "must be >= 1")
+    p.check(batch in ("auto", "vmap", "loop"), "batch", batch, "must be auto, vmap or loop")
     p.raise_if_any("invalid speed sweep")
     solver = solver if solver is not None else DiffraxSolver()
     models = [model.with_speed(x * math.pi / 30) for x in r]
     series: list[TimeSeries] = []
-    if getattr(solver, "name", "") == "diffrax":
+    is_diffrax = getattr(solver, "name", "") == "diffrax"
+    if is_diffrax and batch == "auto":
+        import jax
+
+        batch = "loop" if jax.default_backend() == "cpu" else "vmap"
+    if is_diffrax and batch == "vmap":
         y0s = np.stack([periodic_start_state(m) for m in models])
         tev = np.stack(
             [
@@ -111,18 +121,17 @@ def speed_sweep(
         from .simulate import simulate
 
         wall, comp = 0.0, 0.0
-        start = time.perf_counter()
         for m in models:
-            series.append(
-                simulate(
-                    m,
-                    solver,
-                    settle_time=settle_cycles / m.mesh_frequency,
-                    mesh_cycles=mesh_cycles,
-                    samples_per_cycle=samples_per_cycle,
-                )
+            ts = simulate(
+                m,
+                solver,
+                settle_time=settle_cycles / m.mesh_frequency,
+                mesh_cycles=mesh_cycles,
+                samples_per_cycle=samples_per_cycle,
             )
-        wall = time.perf_counter() - start
+            wall += ts.wall_time  # integration only, as for the batch
+            comp += float(ts.attrs.get("compile_time_s", 0.0))
+            series.append(ts)
     mets = [mesh_force_metrics(ts, m) for ts, m in zip(series, models, strict=True)]
     metrics = {k: np.array([d[k] for d in mets]) for k in mets[0]}
     return SpeedSweep(
