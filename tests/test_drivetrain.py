@@ -564,7 +564,7 @@ def test_table_angle_offset_is_honoured(base):
         lte=np.roll(table.lte, -5, axis=2),
     )
     m2 = DrivetrainModel.from_scene(s, shifted)
-    th = np.linspace(0.0, 0.3, 7)[:, None, None]
+    th = np.linspace(0.0, 0.3, 7)
     k1 = mesh_laws(th, m.params())[0]
     k2 = mesh_laws(th, m2.params())[0]
     assert np.allclose(k1, k2, rtol=1e-9)

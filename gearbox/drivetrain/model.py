@@ -495,12 +495,19 @@ def _split(c, xp):
 
 
 def mesh_laws(theta1, p, xp=np):
-    """k_f, dk_f, e_f, de_f at pinion angle theta1 (rad); each shape (2,) [drive, coast]."""
-    ka0, ka, kb = _split(p["kc"], xp)
-    ea0, ea, eb = _split(p["ec"], xp)
-    k, dk = fourier_eval(ka0, ka, kb, p["N1"], theta1, xp=xp)
-    e, de = fourier_eval(ea0, ea, eb, p["N1"], theta1, xp=xp)
-    return k, dk, e, de
+    """k_f, dk_f, e_f, de_f at pinion angle theta1 (rad, any shape S); each shape S + (2,)
+    [drive, coast]."""
+    # One set of harmonics cos/sin(k N1 theta1) serves both fields and both flanks.
+    coef = xp.stack([p["kc"], p["ec"]])  # (2 fields, 2 flanks, 1 + 2 h)
+    a0, a, b = _split(coef, xp)
+    h = a.shape[-1]
+    kk = xp.arange(1, h + 1) * p["N1"]
+    arg = xp.asarray(theta1)[..., None] * kk  # (..., h)
+    c = xp.cos(arg)[..., None, None, :]
+    s = xp.sin(arg)[..., None, None, :]
+    f = a0 + xp.sum(a * c + b * s, axis=-1)
+    df = xp.sum(kk * (b * c - a * s), axis=-1)
+    return f[..., 0, :], df[..., 0, :], f[..., 1, :], df[..., 1, :]
 
 
 def mesh_forces(t, x, v, p, xp=np):
@@ -609,7 +616,7 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     v = y[:, n:]
     # Vectorised over samples: the same formulas as mesh_forces / external_torques.
     theta1 = p["Omega"] * t + x[:, 1] + p["phase"]
-    k, _, e, de = mesh_laws(theta1[:, None, None], p)  # (n_t, 2)
+    k, _, e, de = mesh_laws(theta1, p)  # (n_t, 2)
     s = x @ p["G"].T - e - p["bl"]
     sdot = v @ p["G"].T - de * (p["Omega"] + v[:, 1])[:, None]
     forces = np.where(s > 0, np.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
