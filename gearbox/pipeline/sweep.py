@@ -12,7 +12,8 @@ sweep through Dask's executor::
 
 Without an executor, ``jobs`` workers of a ``ProcessPoolExecutor`` run the items
 (started with the ``spawn`` method, since forking a process that has started jax's
-or BLAS's threads can deadlock); ``jobs=1`` runs them in this process. With neither
+or BLAS's threads can deadlock, and with jax kept on the CPU in the workers unless
+``JAX_PLATFORMS`` is set); ``jobs=1`` runs them in this process. With neither
 given, the first item runs here and is timed, and the rest go to a pool on all cores
 only when that is expected to be faster (:func:`use_pool`): starting workers that
 import gearbox and jax cost 2.3-3.4 s on the 2-core development machine, more than a
@@ -58,8 +59,18 @@ def use_pool(n_rest: int, first_s: float, workers: int, start_s: float = POOL_ST
     return pooled < here
 
 
+def _worker_init() -> None:
+    """Keep jax in each worker on the CPU unless ``JAX_PLATFORMS`` says otherwise:
+    several processes each claiming a GPU's memory fail (seen on a 16-core GPU
+    machine: every worker's CUDA start ran out of memory), and single small runs
+    gain nothing from a GPU."""
+    os.environ.setdefault("JAX_PLATFORMS", "cpu")
+
+
 def _pool(jobs: int) -> ProcessPoolExecutor:
-    return ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn"))
+    return ProcessPoolExecutor(
+        jobs, mp_context=multiprocessing.get_context("spawn"), initializer=_worker_init
+    )
 
 
 def _submit_all(fn, items, executor, bar) -> list[Any]:
