@@ -298,14 +298,13 @@ def _replace_helix(blank, beta):
     return ToothBlank.from_dict(d)
 
 
-@dataclass
+@dataclass(frozen=True)
 class _Lattice:
-    """Unit-load lattice of one loaded tooth flank and its FE responses."""
+    """Unit-load lattice of one loaded flank: axial positions z (m), shape (nz,), and
+    rack-profile parameters u (m), shape (nu,); lattice point ``i nu + j``."""
 
-    z: np.ndarray  # (nz,)
-    u: np.ndarray  # (nu,)
-    compliance: dict = field(default_factory=dict)  # (tooth_a, tooth_b) -> (nz nu, nz nu)
-    stress: dict = field(default_factory=dict)  # tooth_b -> (n_fillet, nz nu) per load tooth
+    z: np.ndarray
+    u: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -327,7 +326,9 @@ class _GearModel:
     model: ToothModel
     key: tuple
     lattices: dict = field(default_factory=dict)  # (side) -> lattice geometry
-    responses: dict = field(default_factory=dict)  # (side, tooth_load) -> U (n_dofs, n_lat)
+    # (side, loaded tooth) -> _Solved; ("depth", side, tooth) -> depth operator;
+    # ("fillet", side, tooth) -> fillet points
+    responses: dict = field(default_factory=dict)
 
 
 class FECompliance:
@@ -336,9 +337,12 @@ class FECompliance:
     options: :class:`FEOptions`; blanks: ``(pinion, gear)``
     :class:`~gearbox.surface.blank.ToothBlank` of a beveloid pair, whose grids
     (:mod:`gearbox.ltca.beveloid`) are then placed by :func:`beveloid_loads`;
-    ``None`` for parallel-axis grids (:func:`gear_loads`). The factorised models and the lattice responses are
-    cached on the instance, keyed by the gear's generating data, so one instance
-    serves a whole mesh cycle (and both flanks) with one factorisation per gear.
+    ``None`` for parallel-axis grids (:func:`gear_loads`); teeth: optional
+    ``{gear: (first, last)}`` loaded tooth offsets (see :meth:`reserve`). The
+    factorised models and the lattice responses are cached on the instance, keyed by
+    the gear's generating data, so one instance serves a whole mesh cycle (and both
+    flanks) with one factorisation per gear. ``stats`` counts factorisations and
+    solves and their wall times (s).
     """
 
     name = "fe"
@@ -356,8 +360,7 @@ class FECompliance:
     def _model(self, loads: GearLoads, gear: int, E: float, nu: float) -> _GearModel:
         # one model per gear: the bore of the first grid (or of reserve()) is kept
         key = (tuple(sorted(loads.blank.to_dict().items())), E, nu)
-        lo, hi = int(loads.tooth.min()), int(loads.tooth.max())
-        lo, hi = self._teeth_hint.get(gear, (lo, hi)) if gear in self._teeth_hint else (lo, hi)
+        lo, hi = self._teeth_hint.get(gear, (int(loads.tooth.min()), int(loads.tooth.max())))
         gm = self._models.get(key)
         if gm is not None:
             t = gm.model.mesh.teeth
