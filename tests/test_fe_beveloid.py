@@ -1,5 +1,7 @@
 """The FE level on a paper case: beveloid grids placed on the generated teeth."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -16,7 +18,7 @@ P = 4
 
 @pytest.fixture(scope="module")
 def case03():
-    scene = load_scene("models/case03.toml")
+    scene = load_scene(Path(__file__).resolve().parents[1] / "models" / "case03.toml")
     design = design_pair(PairSpec.from_scene(scene))
     field = separation_field(design, scene, "R", n_profile=12, n_face=10, positions=P)
     grids, _ = beveloid_grids(design, scene, field, P)
