@@ -277,9 +277,9 @@ def _require_cylindrical(grid, sections, gear):
             p.add(
                 f"grid.tooth{gear + 1}.{name}",
                 f"varies over the grid ({float(np.min(a)):.6g} .. {float(np.max(a)):.6g})",
-                "the FE level meshes cylindrical (parallel-axis) gears from the grid's "
-                "tooth sections; beveloid grids need the generating blanks and the gear-"
-                "frame flank parameters of every point, which ContactGrid does not carry yet",
+                "the FE level rebuilds only cylindrical (parallel-axis) gears from a grid's "
+                "tooth sections; for a beveloid grid pass the pair's generating data: "
+                "FECompliance(blanks=...) or compliance_for('fe', blanks=...)",
             )
             break
     if np.max(np.ptp(grid.normal, axis=0)) > 1e-9:
