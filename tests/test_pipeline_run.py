@@ -343,3 +343,28 @@ def test_speed_sweep_on_a_dask_cluster(marine):
     sw = run["waterfall"]
     assert [p.status for p in sw.points] == ["success", "success"]
     assert [p.speed_rpm for p in sw.points] == list(scene["simulation"]["speed_sweep_rpm"])
+
+
+def test_strict_fails_when_a_requested_output_is_unavailable(tmp_path, monkeypatch, capsys):
+    import gearbox.pipeline.stages as stages_mod
+    from gearbox.pipeline import Stage, StageUnavailable
+
+    def missing(ctx):
+        raise StageUnavailable("not in this installation")
+
+    graph = dict(stages_mod.STAGES) | {"tca": Stage("tca", missing, depends=("design",))}
+    monkeypatch.setattr(stages_mod, "STAGES", graph)
+    args = [
+        "run",
+        str(ROOT / "models" / "case03.toml"),
+        "--only",
+        "design",
+        "tca",
+        "--out",
+        str(tmp_path / "o"),
+        "--no-cache",
+        "--no-progress",
+    ]
+    assert main(args) == 0  # nothing failed: the summary says what is missing
+    assert "not in this installation" in capsys.readouterr().out
+    assert main([*args, "--strict"]) == 1
