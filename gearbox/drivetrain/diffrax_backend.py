@@ -22,6 +22,15 @@ from .timeseries import SolverFailure
 
 __all__ = ["DiffraxSolver", "integrate_diffrax", "integrate_diffrax_batch", "solve_fn"]
 
+
+def _enable_x64() -> None:
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+
+
+_enable_x64()  # at import, as the module docstring says: arrays made later are float64
+
 _SOLVERS = ("Tsit5", "Dopri5", "Dopri8", "Heun", "Kvaerno5")
 
 
