@@ -63,7 +63,7 @@ class MeshOptions:
     fillet: int = 4
     land: int = 2
     rim: int = 4
-    face_length: float = 0.5
+    face_length: float = 1.0
     grading: float = 1.6
 
     def __post_init__(self):
@@ -82,7 +82,7 @@ class MeshOptions:
     @classmethod
     def coarse(cls) -> MeshOptions:
         """The coarsest mesh of the refinement study (2 elements across the tooth)."""
-        return cls(across=2, profile=4, fillet=2, land=1, rim=2, face_length=1.0)
+        return cls(across=2, profile=4, fillet=2, land=1, rim=2, face_length=2.0)
 
     def layers(self, face_width: float, normal_module: float) -> int:
         """Element layers along a face width (m) for a normal module (m)."""
