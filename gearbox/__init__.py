@@ -5,7 +5,8 @@ Public API (stage by stage, see docs/pipeline.md):
 - scene files: :func:`load_scene`, :class:`Scene`
 - geometry design (paper section 2): see :mod:`gearbox.geometry`
 - loaded TCA (paper section 3.2): :func:`scene_ltca`, :class:`ParallelPair`;
-  see :mod:`gearbox.ltca` and docs/ltca.md
+  see :mod:`gearbox.ltca` and docs/ltca.md; its finite-element level
+  :class:`FECompliance` (:mod:`gearbox.fe`, docs/fe.md)
 - spectra: :func:`order_spectrum`, :func:`campbell`, :func:`excitation_orders`;
   see :mod:`gearbox.spectrum`
 
@@ -16,6 +17,7 @@ __version__ = "0.1.0"
 
 from .drivetrain import DrivetrainModel as DrivetrainModel
 from .errors import InputError as InputError
+from .fe import FECompliance as FECompliance
 from .geometry import GearSpec as GearSpec
 from .geometry import PairDesign as PairDesign
 from .geometry import PairSpec as PairSpec
