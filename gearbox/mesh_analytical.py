@@ -235,8 +235,9 @@ def analytical_table(
     Frame (the table's Sf): pinion axis +z through the origin; gear axis -z through
     (r_w1 (1 + N_2/N_1), 0, 0), so that the rotation radii keep the tooth ratio
     (lambda_2 / lambda_1 = N_2 / N_1); mesh point at the pinion's working pitch radius
-    r_w1 on +x; drive line of action (-sin a_wt cos b_b, cos a_wt cos b_b, sin b_b). Drive and coast flanks are mirror
-    images (same stiffness, lines of action mirrored about the x-z plane).
+    r_w1 on +x; drive line of action (-sin a_wt cos b_b, cos a_wt cos b_b, sin b_b). Drive and coast flanks
+    have the same stiffness; on the coast flank the tangential force and the axial thrust of the helical
+    teeth reverse while the radial component stays: (-sin a_wt cos b_b, -cos a_wt cos b_b, -sin b_b).
     """
     from . import __version__
 
@@ -257,7 +258,7 @@ def analytical_table(
     r1 = pair.centre_distance * z1 / (z1 + z2)
     lam1 = r1 * math.cos(aw) * math.cos(bb)
     nd = np.array([-math.sin(aw) * math.cos(bb), math.cos(aw) * math.cos(bb), math.sin(bb)])
-    nc = np.array([nd[0], -nd[1], nd[2]])
+    nc = np.array([nd[0], -nd[1], -nd[2]])  # coast: tangential force and axial thrust reverse
     P = np.array([r1, 0.0, 0.0])
     nf, nt = len(flanks), tq.size
     k = np.empty((nf, nt, positions))

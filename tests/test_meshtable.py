@@ -220,3 +220,17 @@ def test_analytical_table_statics_and_shape():
     # Coast lines of action are the mirror images: radii of opposite sign.
     c1, c2 = t.rotation_radii("coast", 300.0)
     assert c1 == pytest.approx(-lam1) and c2 == pytest.approx(-lam2)
+
+
+def test_coast_line_of_action_reverses_tangential_force_and_axial_thrust():
+    """Reversing the torque of a helical pair reverses the tangential force and the
+    axial thrust of the teeth; the radial (separating) component keeps its sign. So the
+    drive and coast lines of action sum to a purely radial vector."""
+    p = spur(beta=math.radians(20))
+    t = analytical_table(p, [300.0], positions=8)
+    nd = t.line_of_action[t.flanks.index("drive"), 0, 0]
+    nc = t.line_of_action[t.flanks.index("coast"), 0, 0]
+    radial = np.array([1.0, 0.0, 0.0])  # the mesh point lies on +x of the pinion axis
+    s = nd + nc
+    assert np.allclose(s - (s @ radial) * radial, 0.0, atol=1e-15)
+    assert nd[2] != 0.0 and np.sign(nc[2]) == -np.sign(nd[2])
