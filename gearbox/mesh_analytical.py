@@ -2,7 +2,8 @@
 
 Model (parallel-axis involute helical equivalent of the pair, at the reference section):
 
-- Mean mesh stiffness from ISO 6336-1:2019, tooth stiffness method B: the theoretical
+- Mean mesh stiffness from ISO 6336-1:2019, tooth stiffness method B (evaluated by
+  :mod:`gearbox.ltca.iso6336`, which is checked against a published worked report): the theoretical
   single stiffness ``c'_th = 1/q'`` with ``q'`` the regression in the virtual tooth
   numbers ``z_n = z / (cos^2 beta_b cos beta)`` and the profile shifts (coefficients
   C1..C9 = 0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529,
@@ -45,8 +46,6 @@ __all__ = [
     "iso_mesh_stiffness",
     "pair_from_scene",
 ]
-
-_Q_COEF = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 
 
 def _inv(a: float) -> float:
@@ -165,33 +164,23 @@ class HelicalPair:
 
 
 def iso_mesh_stiffness(pair: HelicalPair, torque: float) -> tuple[float, float]:
-    """(c', c_gamma_alpha) of ISO 6336-1:2019 method B (N/(mm um)) at pinion ``torque`` (N m).
+    """(c', c_gamma_alpha) of ISO 6336-1 method B (N/(mm um)) at pinion ``torque`` (N m).
 
-    See the module docstring for the formulas and factors.
+    Evaluated by :func:`gearbox.ltca.iso6336.iso_mesh_stiffness` (checked against a
+    published worked report there), with the load per face width ``T / r_1 / b``.
     """
-    c = _Q_COEF
-    zn1, zn2 = pair.virtual_teeth(0), pair.virtual_teeth(1)
-    x1, x2 = pair.profile_shift
-    q = (
-        c[0]
-        + c[1] / zn1
-        + c[2] / zn2
-        + c[3] * x1
-        + c[4] * x1 / zn1
-        + c[5] * x2
-        + c[6] * x2 / zn2
-        + c[7] * x1**2
-        + c[8] * x2**2
+    from .ltca.iso6336 import iso_mesh_stiffness as _iso
+
+    s = _iso(
+        teeth=pair.teeth,
+        helix_angle=pair.beta,
+        normal_pressure_angle=pair.normal_pressure_angle,
+        profile_shift=pair.profile_shift,
+        transverse_contact_ratio=pair.contact_ratio,
+        load_per_width=torque / pair.pitch_radius(0) / pair.face_width,
+        dedendum_coefficient=(pair.dedendum_tool, pair.dedendum_tool),
     )
-    c_th = 1.0 / q
-    alpha_deg = math.degrees(pair.normal_pressure_angle)
-    c_b = (1 + 0.5 * (1.2 - pair.dedendum_tool)) * (1 - 0.02 * (20.0 - alpha_deg))
-    c_m, c_r = 0.8, 1.0
-    c1 = c_th * c_m * c_r * c_b * math.cos(pair.beta)
-    ft_per_b = torque / pair.pitch_radius(0) / (pair.face_width * 1e3)  # N/mm
-    if ft_per_b < 100.0:
-        c1 *= (ft_per_b / 100.0) ** 0.25
-    return c1, c1 * (0.75 * pair.contact_ratio + 0.25)
+    return s.c_prime * 1e-9, s.c_gamma_alpha * 1e-9  # N/m^2 -> N/(mm um)
 
 
 def contact_line_length(pair: HelicalPair, theta: np.ndarray) -> np.ndarray:
