@@ -287,6 +287,22 @@ def solve_pair_arrays(
     return out
 
 
+def solve_spec(spec: PairSpec, *, offset=None, pinion_cone_angle=None):
+    """:func:`solve_pair_arrays` on a spec's data; ``offset`` (m) and
+    ``pinion_cone_angle`` (rad) may be replaced by arrays for studies."""
+    return solve_pair_arrays(
+        spec.normal_module,
+        spec.normal_pressure_angle,
+        spec.shaft_angle,
+        spec.offset if offset is None else offset,
+        spec.pinion.teeth,
+        spec.gear.teeth,
+        spec.pinion.helix_angle,
+        spec.pinion.cone_angle if pinion_cone_angle is None else pinion_cone_angle,
+        spec.gear.cone_angle,
+    )
+
+
 def _no_solution_error(spec: PairSpec) -> InputError:
     """Explain a failed xi_n solve: which offsets would have a solution."""
     pi, ge = spec.pinion, spec.gear
@@ -331,17 +347,7 @@ def _profile_shift_error(spec: PairSpec, xt2: float) -> InputError:
     from dataclasses import replace
 
     def xt2_at(E):
-        sol = solve_pair_arrays(
-            spec.normal_module,
-            spec.normal_pressure_angle,
-            spec.shaft_angle,
-            E,
-            spec.pinion.teeth,
-            spec.gear.teeth,
-            spec.pinion.helix_angle,
-            spec.pinion.cone_angle,
-            spec.gear.cone_angle,
-        )
+        sol = solve_spec(spec, offset=E)
         return backlash_free_xt2(replace(spec, offset=E), float(sol["beta2"]), float(sol["xi_n"]))
 
     # scan offsets around the sum of the reference pitch radii (zero working shift)
@@ -466,17 +472,7 @@ def design_pair(spec: PairSpec, *, with_checks: bool = True) -> PairDesign:
 
         spec = spec.with_pinion(cone_angle=solve_cone_angle_for_fpd(spec))
     pi, ge = spec.pinion, spec.gear
-    sol = solve_pair_arrays(
-        spec.normal_module,
-        spec.normal_pressure_angle,
-        spec.shaft_angle,
-        spec.offset,
-        pi.teeth,
-        ge.teeth,
-        pi.helix_angle,
-        pi.cone_angle,
-        ge.cone_angle,
-    )
+    sol = solve_spec(spec)
     if not bool(sol["ok"]):
         raise _no_solution_error(spec)
     w = {k: float(v) for k, v in sol.items() if k not in ("fpd_parts", "ok", "iterations")}

@@ -14,25 +14,14 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import InputError, Problem
-from .design import solve_pair_arrays
+from .design import solve_spec
 from .spec import PairSpec
 
 __all__ = ["solve_cone_angle_for_fpd"]
 
 
 def _fpd(spec: PairSpec, gamma1):
-    p, g = spec.pinion, spec.gear
-    sol = solve_pair_arrays(
-        spec.normal_module,
-        spec.normal_pressure_angle,
-        spec.shaft_angle,
-        spec.offset,
-        p.teeth,
-        g.teeth,
-        p.helix_angle,
-        gamma1,
-        g.cone_angle,
-    )
+    sol = solve_spec(spec, pinion_cone_angle=gamma1)
     return sol["fpd_right"] if spec.target_flank == "right" else sol["fpd_left"]
 
 
