@@ -17,8 +17,8 @@ displacement (:mod:`gearbox.fe.boussinesq`) in the tangent plane of the load j.
 The FE's own local part near the load (the mesh-dependent flattening under a
 concentrated load) never enters: the FE is read only at depth d, and the part of
 the half-space solution down to depth d replaces it. The correction is applied
-between points of the same tooth; for points of other teeth it is below the
-half-space's own validity and is left out.
+between points of the same tooth pair; points of other teeth lie a base pitch away,
+many times d, where it decays as d^2 / r^3, and it is left out there.
 
 - the depth term is load-independent; the surface self-term depends on the Hertz
   half-width across the contact line (the cell is the contact-line length of the
@@ -614,7 +614,9 @@ class FECompliance:
 
     def local_matrix(self, grid: ContactGrid) -> np.ndarray:
         """Half-space part between points of one tooth pair, both gears, without the
-        surface self-terms (m/N), shape (n, n)."""
+        surface self-terms (m/N), shape (n, n). The surface coupling between two
+        cells uses the Hertz half-width of a 200 N/mm line load (cells a slice apart
+        see the cell's width only to second order)."""
         E, nu = grid.youngs_modulus, grid.poisson_ratio
         mn = float(grid.tooth1.normal_module[0])
         d = self.options.matching_depth * mn
