@@ -645,7 +645,9 @@ class FECompliance:
 
     def contact_diagonal(self, grid: ContactGrid, line_load: np.ndarray) -> np.ndarray:
         """Surface self-term of the half-space, both gears (m/N), shape (n,): a uniform
-        pressure over the contact-line length of the slice times the Hertz width."""
+        pressure over the contact-line length of the slice times the Hertz width.
+        Line loads (N/m) below 1 N/mm take the width of 1 N/mm: under a vanishing
+        width the surface displacement of a line load diverges logarithmically."""
         E, nu = grid.youngs_modulus, grid.poisson_ratio
         q = np.maximum(np.asarray(line_load, dtype=float), 1.0e3)
         a = hertz_half_width(q, grid.curvature_radius, E, nu)
