@@ -58,3 +58,13 @@ def test_fe_cycle_on_case03_runs_and_is_near_the_fast_level(case03):
     # gap, FE against fast, is reported by benchmarks/bench_fe.py)
     ratio = res.stiffness.mean() / fast.stiffness.mean()
     assert 0.7 < ratio < 1.3, ratio
+
+
+def test_beveloid_grid_without_blanks_is_a_clear_error(case03):
+    # without the pair's generating data the FE level cannot place a beveloid grid:
+    # it says so and says what to pass, instead of meshing cylindrical teeth
+    from gearbox.errors import InputError
+
+    _, _, grids = case03
+    with pytest.raises(InputError, match="blanks"):
+        compliance_for("fe").tooth_matrix(grids[0])
