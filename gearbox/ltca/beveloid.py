@@ -568,7 +568,12 @@ def beveloid_ltca(design, scene, *, options: LTCAOptions | None = None):
     lt = scene["ltca"]
     options = options or LTCAOptions(positions=lt["positions"])
     P = options.positions
-    compliance = compliance_for(lt["fidelity"])
+    if lt["fidelity"] == "fe":  # the FE level meshes the generated teeth
+        from ..surface import blanks_from_design
+
+        compliance = compliance_for("fe", blanks=blanks_from_design(design))
+    else:
+        compliance = compliance_for(lt["fidelity"])
     torques = scene["load"]["torques_Nm"]
     results, senses, fields = {}, {}, {}
     for flank in lt["flanks"]:
