@@ -38,8 +38,17 @@ def main():
     delta = np.linspace(math.radians(9.0), math.radians(17.0), 100)[:, None]
 
     def batched():
-        return solve_pair_arrays(spec.normal_module, spec.normal_pressure_angle, delta, spec.offset,
-                                 spec.pinion.teeth, spec.gear.teeth, spec.pinion.helix_angle, g1, spec.gear.cone_angle)
+        return solve_pair_arrays(
+            spec.normal_module,
+            spec.normal_pressure_angle,
+            delta,
+            spec.offset,
+            spec.pinion.teeth,
+            spec.gear.teeth,
+            spec.pinion.helix_angle,
+            g1,
+            spec.gear.cone_angle,
+        )
 
     flat_g1 = np.broadcast_to(g1, (100, 100)).ravel()
     flat_d = np.broadcast_to(delta, (100, 100)).ravel()
@@ -47,8 +56,17 @@ def main():
 
     def looped():
         for i in range(n_loop):
-            solve_pair_arrays(spec.normal_module, spec.normal_pressure_angle, flat_d[i], spec.offset,
-                              spec.pinion.teeth, spec.gear.teeth, spec.pinion.helix_angle, flat_g1[i], spec.gear.cone_angle)
+            solve_pair_arrays(
+                spec.normal_module,
+                spec.normal_pressure_angle,
+                flat_d[i],
+                spec.offset,
+                spec.pinion.teeth,
+                spec.gear.teeth,
+                spec.pinion.helix_angle,
+                flat_g1[i],
+                spec.gear.cone_angle,
+            )
 
     t_one = timed(lambda: design_pair(spec), 50)
     t_one_nochk = timed(lambda: design_pair(spec, with_checks=False), 50)
@@ -57,9 +75,15 @@ def main():
     ok = int(batched()["ok"].sum())
     print(f"{'case':46}{'median':>12}{'per design':>14}")
     print(f"{'design_pair (case 03, with checks)':46}{t_one * 1e3:10.2f} ms{t_one * 1e6:11.0f} us")
-    print(f"{'design_pair (case 03, no checks)':46}{t_one_nochk * 1e3:10.2f} ms{t_one_nochk * 1e6:11.0f} us")
-    print(f"{f'sweep {n} designs, batched ({ok} solved)':46}{t_batch * 1e3:10.2f} ms{t_batch / n * 1e6:11.2f} us")
-    print(f"{f'sweep {n} designs, scalar loop (baseline)':46}{t_loop * 1e3:10.2f} ms{t_loop / n * 1e6:11.2f} us")
+    print(
+        f"{'design_pair (case 03, no checks)':46}{t_one_nochk * 1e3:10.2f} ms{t_one_nochk * 1e6:11.0f} us"
+    )
+    print(
+        f"{f'sweep {n} designs, batched ({ok} solved)':46}{t_batch * 1e3:10.2f} ms{t_batch / n * 1e6:11.2f} us"
+    )
+    print(
+        f"{f'sweep {n} designs, scalar loop (baseline)':46}{t_loop * 1e3:10.2f} ms{t_loop / n * 1e6:11.2f} us"
+    )
     print(f"\nbatched / loop speed-up: {t_loop / t_batch:.0f}x")
 
 
