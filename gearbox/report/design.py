@@ -82,11 +82,17 @@ def render(des, run) -> Section:
     warnings = []
     check_rows = []
     for name, chk in des.checks.items():
+        # lengths at the edge in mm, as in `gearbox design`
+        margin, unit = (
+            (chk.margin * 1e3, "mm")
+            if chk.unit == "m"
+            else (chk.margin, "" if chk.unit == "1" else chk.unit)
+        )
         check_rows.append(
             (
                 name,
                 ("pass" if chk.ok else "FAIL", "ok" if chk.ok else "bad"),
-                f"{fmt(chk.margin)} {chk.unit}".strip(),
+                f"{fmt(margin)} {unit}".strip(),
                 chk.detail,
             )
         )
