@@ -47,7 +47,7 @@ from ..ltca.grid import ContactGrid
 from ..ltca.slice_model import hertz_half_width
 from ..surface.blank import ToothBlank
 from ..surface.generation import flank_jets, flank_points
-from ..surface.sample import tip_parameter
+from ..surface.sample import SolveFailure, parameter_at_radius, tip_parameter
 from .boussinesq import depth_deflection, surface_deflection
 from .mesh import FEBuildError, MeshOptions, build_tooth_mesh, locate
 from .model import ToothModel, build_model
@@ -132,30 +132,21 @@ def _blank_of(sections, face_range) -> ToothBlank:
     )
 
 
-def _u_at_radius(blank, side, z, r, *, tol=1e-12, max_iter=40):
-    """Rack-profile parameter u of the flank point at radius r in section z (Newton)."""
-    z = np.asarray(z, dtype=float)
-    r = np.asarray(r, dtype=float)
-    u = np.full(z.shape, 0.5 * blank.normal_module)
-    for _ in range(max_iter):
-        P, _, _ = flank_jets(blank, side, z, u)
-        x, y = P[0], P[1]
-        rad = np.hypot(x.val, y.val)
-        drad = (x.val * x.d[2] + y.val * y.d[2]) / rad
-        step = (rad - r) / drad
-        u = u - np.clip(step, -blank.normal_module, blank.normal_module)
-        if np.all(np.abs(rad - r) <= tol):
-            return u
-    i = int(np.argmax(np.abs(rad - r)))
-    raise FEBuildError(
-        Problem(
-            f"grid.radius[{i}]",
-            float(r[i]),
-            f"no point of the generated {side} flank at this radius in section "
-            f"z = {float(z[i]):.6g} m (Newton: {max_iter} steps)",
-        ),
-        "a contact grid point lies off the generated flank",
-    )
+def _u_at_radius(blank, side, z, r):
+    """Rack-profile parameter u of the flank point at radius r in section z
+    (:func:`gearbox.surface.sample.parameter_at_radius`, its failure as an FE build error)."""
+    try:
+        u, _ = parameter_at_radius(blank, side, z, r)
+    except SolveFailure as exc:
+        raise FEBuildError(
+            Problem(
+                "grid.radius",
+                np.asarray(r).tolist(),
+                f"no point of the generated {side} flank there: {exc}",
+            ),
+            "a contact grid point lies off the generated flank",
+        ) from None
+    return u
 
 
 def _slope_sign(blank, side):
