@@ -17,6 +17,7 @@ Timings on a shared machine vary: compare ratios measured in the same run.
 from __future__ import annotations
 
 import argparse
+import json
 import resource
 import sys
 import time
@@ -75,12 +76,40 @@ def run_case(case: str, side: str, positions: int, refine: float) -> dict:
     tm = len(torques) // 2
     t0 = time.perf_counter()
     root_fe = 0.0
+    root_profile = []
     for g in grids:
         sol = solve_contact(g, fe, torques[tm])
-        root_fe = max(root_fe, fillet_stress(fe, g, sol.load, 0).max)
+        fs = fillet_stress(fe, g, sol.load, 0)
+        root_fe = max(root_fe, fs.max)
+        root_profile.append(
+            {
+                "teeth": fs.teeth.tolist(),
+                "z_m": fs.z.tolist(),
+                "root_stress_Pa": fs.root_stress.tolist(),
+                "load_N": np.asarray(sol.load).tolist(),
+            }
+        )
     t_root = time.perf_counter() - t0
     models = list(fe._models.values())
+    keep = (
+        "torque",
+        "stiffness",
+        "tangent_stiffness",
+        "lte",
+        "lte_unloaded",
+        "max_pressure",
+        "normal_load",
+        "pattern_area_fraction",
+        "edge_load_fraction",
+        "mesh_point",
+        "line_of_action",
+        "root_stress_pinion",
+        "root_stress_gear",
+    )
     return {
+        "fe_cycle": {k: np.asarray(getattr(ref, k)).tolist() for k in keep},
+        "fast_cycle": {k: np.asarray(getattr(fast, k)).tolist() for k in keep},
+        "root_fe_profile": root_profile,
         "case": case,
         "flank": "drive" if side == "R" else "coast",
         "k": _rel(fast.stiffness.mean(axis=1), ref.stiffness.mean(axis=1)),
@@ -106,6 +135,7 @@ def main(argv=None) -> int:
     ap.add_argument("--flanks", nargs="+", default=["R", "L"])
     ap.add_argument("--positions", type=int, default=24)
     ap.add_argument("--refine", type=float, default=1.0)
+    ap.add_argument("--json", type=Path, help="write every run's numbers to this JSON file")
     a = ap.parse_args(argv)
     print(
         f"fast level against FE (mesh MeshOptions().refined({a.refine})), "
@@ -134,6 +164,23 @@ def main(argv=None) -> int:
                 f"converged {r['converged']}",
                 flush=True,
             )
+    if a.json is not None:
+        meta = {
+            "command": "python benchmarks/bench_fe.py " + " ".join(argv or sys.argv[1:]),
+            "mesh": f"MeshOptions().refined({a.refine})",
+            "positions": a.positions,
+        }
+        a.json.write_text(
+            json.dumps(
+                {
+                    "meta": meta,
+                    "runs": [
+                        {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in r.items()}
+                        for r in rows
+                    ],
+                }
+            )
+        )
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     kerr = np.concatenate([r["k"] for r in rows])
     print(
