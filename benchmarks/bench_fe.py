@@ -42,7 +42,7 @@ def _rel(a, b):
     return (a - b) / b
 
 
-def run_case(case: str, side: str, positions: int, refine: float) -> dict:
+def run_case(case: str, side: str, positions: int, refine: float, neighbours: int = 1) -> dict:
     scene = load_scene(ROOT / "models" / f"case{case}.toml")
     design = design_pair(PairSpec.from_scene(scene))
     lt = scene["ltca"]
@@ -66,7 +66,8 @@ def run_case(case: str, side: str, positions: int, refine: float) -> dict:
     t_fast = time.perf_counter() - t0
 
     fe = FECompliance(
-        FEOptions(mesh=MeshOptions().refined(refine)), blanks=blanks_from_design(design)
+        FEOptions(mesh=MeshOptions().refined(refine), neighbours=neighbours),
+        blanks=blanks_from_design(design),
     )
     t0 = time.perf_counter()
     fe.reserve(grids)
@@ -135,6 +136,7 @@ def main(argv=None) -> int:
     ap.add_argument("--flanks", nargs="+", default=["R", "L"])
     ap.add_argument("--positions", type=int, default=24)
     ap.add_argument("--refine", type=float, default=1.0)
+    ap.add_argument("--neighbours", type=int, default=1, help="unloaded teeth each side")
     ap.add_argument("--json", type=Path, help="write every run's numbers to this JSON file")
     a = ap.parse_args(argv)
     print(
@@ -148,7 +150,7 @@ def main(argv=None) -> int:
     rows = []
     for case in a.cases:
         for side in a.flanks:
-            r = run_case(case, side, a.positions, a.refine)
+            r = run_case(case, side, a.positions, a.refine, a.neighbours)
             rows.append(r)
             print(head)
             for i, tq in enumerate(r["torques"]):
@@ -168,6 +170,7 @@ def main(argv=None) -> int:
         meta = {
             "command": "python benchmarks/bench_fe.py " + " ".join(argv or sys.argv[1:]),
             "mesh": f"MeshOptions().refined({a.refine})",
+            "neighbours": a.neighbours,
             "positions": a.positions,
         }
         a.json.write_text(
