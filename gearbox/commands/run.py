@@ -53,6 +53,20 @@ def add_arguments(parser):
     )
 
 
+def _outputs_line(written) -> str:
+    """One line: time spent writing files and the report, and what came from the cache."""
+    sec = written.seconds
+    files = sum(v for k, v in sec.items() if k != "report")
+    line = f"files {files:.2f} s"
+    if written.copied:
+        line += f" (copied from the cache: {', '.join(written.copied)})"
+    if "report" in sec:
+        cached = [n for n, d in written.sections.items() if d == "cached"]
+        line += f"; report {sec['report']:.2f} s"
+        line += f" (sections from the cache: {', '.join(cached)})" if cached else ""
+    return line
+
+
 def run(args) -> int:
     import os
     import sys
@@ -60,7 +74,7 @@ def run(args) -> int:
 
     from ..errors import InputError, Problem
     from ..pipeline import run_pipeline
-    from ..pipeline.outputs import write_outputs
+    from ..pipeline.outputs import write_run
     from ..scene import load_scene
     from ._common import dumps_json
 
@@ -97,14 +111,24 @@ def run(args) -> int:
         progress=progress,
         on_stage=None if quiet else note,
     )
-    files = write_outputs(result, out)
+    written = write_run(result, out)
+    files = written.files
     s = result.summary
     if args.json:
-        print(dumps_json({"summary": s.to_dict(), "files": [str(f) for f in files]}))
+        print(
+            dumps_json(
+                {
+                    "summary": s.to_dict(),
+                    "files": [str(f) for f in files],
+                    "outputs": written.to_dict(),
+                }
+            )
+        )
     else:
         print(s.table())
         for f in files:
             print(f"wrote {f}")
+        print(_outputs_line(written))
     if not s.ok:
         return 1
     if args.strict and any(

@@ -18,6 +18,7 @@ upstream stages, so a change anywhere upstream changes every key downstream of i
 from __future__ import annotations
 
 import copyreg
+import functools
 import hashlib
 import importlib
 import importlib.util
@@ -26,6 +27,7 @@ import json
 import os
 import pickle
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
@@ -34,7 +36,15 @@ from typing import Any
 from .. import __version__
 from ..commands._common import write_atomic
 
-__all__ = ["Cache", "CacheMiss", "code_fingerprint", "default_cache_dir", "stage_key"]
+__all__ = [
+    "Cache",
+    "CacheMiss",
+    "code_fingerprint",
+    "default_cache_dir",
+    "derived_key",
+    "remembered",
+    "stage_key",
+]
 
 _MAGIC = b"GEARBOX-CACHE 1\n"
 
@@ -107,6 +117,67 @@ def stage_key(
     }
     text = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=True)
     return hashlib.sha256(text.encode()).hexdigest()
+
+
+@functools.cache
+def _version(dist: str) -> str | None:
+    from importlib import metadata
+
+    try:
+        return metadata.version(dist)
+    except metadata.PackageNotFoundError:
+        return None
+
+
+def derived_key(
+    kind: str,
+    stage: str,
+    key: str,
+    *,
+    code: tuple[str, ...] = (),
+    values: dict[str, Any] | None = None,
+    packages: tuple[str, ...] = (),
+) -> str:
+    """Cache key (hex SHA-256) of something made from one stage result: its report
+    section, its output files.
+
+    It hashes ``kind``, the stage and its key (so everything the result depends on),
+    the source of the ``code`` that makes the thing from the result, the scene
+    ``values`` that code reads besides the result, and the installed versions of the
+    distributions in ``packages`` (e.g. matplotlib for figures).
+    """
+    versions = {dist: _version(dist) for dist in packages}
+    doc = {
+        "kind": kind,
+        "stage": stage,
+        "key": key,
+        "code": code_fingerprint(code),
+        "scene": values or {},
+        "packages": versions,
+    }
+    text = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def remembered(
+    store: Cache | None, kind: str, key: str, make: Callable[[], Any]
+) -> tuple[Any, bool]:
+    """``(value, from_cache)``: the entry ``<root>/<kind>/<key>.gbx`` when it loads,
+    else ``make()``, stored there (a failure to store is ignored: the value is used
+    anyway). Without a store, ``make()``."""
+    if store is not None:
+        try:
+            return store.load(kind, key)[0], True
+        except CacheMiss:
+            pass
+    t0 = time.perf_counter()
+    value = make()
+    if store is not None:
+        try:
+            store.store(kind, key, value, time.perf_counter() - t0)
+        except Exception:  # a full disk or an unpicklable value: go on uncached
+            pass
+    return value, False
 
 
 def _mapping_proxy(d: dict) -> MappingProxyType:

@@ -1,6 +1,7 @@
 """Files a run leaves in its output folder, each written atomically.
 
-- ``run_summary.json``: :meth:`RunSummary.to_dict` plus the cache keys;
+- ``run_summary.json``: :meth:`RunSummary.to_dict` plus the cache keys and what
+  writing the files and the report took (written last);
 - per requested stage, its result in the file format that suits it:
   ``design.json``; ``sweep/<study>.csv``; ``tca.json`` (summary); ``ltca.json`` (summary); ``tables.nc`` (netCDF, needs the
   ``tables`` extra) and ``tables.csv``; ``dynamics.csv`` (time first) and
@@ -8,26 +9,37 @@
   ``campbell.json``; ``fmu/<identifier>.fmu``; results with their own
   ``write_files(folder)`` write themselves; any other result with ``to_dict()`` as
   ``<stage>.json``;
-- ``report.html`` when ``report`` is requested, written last.
+- ``report.html`` when ``report`` is requested.
+
+With a cache, the bytes of each stage's files are kept there under a key made from
+the stage's key; a stage that came from the cache has its files copied from there.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
-from collections.abc import Callable
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from ..commands._common import write_atomic
 
-__all__ = ["WRITERS", "jsonable", "write_outputs"]
+__all__ = ["WRITERS", "Written", "jsonable", "write_outputs", "write_run"]
 
 
 def jsonable(x: Any) -> Any:
     """Plain JSON types from nested dicts, dataclass dicts and numpy values."""
     import numpy as np
 
+    t = type(x)
+    if t is float:  # the common case first: spectra hold hundreds of thousands
+        return x if math.isfinite(x) else None
+    if t is str or t is int or t is bool or x is None:
+        return x
     if hasattr(x, "items"):
         return {str(k): jsonable(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
@@ -38,15 +50,18 @@ def jsonable(x: Any) -> Any:
         return jsonable(x.item())
     if isinstance(x, float) and not math.isfinite(x):
         return None
-    if isinstance(x, (str, int, float, bool)) or x is None:
+    if isinstance(x, (str, int, float, bool)):
         return x
     if hasattr(x, "to_dict"):
         return jsonable(x.to_dict())
     return str(x)
 
 
-def _json(path: Path, obj: Any) -> list[Path]:
-    return [write_atomic(path, json.dumps(jsonable(obj), indent=1, allow_nan=False))]
+def _json(path: Path, obj: Any, *, compact: bool = False) -> list[Path]:
+    """``obj`` as JSON; ``compact``: no indentation (files of many numbers: the
+    indenting encoder is pure Python, the compact one is C)."""
+    text = json.dumps(jsonable(obj), indent=None if compact else 1, allow_nan=False)
+    return [write_atomic(path, text)]
 
 
 def _sweep(studies, folder: Path) -> list[Path]:
@@ -76,7 +91,8 @@ def _dynamics(op, folder: Path) -> list[Path]:
 
 
 def _spectra(sp, folder: Path) -> list[Path]:
-    return _json(folder / "spectra.json", {"speed_rpm": sp.speed_rpm, "spectra": sp.spectra})
+    data = {"speed_rpm": sp.speed_rpm, "spectra": sp.spectra}
+    return _json(folder / "spectra.json", data, compact=True)
 
 
 def _waterfall(sw, folder: Path) -> list[Path]:
@@ -91,7 +107,8 @@ def _waterfall(sw, folder: Path) -> list[Path]:
         }
         for p in sw.points
     ]
-    return _json(folder / "waterfall.json", {"points": points, "waterfalls": sw.waterfalls})
+    data = {"points": points, "waterfalls": sw.waterfalls}
+    return _json(folder / "waterfall.json", data, compact=True)
 
 
 def _tca(res, folder: Path) -> list[Path]:
@@ -114,24 +131,99 @@ WRITERS: dict[str, Callable[[Any, Path], list[Path]]] = {
 }
 
 
-def write_outputs(run, folder: str | Path) -> list[Path]:
-    """Write the run's files into ``folder``; return their paths in writing order."""
+#: Distributions whose versions shape the files (netCDF through xarray).
+FILE_PACKAGES = ("numpy", "xarray", "h5netcdf", "h5py", "netCDF4")
+
+
+def _write_stage(name: str, result: Any, folder: Path) -> list[Path]:
+    if name in WRITERS:
+        return WRITERS[name](result, folder)
+    if hasattr(result, "write_files"):
+        return [Path(p) for p in result.write_files(folder)]
+    if hasattr(result, "to_dict"):
+        return _json(folder / f"{name}.json", result.to_dict())
+    return []
+
+
+def _stage_files(run, name: str, folder: Path) -> tuple[list[Path], bool]:
+    """Write one stage's files; ``(paths, from_cache)``.
+
+    The files' bytes are kept in the run's cache under a key made from the stage's
+    key (:func:`gearbox.pipeline.cache.derived_key`), so the files of a stage that
+    came from the cache are copied, not serialised again.
+    """
+    from .cache import derived_key, remembered
+
+    result = run.results[name]
+    key = run.cached_key(name) if hasattr(run, "cached_key") else None
+    if key is None:
+        return _write_stage(name, result, folder), False
+    made: list[Path] = []
+
+    def write() -> dict[str, bytes]:
+        made.extend(_write_stage(name, result, folder))
+        return {p.relative_to(folder).as_posix(): p.read_bytes() for p in made}
+
+    dkey = derived_key(
+        "files", name, key, code=("gearbox.pipeline.outputs",), packages=FILE_PACKAGES
+    )
+    files, hit = remembered(run.cache, "files", dkey, write)
+    if not hit:
+        return made, False
+    return [write_atomic(folder / rel, data) for rel, data in files.items()], True
+
+
+@dataclass(frozen=True)
+class Written:
+    """What :func:`write_run` wrote: ``files`` in writing order; ``seconds`` per stage
+    (and ``"report"``) spent writing (s); ``copied``: stages whose files came from the
+    cache; ``sections``: per stage, ``"cached"`` or the seconds its report section
+    took to draw."""
+
+    files: tuple[Path, ...]
+    seconds: Mapping[str, float]
+    copied: tuple[str, ...] = ()
+    sections: Mapping[str, str] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "files": [str(f) for f in self.files],
+            "seconds": dict(self.seconds),
+            "copied_from_cache": list(self.copied),
+            "report_sections": dict(self.sections),
+        }
+
+
+def write_run(run, folder: str | Path) -> Written:
+    """Write the run's files into ``folder``: each requested stage's results, the
+    report (when requested) and, last, ``run_summary.json`` (with these timings)."""
     folder = Path(folder)
     files: list[Path] = []
-    summary = run.summary.to_dict() | {"keys": dict(run.keys)}
-    files.append(write_atomic(folder / "run_summary.json", json.dumps(summary, indent=2)))
+    seconds: dict[str, float] = {}
+    copied: list[str] = []
+    drawn: dict[str, str] = {}
     for name in run.summary.requested:
-        result = run.results.get(name)
-        if result is None:
+        if run.results.get(name) is None:
             continue
-        if name in WRITERS:
-            files += WRITERS[name](result, folder)
-        elif hasattr(result, "write_files"):
-            files += [Path(p) for p in result.write_files(folder)]
-        elif hasattr(result, "to_dict"):
-            files += _json(folder / f"{name}.json", result.to_dict())
+        t0 = time.perf_counter()
+        got, hit = _stage_files(run, name, folder)
+        files += got
+        seconds[name] = time.perf_counter() - t0
+        if hit:
+            copied.append(name)
     if "report" in run.summary.requested:
-        from ..report import write_report
+        from ..report.build import assemble
 
-        files.append(write_report(run, folder / "report.html"))
-    return files
+        t0 = time.perf_counter()
+        html, drawn = assemble(run)
+        files.append(write_atomic(folder / "report.html", html))
+        seconds["report"] = time.perf_counter() - t0
+    written = Written(tuple(files), seconds, tuple(copied), drawn)
+    summary = run.summary.to_dict() | {"keys": dict(run.keys), "outputs": written.to_dict()}
+    path = write_atomic(folder / "run_summary.json", json.dumps(summary, indent=2))
+    return dataclasses.replace(written, files=(path, *files))
+
+
+def write_outputs(run, folder: str | Path) -> list[Path]:
+    """Write the run's files into ``folder``; return their paths (:func:`write_run`)."""
+    return list(write_run(run, folder).files)

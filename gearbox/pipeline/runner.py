@@ -8,7 +8,7 @@ import sys
 import time
 from collections.abc import Callable, Iterable, Mapping
 from concurrent.futures import Executor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 from types import MappingProxyType
@@ -34,13 +34,27 @@ class PipelineRun:
     """The outcome of :func:`run_pipeline`.
 
     ``results`` maps each stage that produced a result to it; ``keys`` maps every
-    planned stage to its cache key; ``summary`` says what was computed or cached.
+    planned stage to its cache key; ``summary`` says what was computed or cached;
+    ``cache`` is the run's cache (None when caching was off): the report's sections
+    and the output files of each stage are kept there too, under the stage's key.
+    ``keyed`` holds the results the keys were made for: the same objects as
+    ``results``, unless a result was replaced by hand (``dataclasses.replace``);
+    sections and files are taken from the cache only for a result found there.
     """
 
     scene: Scene
     results: Mapping[str, Any]
     keys: Mapping[str, str]
     summary: RunSummary
+    cache: Cache | None = None
+    keyed: Mapping[str, Any] = field(default_factory=dict, repr=False)
+
+    def cached_key(self, stage: str) -> str | None:
+        """The key under which things made from ``stage``'s result may be cached:
+        None without a cache or when the result is not the one the key was made for."""
+        if self.cache is None or stage not in self.keys or stage not in self.results:
+            return None
+        return self.keys[stage] if self.keyed.get(stage) is self.results[stage] else None
 
     def __getitem__(self, stage: str) -> Any:
         return self.results[stage]
@@ -271,4 +285,5 @@ def run_pipeline(
         cache_dir=str(store.root) if store is not None else "",
         started=started,
     )
-    return PipelineRun(scene, MappingProxyType(results), MappingProxyType(keys), summary)
+    results = MappingProxyType(results)
+    return PipelineRun(scene, results, MappingProxyType(keys), summary, store, results)

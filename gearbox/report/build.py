@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import json
 import sys
+import time
 from collections.abc import Callable
 from datetime import UTC, datetime
 from pathlib import Path
+from types import MappingProxyType
 
 from .. import __version__
 from ..commands._common import write_atomic
@@ -14,7 +16,15 @@ from ..pipeline.summary import STATUSES
 from .html import CSS, ReportWarning, Section, esc, table
 from .provenance import package_versions, provenance_rows
 
-__all__ = ["RENDERERS", "build_report", "scene_toml", "write_report"]
+__all__ = [
+    "RENDERERS",
+    "SECTION_READS",
+    "assemble",
+    "build_report",
+    "scene_toml",
+    "section_key",
+    "write_report",
+]
 
 
 def _renderers() -> dict[str, Callable]:
@@ -70,29 +80,112 @@ def _status_warnings(run) -> list[ReportWarning]:
     return out
 
 
-def _stage_table(run) -> str:
+def _stage_table(run, drawn: dict[str, str]) -> str:
     rows = []
     for r in run.summary.records:
         klass = {"failed": "bad", "cached": "ok", "computed": ""}.get(r.status, "note")
         saved = f"{r.saved_seconds:.2f}" if r.status == "cached" else "-"
-        rows.append((r.name, (r.status, klass), f"{r.seconds:.2f}", saved, r.key[:12], r.detail))
+        sec = drawn.get(r.name, "-")
+        sec = (sec, "ok") if sec == "cached" else sec
+        rows.append(
+            (r.name, (r.status, klass), f"{r.seconds:.2f}", saved, sec, r.key[:12], r.detail)
+        )
     return table(
-        ["stage", "status", "seconds", "compute time saved (s)", "cache key", "detail"], rows
+        [
+            "stage",
+            "status",
+            "seconds",
+            "compute time saved (s)",
+            "report section: cached or drawing time (s)",
+            "cache key",
+            "detail",
+        ],
+        rows,
     )
 
 
-def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
-    """The whole report of ``run`` (a :class:`gearbox.pipeline.PipelineRun`) as HTML.
+#: Scene entries a section reads besides its stage's result. The renderer sees a scene
+#: holding only these (reading anything else raises ``KeyError``, named in the
+#: warnings), and they enter the section's cache key.
+SECTION_READS: dict[str, tuple[str, ...]] = {"ltca": ("load.operating_torque_Nm",)}
 
-    Every stage with a result and a renderer gets its section(s); a renderer that
-    raises is named in the warnings instead of stopping the report.
-    """
+#: Modules that draw the sections; their source enters every section's cache key.
+SECTION_CODE = (
+    "gearbox.report",
+    "gearbox.geometry.plotting",
+    "gearbox.tca.plot",
+    "gearbox.ltca.plot",
+    "gearbox.spectrum.plotting",
+)
+
+#: Distributions whose versions enter the section keys (they shape the figures).
+SECTION_PACKAGES = ("matplotlib", "numpy")
+
+
+def _stage_view(run, name: str):
+    """What a renderer of stage ``name`` sees: its result, its key, the scene entries
+    of :data:`SECTION_READS` and an empty summary (the summary changes every run)."""
+    from ..pipeline.runner import PipelineRun
+    from ..pipeline.stage import restricted_scene
+    from ..pipeline.summary import RunSummary
+
+    return PipelineRun(
+        restricted_scene(run.scene, SECTION_READS.get(name, ())),
+        MappingProxyType({name: run.results[name]}),
+        MappingProxyType({name: run.keys.get(name, "")}),
+        RunSummary((), (), 0.0),
+    )
+
+
+def section_key(run, name: str) -> str:
+    """Cache key of stage ``name``'s report section(s) in ``run``."""
+    from ..pipeline.cache import derived_key
+    from ..pipeline.stage import read_values
+
+    reads = SECTION_READS.get(name, ())
+    return derived_key(
+        "report",
+        name,
+        run.keys[name],
+        code=SECTION_CODE,
+        values=read_values(run.scene, reads),
+        packages=SECTION_PACKAGES,
+    )
+
+
+def _render(name: str, render: Callable, run, own: bool) -> tuple[list[Section], str]:
+    """The section(s) of one stage and where they came from (``"cached"`` or the
+    seconds spent drawing). Default renderers see :func:`_stage_view` and their
+    sections are kept in the run's cache under :func:`section_key`; a renderer
+    passed in by the caller sees the whole run and is not cached."""
+    t0 = time.perf_counter()
+    if not own:
+        got = render(run.results[name], run)
+        return (got if isinstance(got, list) else [got]), f"{time.perf_counter() - t0:.2f}"
+    from ..pipeline.cache import remembered
+
+    def draw() -> tuple[Section, ...]:
+        got = render(run.results[name], _stage_view(run, name))
+        return tuple(got if isinstance(got, list) else [got])
+
+    cached_key = getattr(run, "cached_key", None)
+    store = run.cache if cached_key is not None and cached_key(name) is not None else None
+    key = section_key(run, name) if store is not None else ""
+    sections, hit = remembered(store, "report", key, draw)
+    return list(sections), ("cached" if hit else f"{time.perf_counter() - t0:.2f}")
+
+
+def assemble(run, *, renderers: dict[str, Callable] | None = None) -> tuple[str, dict[str, str]]:
+    """``(html, drawn)``: the report of ``run`` and, per stage with a section, where
+    the section came from (``"cached"``, or the seconds spent drawing it)."""
+    own = renderers is None
     if renderers is None:
         renderers = RENDERERS or _renderers()
     from .generic import render_generic
 
     sections: list[Section] = []
     warnings = _status_warnings(run)
+    drawn: dict[str, str] = {}
     order = {**renderers}
     for name in run.results:  # stages without a renderer of their own
         order.setdefault(name, render_generic(name, name))
@@ -100,7 +193,7 @@ def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
         if name not in run.results:
             continue
         try:
-            got = render(run.results[name], run)
+            got, drawn[name] = _render(name, render, run, own)
         except Exception as exc:
             print(f"gearbox report: section {name!r} failed: {exc!r}", file=sys.stderr)
             warnings.append(
@@ -109,7 +202,7 @@ def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
                 )
             )
             continue
-        for sec in got if isinstance(got, list) else [got]:
+        for sec in got:
             sections.append(sec)
             warnings += sec.warnings
     name = run.scene.name
@@ -131,7 +224,9 @@ def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
         f'<p class="muted" id="run-line">This run: {len(s.names("computed"))} stage(s) computed '
         f"({esc(', '.join(s.names('computed')) or '-')}), {len(cached)} from the cache "
         f"({esc(', '.join(cached) or '-')}; {saved:.1f} s of computing saved), "
-        f"{s.seconds:.1f} s in all. Details under Provenance.</p>"
+        f"{s.seconds:.1f} s in all; report sections from the cache: "
+        f"{esc(', '.join(n for n, d in drawn.items() if d == 'cached') or '-')}. "
+        "Details under Provenance.</p>"
     )
     anchors = [("warnings", "Warnings")]
     for i, sec in enumerate(sections):
@@ -154,7 +249,7 @@ def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
         '<section id="provenance"><h2>Provenance</h2>',
         table(["item", "value"], provenance_rows(run)),
         "<h3>Stages</h3>",
-        _stage_table(run),
+        _stage_table(run, drawn),
         '<p class="muted">'
         + "; ".join(f"{esc(k)}: {esc(v)}" for k, v in STATUSES.items())
         + "</p>",
@@ -164,7 +259,19 @@ def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
         f"<pre>{esc(scene_toml(run.scene))}</pre>",
         "</section></body></html>",
     ]
-    return "\n".join(p for p in parts if p)
+    return "\n".join(p for p in parts if p), drawn
+
+
+def build_report(run, *, renderers: dict[str, Callable] | None = None) -> str:
+    """The whole report of ``run`` (a :class:`gearbox.pipeline.PipelineRun`) as HTML.
+
+    Every stage with a result and a renderer gets its section(s); a renderer that
+    raises is named in the warnings instead of stopping the report. With the default
+    renderers and a run that has a cache, each stage's sections are kept in the cache
+    under the stage's key (:func:`section_key`), so a stage that came from the cache
+    is not drawn again.
+    """
+    return assemble(run, renderers=renderers)[0]
 
 
 def write_report(run, path: str | Path, **kwargs) -> Path:
