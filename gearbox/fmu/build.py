@@ -68,7 +68,7 @@ RUNTIME_FILES_FMI3 = (
 #: Compiler flags; warnings are errors.
 CFLAGS = (
     "-std=c11",
-    "-O2",
+    "-O3",
     "-fPIC",
     "-shared",
     "-fvisibility=hidden",

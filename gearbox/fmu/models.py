@@ -402,8 +402,9 @@ def _mesh_c(
     code += _template("drivetrain_model.c.in")
     data = """    int n1, n2, nf, nt, np, h, has_coast;
     double axis[2][6];
-    double *torque, *samples, *coef;
-    double lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
+    int ng, ne, npg; /* grid cells per period: mesh, engine (0: none), propeller */
+    double *torque, *samples, *coef, *grid, *egrid, *pgrid;
+    double fmesh, fe, fp, lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
     double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
     double x0[6], qe0;"""
     return FmuModel(identifier, description, tuple(variables), data, code, resources, readme)

@@ -750,7 +750,7 @@ static int integrate(ModelInstance *m, double t1) {
     double *xs = m->xs, *xn = m->xn, *x = m->x;
     long count = 0;
     int i, last_rejected = 0;
-    double err_old = 1e-4;
+    double log_err_old = -9.210340371976182; /* log(1e-4) */
     if (n == 0) {
         m->time = t1;
         return 0;
@@ -798,12 +798,14 @@ static int integrate(ModelInstance *m, double t1) {
         for (i = 0; i < n; i++) {
             double e = h * (E1 * k[0][i] + E3 * k[2][i] + E4 * k[3][i] + E5 * k[4][i] + E6 * k[5][i] +
                             E7 * k[6][i]);
-            double sc = atol[i] + rtol * fmax(fabs(x[i]), fabs(xn[i]));
+            double a = fabs(x[i]), b = fabs(xn[i]);
+            double sc = atol[i] + rtol * (a > b ? a : b);
             err += (e / sc) * (e / sc);
         }
         err = sqrt(err / n); /* HNW I eq. (4.11) */
         if (!isfinite(err)) err = 1e10;
         if (err <= 1.0) {
+            double log_err = log(err > 1e-10 ? err : 1e-10);
             t = final ? t1 : t + h;
             for (i = 0; i < n; i++) {
                 x[i] = xn[i];
@@ -812,11 +814,12 @@ static int integrate(ModelInstance *m, double t1) {
             m->n_steps++;
             /* PI step control with Lund stabilisation, beta = 0.04 (HNW I, Sec. II.4 and
              * the DOPRI5 code of Hairer and Wanner): fewer rejected steps on
-             * oscillatory solutions than the plain err^(-1/5) rule */
-            fac = pow(fmax(err, 1e-10), 0.2 - 0.04 * 0.75) / pow(err_old, 0.04) / 0.9;
+             * oscillatory solutions than the plain err^(-1/5) rule;
+             * fac = err^(0.2 - 0.75 beta) / err_old^beta / 0.9 */
+            fac = exp((0.2 - 0.04 * 0.75) * log_err - 0.04 * log_err_old) / 0.9;
             fac = fmin(5.0, fmax(0.1, fac)); /* h_new = h / fac in [h/5, 10 h] */
             if (last_rejected) fac = fmax(fac, 1.0);
-            err_old = fmax(err, 1e-4);
+            log_err_old = log_err > -9.210340371976182 ? log_err : -9.210340371976182; /* 1e-4 */
             /* after the step cut short at the communication point, go on with the step
              * the controller had chosen, not with the cut one */
             h = final ? (fac > 1.0 ? fmin(h_try, h / fac) : h_try) : h / fac;
