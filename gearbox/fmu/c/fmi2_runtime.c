@@ -54,13 +54,6 @@ void gbx_log(const ModelInstance *m, fmi2Status status, const char *category, co
     m->cb.logger(m->cb.componentEnvironment, m->name, status, category, "%s", buf);
 }
 
-double gbx_input(const ModelInstance *m, int vr, double t) {
-    int rate = GBX_VARS[vr].index;
-    double u = m->r[vr];
-    if (m->type == fmi2CoSimulation && rate >= 0) u += m->r[rate] * (t - m->t_input);
-    return u;
-}
-
 static char *dup_string(const ModelInstance *m, const char *s) {
     size_t n = strlen(s);
     char *d = (char *)gbx_calloc(m, n + 1, 1);
@@ -739,6 +732,10 @@ static void rhs(ModelInstance *m, double t, const double *x, double *dx) {
     m->n_rhs++;
 }
 
+/* min and max of finite numbers, inline (fmin and fmax are library calls at -O3) */
+static inline double min2(double a, double b) { return a < b ? a : b; }
+static inline double max2(double a, double b) { return a > b ? a : b; }
+
 /* Integrate m->x from m->time to t1; 0 on success. */
 static int integrate(ModelInstance *m, double t1) {
     const int n = GBX_NX;
@@ -757,7 +754,7 @@ static int integrate(ModelInstance *m, double t1) {
     }
     for (i = 0; i < GBX_NR; i++)
         if (GBX_VARS[i].kind == GBX_STATE) atol[GBX_VARS[i].index] = rtol * GBX_VARS[i].nominal;
-    if (!(h > 0.0)) h = fmin(hmax, 1e-6);
+    if (!(h > 0.0)) h = min2(hmax, 1e-6);
     double h_try = h;
     if (!m->fsal_valid) rhs(m, t, x, k[0]); /* else k[0] = f(t, x) from the last step */
     while (t < t1) {
@@ -769,11 +766,11 @@ static int integrate(ModelInstance *m, double t1) {
                     m->time, t1);
             return 1;
         }
-        h = fmin(h, hmax);
+        h = min2(h, hmax);
         h_try = h;
         final = t + h >= t1 - 1e-12 * fabs(t1);
         if (final) h = t1 - t; /* land on the communication point */
-        if (!(h > 1e-14 * fmax(1.0, fabs(t)))) {
+        if (!(h > 1e-14 * max2(1.0, fabs(t)))) {
             gbx_log(m, fmi2Error, "logStatusError", "fmi2DoStep: step size underflow (h = %g s) at t = %g s",
                     h, t);
             return 1;
@@ -817,16 +814,16 @@ static int integrate(ModelInstance *m, double t1) {
              * oscillatory solutions than the plain err^(-1/5) rule;
              * fac = err^(0.2 - 0.75 beta) / err_old^beta / 0.9 */
             fac = exp((0.2 - 0.04 * 0.75) * log_err - 0.04 * log_err_old) / 0.9;
-            fac = fmin(5.0, fmax(0.1, fac)); /* h_new = h / fac in [h/5, 10 h] */
-            if (last_rejected) fac = fmax(fac, 1.0);
+            fac = min2(5.0, max2(0.1, fac)); /* h_new = h / fac in [h/5, 10 h] */
+            if (last_rejected) fac = max2(fac, 1.0);
             log_err_old = log_err > -9.210340371976182 ? log_err : -9.210340371976182; /* 1e-4 */
             /* after the step cut short at the communication point, go on with the step
              * the controller had chosen, not with the cut one */
-            h = final ? (fac > 1.0 ? fmin(h_try, h / fac) : h_try) : h / fac;
+            h = final ? (fac > 1.0 ? min2(h_try, h / fac) : h_try) : h / fac;
             last_rejected = 0;
         } else {
             m->n_rejected++;
-            h /= fmin(5.0, pow(err, 0.2 - 0.04 * 0.75) / 0.9);
+            h /= min2(5.0, pow(err, 0.2 - 0.04 * 0.75) / 0.9);
             last_rejected = 1;
         }
     }

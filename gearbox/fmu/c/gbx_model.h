@@ -94,8 +94,14 @@ void gbx_log(const ModelInstance *m, fmi2Status status, const char *category, co
 #endif
     ;
 /* Value of input vr at time t; in Co-Simulation extrapolated linearly over the
- * communication step with its rate input (an angle with its speed). */
-double gbx_input(const ModelInstance *m, int vr, double t);
+ * communication step with its rate input (an angle with its speed). Inline: the
+ * right-hand side reads inputs at every evaluation. */
+static inline double gbx_input(const ModelInstance *m, int vr, double t) {
+    int rate = GBX_VARS[vr].index;
+    double u = m->r[vr];
+    if (m->type == fmi2CoSimulation && rate >= 0) u += m->r[rate] * (t - m->t_input);
+    return u;
+}
 void *gbx_calloc(const ModelInstance *m, size_t n, size_t size);
 void gbx_free(const ModelInstance *m, void *p);
 /* Read a numeric table "<resource_dir>/<file>": a header line
