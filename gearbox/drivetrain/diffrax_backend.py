@@ -32,6 +32,7 @@ def _enable_x64() -> None:
 _enable_x64()  # at import, as the module docstring says: arrays made later are float64
 
 _SOLVERS = ("Tsit5", "Dopri5", "Dopri8", "Heun", "Kvaerno5")
+_FIXED = ("Tsit5", "Dopri5", "Dopri8", "Heun")
 
 
 def _jax():
@@ -45,34 +46,69 @@ def _jax():
 
 @dataclass(frozen=True)
 class DiffraxSolver:
-    """diffrax settings: explicit ``Tsit5`` by default; tolerances on the scaled state.
+    """jax settings: fixed-step ``Tsit5`` by default; diffrax's adaptive stepping with ``rtol``.
 
-    rtol, atol (None = rtol); max_steps: cap per run; dtmin_fraction: smallest step as
-    a fraction of the mesh period, below which the run stops as a step collapse.
-    pcoeff, icoeff: PID step-size controller (Hairer, Norsett & Wanner, Solving ODEs I,
-    sec. II.4; diffrax ``PIDController``). Measured on the default scene (200 mesh
-    cycles, rtol 1e-6): the plain integral controller (0, 1) rejected 3,074 of 10,046
-    steps, error 3.1e-5 in the mesh-order amplitude; (0.1, 0.3) rejected 1,067 of 8,712,
-    error 3.7e-6.
+    rtol None (default): the fixed-step explicit Runge-Kutta of
+    :mod:`gearbox.drivetrain.fixed_step` (``solver`` names the diffrax tableau: Tsit5,
+    Dopri5, Dopri8, Heun) at the step ``step`` (s) or, when None, ``1 / (steps_per_period
+    f_max)`` (f_max: highest eigenfrequency of the linearised model or the mesh
+    frequency; ``steps_per_period`` None: 12 for Tsit5), capped at 0.8 x the stability
+    limit; mesh laws from a cubic Hermite table of ``table_cells`` cells per mesh cycle.
+
+    rtol given: ``diffrax.diffeqsolve`` with a PID step-size controller on the scaled
+    state; atol (None = rtol); dtmin_fraction: smallest step as a fraction of the mesh
+    period, below which the run stops as a step collapse. pcoeff, icoeff: PID step-size
+    controller (Hairer, Norsett & Wanner, Solving ODEs I, sec. II.4; diffrax
+    ``PIDController``). Measured on the default scene (200 mesh cycles, rtol 1e-6): the
+    plain integral controller (0, 1) rejected 3,074 of 10,046 steps, error 3.1e-5 in the
+    mesh-order amplitude; (0.1, 0.3) rejected 1,067 of 8,712, error 3.7e-6.
+
+    Both: max_steps caps the steps of a run (reported as ``max_steps``);
+    divergence_factor: see :func:`gearbox.drivetrain.scipy_backend.divergence_bound`.
     """
 
     solver: str = "Tsit5"
-    rtol: float = 1e-6
+    rtol: float | None = None
     atol: float | None = None
     max_steps: int = 2_000_000
     dtmin_fraction: float = 1e-9
     divergence_factor: float = 1e3
     pcoeff: float = 0.1
     icoeff: float = 0.3
+    step: float | None = None
+    steps_per_period: float | None = None
+    table_cells: int = 2048
 
     name = "diffrax"
+
+    @property
+    def adaptive(self) -> bool:
+        """True when diffrax chooses the steps (``rtol`` given)."""
+        return self.rtol is not None
 
     def validate(self) -> None:
         p = Problems()
         p.check(self.solver in _SOLVERS, "solver", self.solver, f"must be one of {_SOLVERS}")
-        p.in_range("rtol", self.rtol, 1e-14, 1, hi_open=True)
-        if self.atol is not None:
-            p.in_range("atol", self.atol, 0, None, lo_open=True)
+        if self.adaptive:
+            p.in_range("rtol", self.rtol, 1e-14, 1, hi_open=True)
+            if self.atol is not None:
+                p.in_range("atol", self.atol, 0, None, lo_open=True)
+            for name in ("step", "steps_per_period"):
+                v = getattr(self, name)
+                p.check(v is None, name, v, "only with fixed steps (rtol None)")
+        else:
+            p.check(
+                self.solver in _FIXED,
+                "solver",
+                self.solver,
+                f"fixed steps (rtol None) need an explicit method, one of {_FIXED}",
+            )
+            p.check(self.atol is None, "atol", self.atol, "only with rtol (adaptive steps)")
+            if self.step is not None:
+                p.in_range("step", self.step, 0, 1, lo_open=True)
+            if self.steps_per_period is not None:
+                p.in_range("steps_per_period", self.steps_per_period, 2, 1e6)
+            p.in_range("table_cells", self.table_cells, 64, 2**20)
         p.check(self.max_steps >= 1, "max_steps", self.max_steps, "must be >= 1")
         p.raise_if_any("invalid diffrax solver settings")
 
@@ -82,8 +118,12 @@ def solve_fn(solver: DiffraxSolver):
     """A jitted ``f(params, z0, ts) -> (zs, result_code, steps, rejected)``.
 
     ``ts[0]`` is the start time; ``zs`` shape (len(ts), 2 n) scaled states. Compiled
-    once per solver setting and array shapes.
+    once per solver setting and array shapes. Adaptive settings only (``rtol`` given).
     """
+    if not solver.adaptive:
+        from ..errors import InputError, Problem
+
+        raise InputError(Problem("rtol", None, "solve_fn needs adaptive steps: give rtol"))
     jax, jnp = _jax()
     import diffrax
 
@@ -190,6 +230,8 @@ def integrate_diffrax(
     ``info['compile_time']`` is the first-call overhead (0 when already compiled).
     """
     solver.validate()
+    if not solver.adaptive:
+        return _integrate_fixed(model, y0, t_eval, solver, t0=t0)
     jax, jnp = _jax()
     p = model.params()
     ts = np.concatenate([[t0], np.asarray(t_eval, float)])
@@ -224,6 +266,82 @@ def integrate_diffrax(
 
 
 _COMPILED: dict = {}
+
+
+def _fixed_plan(model: DrivetrainModel, ts: np.ndarray, solver: DiffraxSolver):
+    """(plan, reached): the step plan cut at ``solver.max_steps`` and the number of
+    output times reached within it."""
+    import dataclasses
+
+    from .fixed_step import plan_steps
+
+    plan = plan_steps(model, ts, solver)
+    if plan.n_steps <= solver.max_steps:
+        return plan, plan.out.size
+    reached = int(np.searchsorted(plan.out, solver.max_steps - 1, side="right"))
+    cut = dataclasses.replace(
+        plan,
+        t=plan.t[: solver.max_steps],
+        h=plan.h[: solver.max_steps],
+        out=np.minimum(plan.out, solver.max_steps - 1),
+    )
+    return cut, reached
+
+
+def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.0):
+    from .fixed_step import bucket, fixed_solve_fn
+
+    jax, jnp = _jax()
+    p = model.params()
+    ts = np.concatenate([[t0], np.asarray(t_eval, float)])
+    plan, reached = _fixed_plan(model, ts, solver)
+    steps = plan.n_steps
+    plan = plan.padded(bucket(steps))
+    fn = fixed_solve_fn(solver.solver, solver.table_cells)
+    args = (
+        {k: jnp.asarray(v) for k, v in p.items()},
+        jnp.asarray(np.asarray(y0, float) / p["scale"]),
+        jnp.asarray(plan.t),
+        jnp.asarray(plan.h),
+        jnp.asarray(plan.out),
+    )
+    key = ("fixed", solver.solver, solver.table_cells, plan.n_steps, plan.out.size)
+    key += tuple((k, np.shape(v)) for k, v in p.items())
+    compiled = _COMPILED.get(key)
+    start = _time.perf_counter()
+    if compiled is None:
+        compiled = fn.lower(*args).compile()
+        _COMPILED[key] = compiled
+    compile_time = _time.perf_counter() - start
+    start = _time.perf_counter()
+    zs = np.asarray(jax.block_until_ready(compiled(*args)))
+    wall = _time.perf_counter() - start
+    Y = zs * p["scale"]
+    code = 0
+    if reached < len(Y):
+        import diffrax
+
+        Y[reached:] = np.nan
+        code = int(diffrax.RESULTS.max_steps_reached._value)
+    failure = _check(model, ts[1:], Y, code, solver.divergence_factor)
+    info = {
+        "status": "success" if failure is None else failure.kind,
+        "failure": failure,
+        "nfev": steps * _stages(solver.solver),
+        "steps": steps,
+        "rejected": 0,
+        "wall_time": wall,
+        "compile_time": compile_time,
+        "step": float(plan.h.max()) if plan.h.size else 0.0,
+        "stability_limit": plan.limit,
+    }
+    return ts[1:], Y, info
+
+
+def _stages(method: str) -> int:
+    from .fixed_step import explicit_tableau
+
+    return len(explicit_tableau(method)[1])
 
 
 @lru_cache(maxsize=1)

@@ -836,30 +836,9 @@ def _max_frequency(plan: _Plan) -> tuple[float, float]:
 
 
 def _step_limit(plan: _Plan, method: str) -> float:
-    lam = _eigenvalues(plan)
-    lam = lam[np.abs(lam) > 0]
-    c = np.array(_STABILITY[method])
+    from .linear import largest_stable_step
 
-    def ok(h: float) -> bool:
-        z = h * lam
-        R = np.polyval(c[::-1], z)
-        return bool(np.all(np.abs(R) <= 1.0 + _GROWTH))
-
-    hi = 6.0 / float(np.abs(lam).max())
-    grid = np.linspace(0.0, hi, 241)[1:]
-    good = [ok(h) for h in grid]
-    if all(good):
-        return float(hi)
-    i = good.index(False)
-    lo = float(grid[i - 1]) if i > 0 else 0.0
-    up = float(grid[i])
-    for _ in range(50):
-        mid = 0.5 * (lo + up)
-        if ok(mid):
-            lo = mid
-        else:
-            up = mid
-    return lo
+    return largest_stable_step(_eigenvalues(plan), np.array(_STABILITY[method]), _GROWTH)
 
 
 def stability_step_limit(model, method: str = "RK67") -> float:

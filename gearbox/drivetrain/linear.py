@@ -18,7 +18,50 @@ import scipy.linalg
 from ..meshtable import fourier_eval
 from .model import DrivetrainModel
 
-__all__ = ["Modes", "linear_matrices", "modes", "periodic_start_state"]
+__all__ = [
+    "Modes",
+    "largest_stable_step",
+    "linear_matrices",
+    "modes",
+    "periodic_start_state",
+    "periodic_start_states",
+]
+
+#: Accepted growth per step of a mode in :func:`largest_stable_step`: |R(h lambda)| <=
+#: 1 + 1e-8 amplifies an undamped mode by 1 % only after 1e6 steps.
+STEP_GROWTH = 1e-8
+
+
+def largest_stable_step(lam: np.ndarray, poly: np.ndarray, growth: float = STEP_GROWTH) -> float:
+    """Largest fixed step h (s) with |R(h lambda_j)| <= 1 + growth for every eigenvalue.
+
+    lam: eigenvalues (1/s) of a linear first-order system (zeros are ignored); poly:
+    coefficients c_0, c_1, ... of the explicit method's stability polynomial
+    R(z) = sum c_k z^k (Hairer, Wanner, Solving ODEs II, Sec. IV.2). A scan over
+    [0, 6 / max |lambda|] finds the first unstable step, bisection refines it.
+    """
+    lam = np.asarray(lam)
+    lam = lam[np.abs(lam) > 0]
+    c = np.asarray(poly, dtype=float)
+
+    def ok(h: float) -> bool:
+        return bool(np.all(np.abs(np.polyval(c[::-1], h * lam)) <= 1.0 + growth))
+
+    hi = 6.0 / float(np.abs(lam).max())
+    grid = np.linspace(0.0, hi, 241)[1:]
+    good = [ok(h) for h in grid]
+    if all(good):
+        return float(hi)
+    i = good.index(False)
+    lo = float(grid[i - 1]) if i > 0 else 0.0
+    up = float(grid[i])
+    for _ in range(50):
+        mid = 0.5 * (lo + up)
+        if ok(mid):
+            lo = mid
+        else:
+            up = mid
+    return lo
 
 
 def linear_matrices(model: DrivetrainModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -122,29 +165,61 @@ def periodic_start_state(model: DrivetrainModel, *, mesh_harmonics: int = 12) ->
     ``(K_lin - w^2 M + i w C_lin) X = F``; their sum at t = 0 starts the nonlinear run
     close to its periodic response, so only small transients remain. Shape (2 n,).
     """
+    return periodic_start_states(model, np.array([model.speed]), mesh_harmonics=mesh_harmonics)[0]
+
+
+def periodic_start_states(
+    model: DrivetrainModel, speeds: np.ndarray, *, mesh_harmonics: int = 12
+) -> np.ndarray:
+    """:func:`periodic_start_state` of ``model.with_speed(w)`` for every w in ``speeds``
+    (rad/s, shape (B,)), as batched linear algebra. Shape (B, 2 n).
+
+    Only the excitation frequencies and the propeller's speed damping 2 kappa Omega_2
+    change with the speed (kappa Omega_2^2 = T_op lambda_2 / lambda_1 does not, nor do
+    the static state and the mesh forcing): one batched solve of shape (B, L, n, n) for
+    the L excitations.
+    """
+    speeds = np.asarray(speeds, dtype=float).ravel()
     n = model.n_dof
-    y = model.static_state().copy()
+    y = model.static_state()
     M, C, K = linear_matrices(model)
+    C = C.copy()
+    ratio = model.pinion_teeth / model.gear_teeth
+    C[3, 3] -= 2 * model.propeller_coefficient * model.gear_speed  # speed part, re-added below
+    tp = model.propeller_coefficient * model.gear_speed**2  # independent of the speed
     eo, ea, po, pa = model.excitation_orders()
-    loads = []
+    orders, forces = [], []  # order per engine radian, force vector
     for o, a in zip(eo, ea, strict=True):
         if a != 0:
             f = np.zeros(n, complex)
             f[0] = model.torque * a
-            loads.append((o * model.speed, f))
-    tp = model.propeller_coefficient * model.gear_speed**2
+            orders.append(o)
+            forces.append(f)
     for o, a in zip(po, pa, strict=True):
         if a != 0:
             f = np.zeros(n, complex)
             f[3] = -tp * a
-            loads.append((o * model.gear_speed, f))
+            orders.append(o * ratio)
+            forces.append(f)
     g = model.mesh_vectors()[0]
     h, F = _mesh_forcing(model, y[:n])
     for hh, Fh in zip(h[:mesh_harmonics], F[:mesh_harmonics], strict=True):
-        loads.append((hh * model.pinion_teeth * model.speed, -g * Fh))
-    for w, f in loads:
-        X = np.linalg.solve(K - w**2 * M + 1j * w * C, f)
-        # forcing Im(f e^{iwt}) -> response Im(X e^{iwt}); at t = 0: Im(X), Im(i w X)
-        y[:n] += X.imag
-        y[n:] += (1j * w * X).imag
-    return y
+        orders.append(hh * model.pinion_teeth)
+        forces.append(-g * Fh)
+    out = np.broadcast_to(y, (speeds.size, 2 * n)).copy()
+    if not orders:
+        return out
+    w = speeds[:, None] * np.asarray(orders)[None, :]  # (B, L)
+    c_prop = 2 * model.torque * (model.drive.lambda2 / model.drive.lambda1) / (speeds * ratio)
+    Cb = np.broadcast_to(C, (speeds.size, n, n)).copy()
+    Cb[:, 3, 3] += c_prop
+    A = (
+        K[None, None]
+        - (w**2)[..., None, None] * M[None, None]
+        + 1j * w[..., None, None] * Cb[:, None]
+    )
+    X = np.linalg.solve(A, np.broadcast_to(np.asarray(forces), w.shape + (n,))[..., None])[..., 0]
+    # forcing Im(f e^{iwt}) -> response Im(X e^{iwt}); at t = 0: Im(X), Im(i w X)
+    out[:, :n] += X.imag.sum(axis=1)
+    out[:, n:] += (1j * w[..., None] * X).imag.sum(axis=1)
+    return out

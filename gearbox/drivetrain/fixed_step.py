@@ -1,0 +1,317 @@
+"""Fixed-step explicit Runge-Kutta in ``jax.lax.scan``: the default path of the jax backend.
+
+``DiffraxSolver()`` (no ``rtol``) integrates here; ``DiffraxSolver(rtol=...)`` keeps
+diffrax's adaptive PID stepping. docs/drivetrain.md §11 has the measurements behind
+the choice (one second at 2000 rpm: adaptive diffrax Tsit5 pays 10-15 us per step on
+the 2-core CPU, this scan 2-3 us per step at the same number of stages).
+
+Step: ``h_target = 1 / (steps_per_period * max(f_mode, f_mesh))`` with ``f_mode`` the
+highest eigenfrequency of the linearised model with the drive mesh at its largest
+stiffness (damped first-order system) and ``f_mesh = N_1 Omega / (2 pi)``, at most 0.8
+x the method's stability limit on that system (:func:`stability_limit`). Every interval
+between output times gets ``ceil(d / h_target)`` equal steps, so the samples lie on the
+step grid (the exudyn backend's rule, docs/exudyn.md). A fixed step has no error
+estimate and cannot collapse; a run that blows up anyway (impacts, a step chosen by
+hand) is caught after the run as NaN or divergence with its time and state, as for the
+adaptive path.
+
+Right-hand side (:func:`lean_rhs`): the equations of :func:`gearbox.drivetrain.model.rhs`
+(docs/drivetrain.md §2-7) in scalar arithmetic, which XLA on the CPU fuses into a few
+kernels (the small matrix products of ``rhs`` call one BLAS kernel each), with
+
+- the mesh laws k_f, e_f, e_f' (both flanks) from a cubic Hermite table over one mesh
+  cycle (:func:`mesh_law_table`, values and derivatives from the Fourier series, built
+  once per run inside the jitted function, so it stays differentiable);
+- the engine torque and propeller ripple, functions of time only, evaluated for every
+  step and stage before the scan, vectorised.
+
+Both are tested against ``model.rhs`` (tests/test_drivetrain_fixed_step.py).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .linear import largest_stable_step, linear_matrices
+
+__all__ = [
+    "FixedStepPlan",
+    "bucket",
+    "explicit_tableau",
+    "fixed_solve_fn",
+    "lean_rhs",
+    "mesh_law_table",
+    "plan_steps",
+    "stability_limit",
+    "stability_polynomial",
+]
+
+#: Default steps per period of the highest frequency, per method (docs/drivetrain.md §11:
+#: the errors they give on the default scene).
+STEPS_PER_PERIOD = {"Tsit5": 12.0, "Dopri5": 12.0, "Dopri8": 6.0, "Heun": 200.0}
+
+
+def explicit_tableau(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A, b, c) of diffrax's explicit Runge-Kutta ``name``, trailing stages with b = 0
+    dropped (the FSAL stage only serves the error estimate). Shapes (s, s), (s,), (s,)."""
+    import diffrax
+
+    t = getattr(diffrax, name).tableau
+    b = np.asarray(t.b_sol, dtype=float)
+    s = len(b)
+    A = np.zeros((s, s))
+    for i, row in enumerate(t.a_lower):
+        A[i + 1, : len(row)] = row
+    c = np.concatenate([[0.0], np.asarray(t.c, dtype=float)])
+    while s > 1 and b[s - 1] == 0.0:
+        s -= 1
+    return A[:s, :s], b[:s], c[:s]
+
+
+def stability_polynomial(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Coefficients c_0..c_s of R(z) = 1 + z b^T (I - z A)^-1 1 = 1 + sum_k b^T A^(k-1) 1 z^k
+    of an explicit method (A strictly lower triangular; Hairer, Wanner, Solving ODEs II,
+    Sec. IV.2)."""
+    s = len(b)
+    out = [1.0]
+    v = np.ones(s)
+    for _ in range(s):
+        out.append(float(b @ v))
+        v = A @ v
+    return np.array(out)
+
+
+def _eigenvalues_at_peak_stiffness(model) -> np.ndarray:
+    """Eigenvalues (1/s) of the linearised first-order system, drive mesh at its largest
+    stiffness a0 + sum |c_k| (an upper bound of k(theta)), shape (2 n,)."""
+    M, C, K = linear_matrices(model)
+    kc = model.drive.k_coef
+    h = (kc.size - 1) // 2
+    g = model.mesh_vectors()[0]
+    kmax = float(kc[0] + np.hypot(kc[1 : 1 + h], kc[1 + h :]).sum())
+    K = K + (kmax - model.drive.mean_stiffness) * np.outer(g, g)
+    n = model.n_dof
+    m = np.diag(M)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -K / m[:, None]
+    A[n:, n:] = -C / m[:, None]
+    return np.linalg.eigvals(A)
+
+
+def stability_limit(model, method: str = "Tsit5") -> float:
+    """Largest stable fixed step (s) of ``method`` on the linearised model (drive mesh at
+    its largest stiffness): :func:`gearbox.drivetrain.linear.largest_stable_step` with the
+    method's stability polynomial. Contact loss and impacts are not covered: divergence
+    is still checked after every run."""
+    A, b, _ = explicit_tableau(method)
+    return largest_stable_step(_eigenvalues_at_peak_stiffness(model), stability_polynomial(A, b))
+
+
+@dataclass(frozen=True)
+class FixedStepPlan:
+    """Steps of one run: start time t (s) and size h (s) of every step, shape (S,); out:
+    index of the step that ends at each output time, shape (n_t,); target: the step
+    asked for (s); limit: the stability limit (s); f_max: the frequency the step
+    resolves (Hz)."""
+
+    t: np.ndarray
+    h: np.ndarray
+    out: np.ndarray
+    target: float
+    limit: float
+    f_max: float
+
+    @property
+    def n_steps(self) -> int:
+        return int(self.t.size)
+
+    def padded(self, size: int) -> FixedStepPlan:
+        """The same run with h = 0 steps appended up to ``size`` steps (they leave the
+        state unchanged): runs of nearby lengths share one compilation."""
+        extra = size - self.n_steps
+        if extra <= 0:
+            return self
+        t_end = self.t[-1] + self.h[-1] if self.n_steps else 0.0
+        return dataclasses.replace(
+            self,
+            t=np.concatenate([self.t, np.full(extra, t_end)]),
+            h=np.concatenate([self.h, np.zeros(extra)]),
+        )
+
+
+def bucket(n: int) -> int:
+    """``n`` rounded up to a multiple of 2^(bit length - 5): at most 1/16 more steps,
+    about 16 distinct sizes per doubling of the run length."""
+    q = 1 << max(int(n).bit_length() - 5, 0)
+    return -(-int(n) // q) * q
+
+
+def plan_steps(model, ts: np.ndarray, solver) -> FixedStepPlan:
+    """Step grid from ``ts[0]`` through the output times ``ts[1:]`` (s, increasing):
+    ``ceil(d / target)`` equal steps per interval d.
+
+    Raises :class:`gearbox.errors.InputError` when an explicit ``solver.step`` exceeds
+    the stability limit.
+    """
+    from ..errors import InputError, Problem
+
+    ts = np.asarray(ts, dtype=float)
+    limit = stability_limit(model, solver.solver)
+    lam = _eigenvalues_at_peak_stiffness(model)
+    f_mode = float(np.abs(lam).max()) / (2 * math.pi)
+    f_max = max(f_mode, model.mesh_frequency)
+    if solver.step is not None:
+        target = float(solver.step)
+        if target > limit:
+            raise InputError(
+                Problem("step", target, f"must be <= {limit:.4g} s (stability limit)"),
+                "invalid diffrax solver settings",
+            )
+    else:
+        spp = solver.steps_per_period or STEPS_PER_PERIOD.get(solver.solver, 12.0)
+        target = min(1.0 / (spp * f_max), 0.8 * limit)
+    d = np.diff(ts)
+    counts = np.maximum(np.ceil(d / target * (1 - 1e-12)), 1).astype(np.int64)
+    h = np.repeat(d / counts, counts)
+    first = np.cumsum(counts) - counts
+    t = np.repeat(ts[:-1], counts) + (np.arange(h.size) - np.repeat(first, counts)) * h
+    return FixedStepPlan(t, h, np.cumsum(counts) - 1, target, limit, f_max)
+
+
+def mesh_law_table(p, cells: int, xp):
+    """Cubic Hermite table of the mesh laws over one mesh cycle, shape (6, 2, cells + 1).
+
+    Rows: k_drive, k_coast (N/m), e_drive, e_coast (m), e'_drive, e'_coast (m/rad,
+    d e / d theta_1); [:, 0] values, [:, 1] derivatives with respect to phi = N_1 theta_1
+    times the cell width, at phi_j = 2 pi j / cells. From the Fourier coefficients
+    ``p['kc']``, ``p['ec']`` (docs/drivetrain.md §3).
+    """
+    kc, ec = p["kc"], p["ec"]
+    h = (kc.shape[-1] - 1) // 2
+    kk = xp.arange(1, h + 1)
+    rows = xp.concatenate([kc, ec], axis=0)  # (4, 1 + 2h)
+    a, b = rows[:, 1 : 1 + h], rows[:, 1 + h :]
+    # e' = N1 sum k (b cos - a sin): its own series, coefficients (-N1 k a -> b, N1 k b -> a)
+    ad, bd = p["N1"] * kk * ec[:, 1 + h :], -p["N1"] * kk * ec[:, 1 : 1 + h]
+    a = xp.concatenate([a, ad], axis=0)  # (6, h)
+    b = xp.concatenate([b, bd], axis=0)
+    a0 = xp.concatenate([rows[:, 0], xp.zeros(2)])
+    phi = xp.arange(cells + 1) * (2 * math.pi / cells)
+    arg = kk[:, None] * phi[None, :]  # (h, cells + 1)
+    c, s = xp.cos(arg), xp.sin(arg)
+    val = a0[:, None] + a @ c + b @ s
+    der = ((b * kk) @ c - (a * kk) @ s) * (2 * math.pi / cells)
+    return xp.stack([val, der], axis=1)
+
+
+def _hermite(table, phi, cells: int, jnp, lax):
+    """The 6 mesh-law rows at phi = N_1 theta_1 (rad) from :func:`mesh_law_table`."""
+    u = phi * (cells / (2 * math.pi))
+    fl = jnp.floor(u)
+    s = u - fl
+    i = jnp.mod(fl, cells).astype(jnp.int32)
+    T = lax.dynamic_slice_in_dim(table, i, 2, axis=2)  # (6, 2, 2)
+    s2 = s * s
+    s3 = s2 * s
+    return (
+        (2 * s3 - 3 * s2 + 1) * T[:, 0, 0]
+        + (s3 - 2 * s2 + s) * T[:, 1, 0]
+        + (3 * s2 - 2 * s3) * T[:, 0, 1]
+        + (s3 - s2) * T[:, 1, 1]
+    )
+
+
+def lean_rhs(t, z, p, laws_at, te0, rp):
+    """d z / dt of the scaled state, as :func:`gearbox.drivetrain.model.rhs`, in scalar
+    arithmetic. laws_at(phi) -> the 6 mesh-law rows of :func:`mesh_law_table`; te0: engine
+    torque without governor (N m) at t; rp: propeller ripple factor at t (-). Shape (2 n,).
+    """
+    import jax
+    import jax.numpy as jnp
+
+    sc = p["scale"]
+    n = z.shape[0] // 2
+    x = [z[i] * sc[i] for i in range(n)]
+    v = [z[n + i] * sc[n + i] for i in range(n)]
+    theta1 = p["Omega"] * t + x[1] + p["phase"]
+    # materialise the six laws once (XLA would otherwise repeat their evaluation in
+    # every consumer of the fused kernel)
+    r = jax.lax.optimization_barrier(laws_at(p["N1"] * theta1))
+    K, C, G = p["K"], p["C"], p["G"]
+    f = []
+    for fl in range(2):
+        s = sum(G[fl, j] * x[j] for j in range(n)) - r[2 + fl] - p["bl"][fl]
+        sdot = sum(G[fl, j] * v[j] for j in range(n)) - r[4 + fl] * (p["Omega"] + v[1])
+        f.append(jnp.where(s > 0, jnp.maximum(r[fl] * s + p["cm"][fl] * sdot, 0.0), 0.0))
+    te = te0 - p["Kp"] * v[0] - p["Ki"] * (x[0] - p["qe0"])
+    wp = p["Omega2"] + v[3]
+    tp = p["kappa"] * wp * wp * rp
+    acc = []
+    for i in range(n):
+        q = -sum(K[i, j] * x[j] + C[i, j] * v[j] for j in range(n))
+        q = q - G[0, i] * f[0] - G[1, i] * f[1]
+        if i == 0:
+            q = q + te
+        elif i == 3:
+            q = q - tp
+        acc.append(q * p["Minv"][i] / sc[n + i])
+    return jnp.stack([v[i] / sc[i] for i in range(n)] + acc)
+
+
+def _time_excitations(p, t, jnp):
+    """Engine torque without governor (N m) and propeller ripple factor at times t (any
+    shape): docs/drivetrain.md §5-6."""
+    tt = t[..., None]
+    te0 = p["T"] * (1.0 + jnp.sum(p["ea"] * jnp.sin(p["eo"] * p["Omega"] * tt), axis=-1))
+    rp = 1.0 + jnp.sum(p["pa"] * jnp.sin(p["po"] * p["Omega2"] * tt), axis=-1)
+    return te0, rp
+
+
+@lru_cache(maxsize=16)
+def fixed_solve_fn(method: str, cells: int):
+    """A jitted ``f(params, z0, t, h, out) -> zs``: the scaled states after the steps
+    ``out`` (shape (n_t, 2 n)) of the fixed-step run with step starts ``t`` and sizes
+    ``h`` (shape (S,), a :class:`FixedStepPlan`); a step with h = 0 leaves the state
+    unchanged. Compiled once per method, table size and array shapes (pad plans with
+    :meth:`FixedStepPlan.padded` to :func:`bucket` sizes to share compilations).
+    Differentiable (``jax.grad`` through the scan).
+    """
+    import jax
+    import jax.numpy as jnp
+
+    A, b, c = explicit_tableau(method)
+    s = len(b)
+
+    def run(p, z0, t, h, out):
+        table = mesh_law_table(p, cells, jnp)
+
+        def laws_at(phi):
+            return _hermite(table, phi, cells, jnp, jax.lax)
+
+        # time-only excitations of every step and stage, vectorised before the scan
+        te0, rp = _time_excitations(p, t[:, None] + h[:, None] * c[None, :], jnp)
+
+        def body(z, xs):
+            tj, hj, te_j, rp_j = xs
+            ks = []
+            for i in range(s):
+                zi = z
+                for j in range(i):
+                    if A[i, j] != 0.0:
+                        zi = zi + (hj * A[i, j]) * ks[j]
+                ks.append(lean_rhs(tj + c[i] * hj, zi, p, laws_at, te_j[i], rp_j[i]))
+            for i in range(s):
+                if b[i] != 0.0:
+                    z = z + (hj * b[i]) * ks[i]
+            return z, z
+
+        _, zs = jax.lax.scan(body, z0, (t, h, te0, rp))
+        return zs[out]
+
+    return jax.jit(run)
