@@ -36,7 +36,7 @@ from .compliance import Compliance, FastCompliance
 from .grid import ContactGrid
 from .slice_model import hertz_half_width, hertz_pressure
 from .solver import ContactSolver, solve_contact
-from .stress import slice_root_stress
+from .stress import grid_root_stress
 
 __all__ = ["CycleResult", "LTCAOptions", "ltca_cycle"]
 
@@ -310,9 +310,8 @@ def ltca_cycle(
             E, nu = grid.youngs_modulus, grid.poisson_ratio
             p0 = hertz_pressure(q, grid.curvature_radius, E, nu)
             out["max_pressure"][t, j] = float(p0.max())
-            qw = F / grid.width
-            s1 = slice_root_stress(grid.tooth1, qw)
-            s2 = slice_root_stress(grid.tooth2, qw)
+            # slice root stresses spread along the face by the moment image
+            s1, s2 = grid_root_stress(grid, F)
             out["root_stress_pinion"][t, j] = float(s1.max())
             out["root_stress_gear"][t, j] = float(s2.max())
             np.maximum.at(rs_face1[t], grid.slot, s1)
