@@ -114,3 +114,52 @@ def test_root_section_matches_the_report(gear):
     assert float(s.Y_F) == pytest.approx(ref["Y_F"][gear], abs=0.006), msg
     assert float(s.Y_S) == pytest.approx(ref["Y_S"][gear], abs=0.008), msg
     assert s.iterations < 50
+
+
+@pytest.mark.parametrize("gear", [0, 1], ids=["pinion", "gear"])
+def test_nominal_root_stress_matches_the_report(gear):
+    # d_en from ISO 6336-3's virtual-gear formula (eps_alpha_n = eps_alpha / cos^2
+    # beta_b), Y_beta = 1 - eps_beta beta / 120 deg (eps_beta capped at 1) and
+    # sigma_F0 = F_t / (b m_n) Y_F Y_S Y_beta against the printed values
+    from gearbox.ltca.stress import iso_nominal_root_stress
+
+    ref = REF["root_stress"]
+    r = iso_nominal_root_stress(
+        tangential_force=ref["tangential_force_N"],
+        face_width=INP["face_width_mm"] * 1e-3,
+        teeth=INP["teeth"][gear],
+        normal_module=INP["normal_module_mm"] * 1e-3,
+        normal_pressure_angle=math.radians(INP["normal_pressure_angle_deg"]),
+        helix_angle=math.radians(INP["helix_angle_deg"]),
+        profile_shift=INP["profile_shift"][gear],
+        tip_diameter=ref["tip_diameter_mm"][gear] * 1e-3,
+        transverse_contact_ratio=INP["transverse_contact_ratio"],
+        rack_dedendum=INP["dedendum_coefficient"],
+        rack_root_radius=INP["root_radius_coefficient"],
+    )
+    msg = f"ISO 6336-3 method B, KISSsoft NREL 5 MW stage 3, gear {gear + 1}"
+    # d_en printed to 1e-3 mm; eps_alpha enters rounded to 1.463: 1e-4 relative
+    assert r.d_en * 1e3 == pytest.approx(REF["root"]["d_en_mm"][gear], rel=1e-4), msg
+    assert r.overlap_ratio == pytest.approx(ref["overlap_ratio"], abs=5e-4), msg
+    assert r.Y_beta == pytest.approx(ref["Y_beta"], abs=5e-4), msg
+    # Y_F, Y_S agree with the report to 0.3 % (test above): 0.5 % on sigma_F0
+    assert r.sigma_F0 / 1e6 == pytest.approx(ref["sigma_F0_N_per_mm2"][gear], rel=5e-3), msg
+
+
+def test_nominal_root_stress_names_bad_input():
+    from gearbox.ltca.stress import iso_nominal_root_stress
+
+    with pytest.raises(InputError, match="tangential_force"):
+        iso_nominal_root_stress(
+            tangential_force=-1.0,
+            face_width=0.03,
+            teeth=30,
+            normal_module=4e-3,
+            normal_pressure_angle=math.radians(20),
+            helix_angle=0.0,
+            profile_shift=0.0,
+            tip_diameter=0.128,
+            transverse_contact_ratio=1.6,
+            rack_dedendum=1.25,
+            rack_root_radius=0.38,
+        )
