@@ -7,6 +7,7 @@ computed is checked twice: by the run summary and by the calls themselves.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import pickle
 from collections import Counter
@@ -375,10 +376,14 @@ def test_map_items_keeps_cheap_sweeps_in_this_process():
 def test_pool_decision():
     from gearbox.pipeline.sweep import use_pool
 
-    # 9 more items of 0.4 s on 2 workers: 3.6 s here against 3 + 0.4 + 1.8 s pooled
-    assert not use_pool(9, 0.4, 2, start_s=3.0)
+    # 9 more items of 0.4 s on 2 workers: 3.6 s here against 3 + 2 + 1.8 s pooled
+    assert not use_pool(9, 0.4, 2, start_s=3.0, warmup_s=2.0)
     # 9 more items of 3 s: 27 s here against 3 + 3 + 13.5 s pooled
-    assert use_pool(9, 3.0, 2, start_s=3.0)
+    assert use_pool(9, 3.0, 2, start_s=3.0, warmup_s=2.0)
+    # 8 more items of 1.2 s, the first found the solver compiled: 9.6 s here against
+    # 3 + 2 (each worker compiles) + 4.8 s pooled
+    assert not use_pool(8, 1.2, 2, start_s=3.0, warmup_s=2.0)
+    assert use_pool(8, 1.2, 2, start_s=3.0, warmup_s=0.0)
     assert not use_pool(9, 3.0, 1, start_s=3.0)  # one core: nothing to gain
     assert not use_pool(1, 100.0, 8, start_s=3.0)  # one item left
 
@@ -427,3 +432,33 @@ def test_on_stage_reports_each_stage_as_it_ends(scene, tmp_path):
     run = run_pipeline(scene, ["tables"], stages=graph(), cache=tmp_path, on_stage=seen.append)
     assert seen == list(run.summary.records)
     assert [r.name for r in seen] == ["design", "ltca", "tables"]
+
+
+def test_files_of_a_cached_stage_are_copied_from_the_cache(scene, tmp_path, monkeypatch):
+    from gearbox.pipeline import outputs
+
+    # "response": a stage without a writer of its own (a <stage>.json of its to_dict)
+    g = graph({"response": dataclasses.replace(graph()["dynamics"], name="response")})
+    heavier = scene.replaced(drivetrain={"propeller_inertia_kgm2": 0.12})
+    first = run_pipeline(scene, ["response"], stages=g, cache=tmp_path / "c")
+    w1 = outputs.write_run(first, tmp_path / "a")
+    assert w1.copied == ()
+    # a second run: the files of cached stages are copied, not written by the writer
+    written = []
+    real = outputs._write_stage
+    monkeypatch.setattr(outputs, "_write_stage", lambda n, r, f: written.append(n) or real(n, r, f))
+    second = run_pipeline(heavier, ["response"], stages=g, cache=tmp_path / "c")
+    w2 = outputs.write_run(second, tmp_path / "b")
+    assert written == ["response"]
+    assert w2.copied == ()  # only requested stages write files: response, computed anew
+    again = outputs.write_run(second, tmp_path / "b2")
+    assert again.copied == ("response",) and written == ["response"]
+    a, b = (tmp_path / "b" / "response.json"), (tmp_path / "b2" / "response.json")
+    assert a.read_bytes() == b.read_bytes()
+    assert (tmp_path / "a" / "response.json").read_text() != a.read_text()  # new propeller
+    summary = (tmp_path / "b2" / "run_summary.json").read_text()
+    assert '"copied_from_cache": [\n      "response"\n    ]' in summary
+    # a result replaced by hand is written by its writer again
+    other = dataclasses.replace(second, results={"response": Value(1.0)})
+    assert outputs.write_run(other, tmp_path / "c2").copied == ()
+    assert written == ["response", "response"]

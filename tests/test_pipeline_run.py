@@ -252,20 +252,29 @@ def test_interrupted_run_leaves_no_half_written_report(tmp_path, where):
     assert leftovers == [], leftovers
 
 
+def short_scene_file(folder: Path, *extra: tuple[str, str], speeds: int = 2) -> Path:
+    """The default scene file, shortened by editing its text (fewer mesh cycles and
+    speeds), plus ``extra`` (old, new) line replacements."""
+    text = MARINE.read_text()
+    for old, new in (
+        ("settled_mesh_cycles = 900", "settled_mesh_cycles = 60"),
+        ("sweep_speeds = 10", f"sweep_speeds = {speeds}"),
+        ("samples_per_mesh_cycle = 32", "samples_per_mesh_cycle = 16"),
+        *extra,
+    ):
+        assert old in text
+        text = text.replace(old, new)
+    folder.mkdir(parents=True, exist_ok=True)
+    scene = folder / "marine_drive.toml"
+    scene.write_text(text)
+    return scene
+
+
 @pytest.mark.slow
 def test_default_scene_end_to_end_through_the_cli(tmp_path, capsys):
     """The README's first command on the default scene, shortened (fewer mesh cycles
     and speeds), through the default process pool; every stage produces."""
-    text = MARINE.read_text()
-    for old, new in (
-        ("settled_mesh_cycles = 900", "settled_mesh_cycles = 60"),
-        ("sweep_speeds = 10", "sweep_speeds = 2"),
-        ("samples_per_mesh_cycle = 32", "samples_per_mesh_cycle = 16"),
-    ):
-        assert old in text
-        text = text.replace(old, new)
-    scene = tmp_path / "marine_drive.toml"
-    scene.write_text(text)
+    scene = short_scene_file(tmp_path)
     out = tmp_path / "out"
     rc = main(
         [
@@ -368,3 +377,77 @@ def test_strict_fails_when_a_requested_output_is_unavailable(tmp_path, monkeypat
     assert main(args) == 0  # nothing failed: the summary says what is missing
     assert "not in this installation" in capsys.readouterr().out
     assert main([*args, "--strict"]) == 1
+
+
+UPSTREAM = ("design", "tca", "ltca", "tables")
+DOWNSTREAM = ("dynamics", "spectra", "waterfall", "campbell")
+
+
+@pytest.mark.slow
+def test_second_run_with_another_propeller_says_what_came_from_the_cache(tmp_path, capsys):
+    """The issue's second run through the CLI: a copied scene file with only the
+    propeller changed. Its summary and report mark design, contact analyses and mesh
+    tables as cached; their report sections and files come from the cache too, the
+    drivetrain's are new."""
+    cache = tmp_path / "cache"
+    runs = {}
+    for label, extra in (
+        ("first", ()),
+        ("second", (("propeller_inertia_kgm2 = 0.08", "propeller_inertia_kgm2 = 0.12"),)),
+    ):
+        scene = short_scene_file(tmp_path / label, *extra, speeds=3)
+        out = tmp_path / label / "out"
+        argv = ["run", str(scene), "--out", str(out), "--cache", str(cache), "--no-progress"]
+        assert main([*argv, "--json"]) == 0
+        runs[label] = (json.loads(capsys.readouterr().out), out)
+
+    (first, out1), (second, out2) = runs["first"], runs["second"]
+    got = {r["name"]: r["status"] for r in second["summary"]["records"]}
+    assert got == {n: "cached" for n in UPSTREAM} | {n: "computed" for n in DOWNSTREAM}, got
+    assert set(first["outputs"]["copied_from_cache"]) == set()
+    assert set(second["outputs"]["copied_from_cache"]) == set(UPSTREAM)
+    sections = second["outputs"]["report_sections"]
+    assert {n: sections[n] == "cached" for n in (*UPSTREAM, *DOWNSTREAM)} == {
+        n: n in UPSTREAM for n in (*UPSTREAM, *DOWNSTREAM)
+    }
+    # the same summary is in the output folder
+    on_disk = json.loads((out2 / "run_summary.json").read_text())
+    assert on_disk["outputs"]["report_sections"] == sections
+    # copied files are the very bytes the first run wrote
+    for name in ("tables.csv", "tables.nc", "ltca.json", "design.json"):
+        if (out1 / name).exists():
+            assert (out2 / name).read_bytes() == (out1 / name).read_bytes(), name
+    assert (out2 / "tables.csv").exists()
+
+    html = (out2 / "report.html").read_text()
+    line = html[html.index('id="run-line"') : html.index("</p>", html.index('id="run-line"'))]
+    assert "4 stage(s) computed (dynamics, spectra, waterfall, campbell)" in line
+    assert "4 from the cache (design, tca, ltca, tables;" in line
+    assert "report sections from the cache: design, tca, ltca, tables." in line
+    stages = html[html.index("<h3>Stages</h3>") : html.index("<h3>Versions</h3>")]
+    for name in UPSTREAM:
+        assert f'<tr><td>{name}</td><td class="ok">cached</td>' in stages, name
+    for name in DOWNSTREAM:
+        assert f"<tr><td>{name}</td><td>computed</td>" in stages, name
+    # the new propeller is in the new report: 0.12 kg m^2 plus 25 % entrained water
+    dyn = html[html.index('id="dynamics"') : html.index('id="spectra"')]
+    assert "<td>propeller inertia incl. water (kg m^2)</td><td>0.15</td>" in dyn
+    old = (out1 / "report.html").read_text()
+    assert "<td>propeller inertia incl. water (kg m^2)</td><td>0.1</td>" in old
+
+
+@pytest.mark.slow
+def test_the_sweep_takes_the_operating_point_run(marine, tmp_path):
+    """The operating speed is the sweep's top speed: that point is the dynamics
+    stage's settled run, not simulated twice."""
+    run = run_pipeline(marine, ["dynamics", "waterfall"], cache=tmp_path)
+    op, sw = run["dynamics"], run["waterfall"]
+    top = sw.points[-1]
+    assert top.speed_rpm == op.speed_rpm
+    assert dict(top.metrics) == dict(op.metrics)
+    assert (top.nfev, top.wall_time) == (op.series.nfev, op.series.wall_time)
+    assert sw.points[0].nfev != op.series.nfev  # the others are runs of their own
+    # without the operating point among the speeds, nothing is taken from it
+    lower = marine.replaced(simulation={"speed_sweep_rpm": [1000.0, 3000.0]})
+    assert "dynamics" not in plan(["waterfall"], STAGES, lower)
+    assert "dynamics" in plan(["waterfall"], STAGES, marine)

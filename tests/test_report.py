@@ -138,3 +138,50 @@ def test_write_report_is_atomic(run, tmp_path, monkeypatch):
     monkeypatch.undo()
     write_report(run, target)
     assert target.read_text().startswith("<!DOCTYPE html>")
+
+
+def test_sections_are_cached_with_their_stage(run):
+    from gearbox.report.build import assemble
+
+    html, drawn = assemble(run)
+    assert set(drawn) == {"design", "sweep"}
+    html2, drawn2 = assemble(run)
+    assert drawn2 == {"design": "cached", "sweep": "cached"}
+    body = html[html.index("<nav>") : html.index('id="provenance"')]
+    assert body == html2[html2.index("<nav>") : html2.index('id="provenance"')]
+    assert "report sections from the cache: design, sweep." in html2
+    # a result replaced by hand is not the one its key was made for: drawn again
+    des = run["design"]
+    other = dataclasses.replace(run, results={**run.results, "design": des})
+    assert assemble(other)[1]["design"] == "cached"  # the same object: still its key
+    fresh = dataclasses.replace(des)
+    other = dataclasses.replace(run, results={**run.results, "design": fresh})
+    assert assemble(other)[1]["design"] != "cached"
+    # without a cache nothing is kept
+    assert "cached" not in assemble(dataclasses.replace(run, cache=None))[1].values()
+
+
+def test_a_section_sees_only_what_it_declares(run, monkeypatch):
+    from gearbox.report import build
+
+    def nosy(result, view):
+        return build.Section("nosy", f"<p>{view.scene['pair']['offset_mm']}</p>")
+
+    monkeypatch.setattr(build, "_renderers", lambda: {"design": nosy})
+    plain = dataclasses.replace(run, cache=None)
+    html = build.build_report(plain)
+    assert "report section could not be drawn: KeyError" in html
+    monkeypatch.setitem(build.SECTION_READS, "design", ("pair.offset_mm",))
+    html = build.build_report(plain)
+    assert "<p>229.0</p>" in html
+
+
+def test_section_key_follows_what_the_section_reads(run, monkeypatch):
+    from gearbox.report import build
+
+    k0 = build.section_key(run, "design")
+    monkeypatch.setitem(build.SECTION_READS, "design", ("load.operating_torque_Nm",))
+    k1 = build.section_key(run, "design")
+    other = dataclasses.replace(run, scene=run.scene.replaced(load={"operating_torque_Nm": 123.0}))
+    assert len({k0, k1, build.section_key(other, "design")}) == 3
+    assert build.section_key(run, "design") == k1  # and it is stable

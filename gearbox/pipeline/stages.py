@@ -11,6 +11,7 @@ design, contact analysis and mesh tables come from the cache.
 
 from __future__ import annotations
 
+import dataclasses
 from types import MappingProxyType
 
 from .adapters import dynamics, fmu, geometry, mesh
@@ -99,12 +100,15 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             code=("gearbox.spectrum",),
             doc="Order spectra of mesh force, DTE and bearing forces.",
         ),
-        "waterfall": _on_tables(
-            "waterfall",
-            dynamics.compute_waterfall,
-            _check_sweep,
-            "Speed sweep on the propeller law: order spectra against speed.",
-            "gearbox.spectrum",
+        "waterfall": dataclasses.replace(
+            _on_tables(
+                "waterfall",
+                dynamics.compute_waterfall,
+                _check_sweep,
+                "Speed sweep on the propeller law: order spectra against speed.",
+                "gearbox.spectrum",
+            ),
+            route=dynamics.waterfall_depends,
         ),
         "campbell": _on_tables(
             "campbell",

@@ -29,12 +29,18 @@ from collections.abc import Callable, Iterable
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from typing import Any
 
-__all__ = ["POOL_START_S", "default_jobs", "map_items", "use_pool"]
+__all__ = ["POOL_START_S", "POOL_WARMUP_S", "default_jobs", "map_items", "use_pool"]
 
 #: Assumed cost (s) of starting the worker processes of the default pool, importing
 #: gearbox and jax in them: 2.3-3.4 s measured for 2 workers on the development
 #: machine (spawn, 3 repetitions).
 POOL_START_S = 3.0
+
+#: Assumed least cost (s) of a worker's first item beyond its work: compiling the
+#: drivetrain solver in a new process took 1.6-1.9 s (``compile_time_s`` of the
+#: default scene's runs on the development machine). The first item here may not
+#: show it: an earlier stage of the run (the operating point) compiled already.
+POOL_WARMUP_S = 2.0
 
 
 def default_jobs() -> int:
@@ -45,17 +51,24 @@ def default_jobs() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def use_pool(n_rest: int, first_s: float, workers: int, start_s: float = POOL_START_S) -> bool:
+def use_pool(
+    n_rest: int,
+    first_s: float,
+    workers: int,
+    start_s: float = POOL_START_S,
+    warmup_s: float = POOL_WARMUP_S,
+) -> bool:
     """Whether ``n_rest`` items like the first (``first_s`` seconds each) finish sooner
     on ``workers`` new processes than here.
 
     Each worker pays the start ``start_s`` and, once, what the first item paid here
-    beyond the work itself (compilation): estimated as ``first_s`` again.
+    beyond the work itself (compilation): estimated as ``first_s`` again, and at
+    least ``warmup_s`` (the first item here may have found everything compiled).
     """
     if workers < 2 or n_rest < 2:
         return False
     here = n_rest * first_s
-    pooled = start_s + first_s + n_rest * first_s / workers
+    pooled = start_s + max(first_s, warmup_s) + n_rest * first_s / workers
     return pooled < here
 
 

@@ -87,9 +87,8 @@ def _stage_table(run, drawn: dict[str, str]) -> str:
         saved = f"{r.saved_seconds:.2f}" if r.status == "cached" else "-"
         sec = drawn.get(r.name, "-")
         sec = (sec, "ok") if sec == "cached" else sec
-        rows.append(
-            (r.name, (r.status, klass), f"{r.seconds:.2f}", saved, sec, r.key[:12], r.detail)
-        )
+        status = (r.status, klass) if klass else r.status
+        rows.append((r.name, status, f"{r.seconds:.2f}", saved, sec, r.key[:12], r.detail))
     return table(
         [
             "stage",

@@ -35,6 +35,7 @@ __all__ = [
     "operating_torque",
     "sweep_speeds",
     "validate_torques",
+    "waterfall_depends",
 ]
 
 #: Channels analysed in spectra and waterfalls when the run has them.
@@ -295,8 +296,39 @@ class SpeedSweep:
     excitations: tuple = ()
 
 
+def waterfall_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Upstream of the waterfall: the mesh tables, and the operating point when its
+    speed is one of the sweep's (its settled run is then one point of the sweep)."""
+    n_op = float(scene["drivetrain"]["engine_speed_rpm"])
+    if np.any(np.isclose(sweep_speeds(scene), n_op, rtol=1e-12, atol=0.0)):
+        return ("tables",), ("dynamics",)
+    return ("tables",), ()
+
+
+def _reused_point(op, model, speed_rpm: float, torque: float) -> SweepPoint | None:
+    """The sweep point at ``speed_rpm`` from the operating point's run, when that run
+    is the same simulation (same speed and torque; same scene, tables and settings,
+    since both stages read them); else None."""
+    if op is None or not math.isclose(op.speed_rpm, speed_rpm, rel_tol=1e-12):
+        return None
+    if not math.isclose(op.torque_Nm, torque, rel_tol=1e-9):
+        return None
+    ts = op.series
+    spectra = spectra_of(ts, _orders(model)) if ts.success and ts.time.size > 1 else {}
+    return SweepPoint(
+        float(speed_rpm),
+        float(torque),
+        ts.status,
+        spectra,
+        dict(op.metrics),
+        int(ts.nfev),
+        float(ts.wall_time),
+    )
+
+
 def compute_waterfall(ctx: StageContext) -> SpeedSweep:
-    """Speed sweep through the run's executor, one simulation per speed."""
+    """Speed sweep through the run's executor, one simulation per speed; the speed of
+    the operating point takes the dynamics stage's run when there is one."""
     spectrum = require("gearbox.spectrum", "waterfall")
     scene = ctx.scene
     table = ctx.inputs["tables"]
@@ -306,7 +338,11 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
     jobs = [
         (model_at(scene, table, n), solver, sim, n, propeller_law_torque(scene, n)) for n in speeds
     ]
-    points = tuple(ctx.map(sweep_point, jobs))
+    op = ctx.inputs.get("dynamics")
+    reused = {i: _reused_point(op, j[0], j[3], j[4]) for i, j in enumerate(jobs)}
+    reused = {i: p for i, p in reused.items() if p is not None}
+    run = iter(ctx.map(sweep_point, [j for i, j in enumerate(jobs) if i not in reused]))
+    points = tuple(reused[i] if i in reused else next(run) for i in range(len(jobs)))
     waterfalls = {}
     for name in SPECTRUM_CHANNELS:
         ok = [p for p in points if name in p.spectra]
