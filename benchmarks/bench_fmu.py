@@ -1,11 +1,17 @@
 """Benchmark: the drivetrain FMU against real time and beside the Python solvers.
 
 One second of the default scene (models/marine_drive.toml) at 2000 rpm and the scene's
-operating torque, from the static equilibrium, mesh force sampled every 1e-4 s. Prints the median wall time over
-repeats, the real-time factor (simulated time over wall time), the ratio to the FMU
-in Co-Simulation (the baseline, measured in the same run) and the error of the mesh
-force: RMS difference over the AC RMS of a reference run (the FMU in Co-Simulation at
-rtol 1e-12; tests/test_fmu.py checks the FMU against the scipy solver).
+operating torque, from the static equilibrium. The FMU runs in Co-Simulation with a
+communication step of 1 ms (about one mesh period; the internal integrator takes its
+own steps in between), driven three ways: from C (fmus/harness/fmu_bench.c: the wall
+time of the doStep calls alone, no importer), from a Python loop over fmpy's FMU2Slave
+(wall time of the loop and, separately, of its doStep calls) and by fmpy's
+simulate_fmu. Prints the median wall time over repeats, the real-time factor (simulated
+time over wall time), the ratio to the C driver at rtol 1e-6 (the baseline, measured in
+the same run), the error of the mesh force (RMS difference over the AC RMS of a
+reference run: the FMU in Co-Simulation at rtol 1e-12, compared at the communication
+points; tests/test_fmu.py checks the FMU against the scipy solver) and the integrator's
+work.
 
     python3 benchmarks/bench_fmu.py            # all tables (about 3 minutes)
     python3 benchmarks/bench_fmu.py --quick    # FMU rows of the performance table only
@@ -22,8 +28,10 @@ import argparse
 import math
 import shutil
 import statistics
+import subprocess
 import tempfile
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -38,7 +46,9 @@ from gearbox.fmu.run import ac_relative_error, simulate_fmu
 SCENE = Path(__file__).parents[1] / "models" / "marine_drive.toml"
 SPEED_RPM = 2000.0
 STOP = 1.0
-DT = 1e-4
+DT = 1e-4  # output step of the reference and of the Python solvers
+COMM = 1e-3  # communication step of the FMU rows
+RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 
 
 def median_time(fn, repeats):
@@ -50,11 +60,16 @@ def median_time(fn, repeats):
     return statistics.median(times), out
 
 
-def c_driver_runs(fmu_path: str, tmp: Path, repeats: int) -> list[tuple[str, float]]:
-    """Wall times from fmus/harness/fmu_bench.c: the FMU driven from C, no Python importer."""
-    import subprocess
-    import zipfile
+def common_points(t, t_ref) -> tuple[np.ndarray, np.ndarray]:
+    """All of t, and the points of t_ref on t's grid (both grids start at 0)."""
+    step = float(t[1] - t[0])
+    k = np.abs(t_ref / step - np.round(t_ref / step)) < 1e-6
+    k &= t_ref <= t[-1] + 1e-12
+    return np.arange(len(t)), np.flatnonzero(k)
 
+
+def c_driver(fmu_path: str, tmp: Path) -> tuple[Path, Path, str, str, int]:
+    """Compile fmus/harness/fmu_bench.c against the FMU's headers; unzip the FMU."""
     from fmpy import read_model_description
 
     md = read_model_description(fmu_path)
@@ -67,35 +82,67 @@ def c_driver_runs(fmu_path: str, tmp: Path, repeats: int) -> list[tuple[str, flo
         ["gcc", "-std=c11", "-O2", "-I", str(d / "sources"), str(src), "-ldl", "-o", str(exe)],
         check=True,
     )
-    out = []
-    for rtol in (1e-4, 1e-6, 1e-8):
-        for step in (DT, STOP):
-            p = subprocess.run(
-                [
-                    str(exe),
-                    str(d),
-                    md.coSimulation.modelIdentifier,
-                    md.guid,
-                    str(vr["solver.rtol"]),
-                    repr(rtol),
-                    repr(STOP),
-                    repr(step),
-                    str(max(repeats, 3)),
-                ],
-                capture_output=True,
-                text=True,
-                check=True,
-            )
-            wall = float(p.stdout.split()[2])
-            label = f"DOPRI5 rtol {rtol:.0e}, " + ("10^4 steps" if step == DT else "1 doStep")
-            out.append((label, wall))
-    return out
+    return exe, d, md.coSimulation.modelIdentifier, md.guid, vr["solver.rtol"]
+
+
+def c_driver_wall(driver, rtol: float, step: float, repeats: int) -> float:
+    """Median wall time (s) of the doStep calls of one run, from C."""
+    exe, d, ident, guid, vr_rtol = driver
+    p = subprocess.run(
+        [str(exe), str(d), ident, guid, str(vr_rtol), repr(rtol), repr(STOP), repr(step)]
+        + [str(repeats)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return float(p.stdout.split()[2])
+
+
+def python_loop(fmu_path: str, rtol: float, step: float):
+    """One Co-Simulation run from a Python loop over fmpy's FMU2Slave: (wall time of the
+    loop, wall time of its doStep calls, time, mesh force, (steps, rejected, rhs))."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    md = read_model_description(fmu_path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    d = extract(fmu_path)
+    try:
+        s = FMU2Slave(
+            guid=md.guid,
+            unzipDirectory=d,
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName="bench",
+        )
+        s.instantiate()
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.setReal([vr["solver.rtol"]], [rtol])
+        s.exitInitializationMode()
+        n = int(round(STOP / step))
+        force = [vr["mesh.force"]]
+        f = np.empty(n + 1)
+        f[0] = s.getReal(force)[0]
+        in_step = 0.0
+        t0 = time.perf_counter()
+        for i in range(n):
+            a = time.perf_counter()
+            s.doStep(i * step, step)
+            in_step += time.perf_counter() - a
+            f[i + 1] = s.getReal(force)[0]
+        wall = time.perf_counter() - t0
+        work = s.getReal([vr["solver.steps"], vr["solver.rejected"], vr["solver.rhs_evaluations"]])
+        s.terminate()
+        s.freeInstance()
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+    return wall, in_step, np.arange(n + 1) * step, f, tuple(int(w) for w in work)
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="FMU rows only")
-    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--repeats", type=int, default=5)
     args = ap.parse_args()
     scene = load_scene(SCENE)
     d = scene["drivetrain"]
@@ -114,33 +161,68 @@ def main():
     f_ref = ch["mesh.force"]
     print(
         f"scene {SCENE.name} at {SPEED_RPM:g} rpm, {STOP:g} s simulated, "
-        f"mesh frequency {model.mesh_frequency:.1f} Hz, outputs every {DT:g} s"
+        f"mesh frequency {model.mesh_frequency:.1f} Hz; FMU communication step {COMM:g} s, "
+        f"Python solvers' outputs every {DT:g} s"
     )
     print(
         f"reference: FMU Co-Simulation, DOPRI5 rtol 1e-12; mesh force AC RMS {np.std(f_ref):.1f} N"
     )
     rows = []
 
-    def row(name, setting, wall, t, f, note=""):
-        err = ac_relative_error(t, f, t_ref, f_ref) if f is not None else float("nan")
-        rows.append((name, setting, wall, err, note))
+    def err_of(t, f):
+        if f is None:
+            return float("nan")
+        i, k = common_points(t, t_ref)
+        return ac_relative_error(t[i], f[i], t_ref[k], f_ref[k])
 
-    for rtol in (1e-4, 1e-6, 1e-8):
+    def row(name, setting, wall, t, f, note=""):
+        rows.append((name, setting, wall, err_of(t, f), note))
+
+    driver = c_driver(fmu, tmp)
+    errs, works = {}, {}
+    for rtol in RTOLS:
+        loop = [python_loop(fmu, rtol, COMM) for _ in range(args.repeats)]
+        wall = statistics.median(r[0] for r in loop)
+        in_step = statistics.median(r[1] for r in loop)
+        _, _, t, f, works[rtol] = loop[0]
+        errs[rtol] = err_of(t, f)
+        c_wall = c_driver_wall(driver, rtol, COMM, max(args.repeats, 5))
+        steps, rejected, rhs = works[rtol]
+        work = f"{steps} steps, {rejected} rejected, {rhs} rhs"
+        rows.append(("FMU Co-Simulation, C driver", f"rtol {rtol:.0e}", c_wall, errs[rtol], work))
+        rows.append(
+            (
+                "FMU Co-Simulation, Python loop",
+                f"rtol {rtol:.0e}",
+                wall,
+                errs[rtol],
+                f"doStep calls {in_step:.4f} s ({STOP / in_step:.0f} x real time)",
+            )
+        )
+    for rtol in (1e-6, 1e-8):
+        c_wall = c_driver_wall(driver, rtol, DT, max(args.repeats, 5))
         wall, (t, c, _) = median_time(
             lambda r=rtol: simulate_fmu(
                 fmu, stop_time=STOP, step=DT, rtol=r, outputs=["mesh.force"]
             ),
-            args.repeats,
+            3,
+        )
+        rows.append(
+            (
+                "FMU Co-Simulation, C driver",
+                f"rtol {rtol:.0e}, step {DT:g} s",
+                c_wall,
+                err_of(t, c["mesh.force"]),
+                "10^4 doStep calls",
+            )
         )
         row(
-            "FMU Co-Simulation (fmpy)",
-            f"DOPRI5 rtol {rtol:.0e}, 10^4 steps",
+            "FMU Co-Simulation, fmpy simulate_fmu",
+            f"rtol {rtol:.0e}, step {DT:g} s",
             wall,
             t,
             c["mesh.force"],
         )
-    for label, wall in c_driver_runs(fmu, tmp, args.repeats):
-        row("FMU Co-Simulation (C driver)", label, wall, None, None, "error: fmpy row, same rtol")
     wall, (t, c, _) = median_time(
         lambda: simulate_fmu(
             fmu,
@@ -161,19 +243,12 @@ def main():
             ),
             1,
         )
-        k = np.abs(t_ref / step - np.round(t_ref / step)) < 1e-6
-        err = ac_relative_error(
-            res.time,
-            res["mesh_force_N"],
-            t_ref[k & (t_ref <= res.time[-1])],
-            f_ref[k & (t_ref <= res.time[-1])],
-        )
         rows.append(
             (
                 "libcosim: engine + gearbox + propeller",
                 f"step {step:g} s, rates",
                 wall,
-                err,
+                err_of(res.time, res["mesh_force_N"]),
                 "coupling error",
             )
         )
@@ -214,14 +289,16 @@ def main():
             row("exudyn", "RK67, default step", wall, t, outputs(model, t, y)["mesh_force_N"])
         except Exception as exc:
             rows.append(("exudyn", "RK67", float("nan"), float("nan"), repr(exc)[:60]))
-    base = rows[2][2]  # FMU Co-Simulation (fmpy) at rtol 1e-8
+    base = next(r[2] for r in rows if r[0].endswith("C driver") and r[1] == "rtol 1e-06")
     print()
-    print(f"| {'method':<38} | {'setting':<28} | wall (s) | x real time | / FMU CS | error | note")
-    print(f"|{'-' * 40}|{'-' * 30}|---|---|---|---|---|")
+    print(
+        f"| {'method':<38} | {'setting':<22} | wall (s) | x real time | / C 1e-6 | error | note |"
+    )
+    print(f"|{'-' * 40}|{'-' * 24}|---|---|---|---|---|")
     for name, setting, wall, err, note in rows:
         print(
-            f"| {name:<38} | {setting:<28} | {wall:8.3f} | {STOP / wall:11.0f} | "
-            f"{wall / base:8.2f} | {err:.1e} | {note}"
+            f"| {name:<38} | {setting:<22} | {wall:8.4f} | {STOP / wall:11.0f} | "
+            f"{wall / base:8.2f} | {err:.1e} | {note} |"
         )
     if not args.quick:
         agreement(tmp)

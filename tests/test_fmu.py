@@ -474,3 +474,56 @@ def test_co_simulation_accuracy_does_not_depend_on_the_communication_step(built,
     k = np.abs(t_ref / max(step, 1e-4) - np.round(t_ref / max(step, 1e-4))) < 1e-6
     j = np.abs(t / max(step, 1e-4) - np.round(t / max(step, 1e-4))) < 1e-6
     assert ac_relative_error(t[j], ch["mesh.force"][j], t_ref[k], ref["mesh_force_N"][k]) < 1e-5
+
+
+def test_right_hand_side_grids_agree_with_the_series(built, model_table):
+    """The C right-hand side reads the mesh laws and the engine and propeller ripples from
+    quintic Hermite grids (docs/fmu.md, "Internal integrator"); the numpy right-hand side
+    evaluates the series. Derivatives at 300 random states about the static equilibrium
+    and times in [0, 0.05] s, Model Exchange: measured max |difference| / std over the
+    samples 3.4e-12 (pinion, gear), 5.5e-10 (engine), 1.8e-9 (propeller)."""
+    from ctypes import c_double
+
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Model
+
+    from gearbox.drivetrain.model import rhs
+
+    model, _ = model_table
+    path = built["drivetrain"].fmu
+    md = read_model_description(path)
+    d = extract(path)
+    p = model.params()
+    y0, scale = model.static_state(), model.state_scale()
+    n = y0.size
+    rng = np.random.default_rng(7)
+    got, want = [], []
+    try:
+        fmu = FMU2Model(
+            guid=md.guid,
+            unzipDirectory=d,
+            modelIdentifier=md.modelExchange.modelIdentifier,
+            instanceName="rhs",
+        )
+        fmu.instantiate()
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        fmu.enterContinuousTimeMode()
+        for _ in range(300):
+            t = rng.uniform(0.0, 0.05)
+            y = y0 + 0.3 * scale * rng.standard_normal(n)  # in contact on the drive flank
+            fmu.setTime(t)
+            fmu.setContinuousStates((c_double * n)(*y), n)
+            dx = (c_double * n)()
+            fmu.getDerivatives(dx, n)
+            got.append(np.array(dx))
+            want.append(rhs(t, y / p["scale"], p) * p["scale"])
+        fmu.terminate()
+        fmu.freeInstance()
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+    got, want = np.array(got), np.array(want)
+    rel = np.abs(got - want).max(axis=0) / want.std(axis=0)
+    assert rel[: n // 2].max() < 1e-12  # dq/dt = v, the same numbers
+    assert rel[n // 2 :].max() < 2e-8  # accelerations: the grids' interpolation error
