@@ -20,7 +20,13 @@ from ..errors import Problems
 from .model import DrivetrainModel, rhs
 from .timeseries import SolverFailure
 
-__all__ = ["DiffraxSolver", "integrate_diffrax", "integrate_diffrax_batch", "solve_fn"]
+__all__ = [
+    "DiffraxSolver",
+    "integrate_diffrax",
+    "integrate_diffrax_batch",
+    "integrate_speeds",
+    "solve_fn",
+]
 
 
 def _enable_x64() -> None:
@@ -268,14 +274,14 @@ def integrate_diffrax(
 _COMPILED: dict = {}
 
 
-def _fixed_plan(model: DrivetrainModel, ts: np.ndarray, solver: DiffraxSolver):
+def _fixed_plan(model: DrivetrainModel, ts: np.ndarray, solver: DiffraxSolver, targets=None):
     """(plan, reached): the step plan cut at ``solver.max_steps`` and the number of
     output times reached within it."""
     import dataclasses
 
     from .fixed_step import plan_steps
 
-    plan = plan_steps(model, ts, solver)
+    plan = plan_steps(model, ts, solver, targets=targets)
     if plan.n_steps <= solver.max_steps:
         return plan, plan.out.size
     reached = int(np.searchsorted(plan.out, solver.max_steps - 1, side="right"))
@@ -364,9 +370,12 @@ def integrate_diffrax_batch(
     models: list[DrivetrainModel],
     y0s: np.ndarray,
     t_evals: np.ndarray,
-    solver: DiffraxSolver = DiffraxSolver(),
+    solver: DiffraxSolver = DiffraxSolver(rtol=1e-6),
 ):
-    """Batched runs (``vmap``): models differing in parameter values only (e.g. speed).
+    """Batched adaptive runs (``vmap``): models differing in parameter values only.
+
+    Adaptive settings only (``rtol`` given); :func:`integrate_speeds` batches one model
+    over speeds with either kind of stepping.
 
     y0s: shape (B, 2 n); t_evals: shape (B, n_t), each row starting after t = 0.
     Returns (Y, infos): Y shape (B, n_t, 2 n) unscaled, infos one dict per run (status,
@@ -374,6 +383,12 @@ def integrate_diffrax_batch(
     batch wall time in ``batch_wall_time``).
     """
     solver.validate()
+    if not solver.adaptive:
+        from ..errors import InputError, Problem
+
+        raise InputError(
+            Problem("rtol", None, "integrate_diffrax_batch needs rtol; see integrate_speeds")
+        )
     jax, jnp = _jax()
     ps = [m.params() for m in models]
     keys = ps[0].keys()
@@ -413,3 +428,121 @@ def integrate_diffrax_batch(
             }
         )
     return Y, infos
+
+
+@lru_cache(maxsize=1)
+def _batch_summary_fn():
+    """jit(vmap) of (signed mesh force (N), finite flags, drive mesh deflection (m)) per
+    sample from scaled states; shapes (B, n_t) each."""
+    jax, jnp = _jax()
+    from .model import mesh_forces
+
+    def one(p, ts, zs):
+        y = zs * p["scale"]
+        n = y.shape[-1] // 2
+        f = jax.vmap(lambda t, yy: mesh_forces(t, yy[:n], yy[n:], p, xp=jnp)[0])(ts, y)
+        return f[:, 0] - f[:, 1], jnp.all(jnp.isfinite(y), axis=-1), y[:, :n] @ p["G"][0]
+
+    return jax.jit(jax.vmap(one))
+
+
+def integrate_speeds(
+    model: DrivetrainModel,
+    speeds,
+    y0s: np.ndarray,
+    t_evals: np.ndarray,
+    solver: DiffraxSolver = DiffraxSolver(),
+    *,
+    keep_states: bool = False,
+) -> dict:
+    """``model`` at every speed in one ``vmap`` batch, set up without one model per speed.
+
+    speeds: Omega (rad/s), shape (B,); y0s: start states, shape (B, 2 n) (e.g.
+    :func:`gearbox.drivetrain.linear.periodic_start_states`); t_evals: output times,
+    shape (B, n_t), each row after t = 0. Fixed steps (default) pad every speed's step
+    plan to one length (h = 0 steps), so all speeds step in lockstep; adaptive settings
+    (``rtol``) step in lockstep until the slowest is done.
+
+    Returns a dict: ``mesh_force`` (N, shape (B, n_t), computed on the device), ``status``
+    and ``failure`` (one per speed, as :func:`integrate_diffrax`), ``steps`` (shape (B,)),
+    ``wall_time`` (s, the batch run), ``compile_time`` (s), ``setup_time`` (s: parameters,
+    step plans), and ``states`` (unscaled, shape (B, n_t, 2 n)) with ``keep_states``.
+    """
+    from .scipy_backend import divergence_bound
+
+    solver.validate()
+    jax, jnp = _jax()
+    t_setup = _time.perf_counter()
+    speeds = np.asarray(speeds, dtype=float).ravel()
+    t_evals = np.asarray(t_evals, dtype=float)
+    P = model.speed_params(speeds)
+    B, n_t = t_evals.shape
+    ts = np.concatenate([np.zeros((B, 1)), t_evals], axis=1)
+    Z0 = np.asarray(y0s, float) / P["scale"]
+    reached = np.full(B, n_t)
+    if solver.adaptive:
+        fn = jax.jit(jax.vmap(solve_fn(solver)))
+        args = (P, Z0, ts)
+    else:
+        from .fixed_step import bucket, fixed_solve_fn, step_targets
+
+        tg, lim, fmax = step_targets(model, solver, speeds)
+        plans = []
+        for i in range(B):
+            plan, reached[i] = _fixed_plan(
+                model, ts[i], solver, targets=(tg[i], lim[i], fmax[i])
+            )
+            plans.append(plan)
+        steps = np.array([pl.n_steps for pl in plans])
+        size = bucket(int(steps.max()))
+        plans = [pl.padded(size) for pl in plans]
+        T = np.stack([pl.t for pl in plans])
+        H = np.stack([pl.h for pl in plans])
+        OUT = np.stack([pl.out for pl in plans])
+        fn = jax.jit(jax.vmap(fixed_solve_fn(solver.solver, solver.table_cells)))
+        args = (P, Z0, T, H, OUT)
+    args = jax.tree_util.tree_map(jnp.asarray, args)
+    setup = _time.perf_counter() - t_setup
+    start = _time.perf_counter()
+    compiled = fn.lower(*args).compile()
+    compile_time = _time.perf_counter() - start
+    start = _time.perf_counter()
+    res = jax.block_until_ready(compiled(*args))
+    wall = _time.perf_counter() - start
+    if solver.adaptive:
+        zs, codes, steps, _ = res
+        zs = zs[:, 1:]
+        codes = np.asarray(codes)
+        steps = np.asarray(steps)
+    else:
+        zs = res
+        import diffrax
+
+        codes = np.where(reached < n_t, int(diffrax.RESULTS.max_steps_reached._value), 0)
+    force, finite, defl = (
+        np.asarray(a) for a in _batch_summary_fn()(args[0], jnp.asarray(t_evals), zs)
+    )
+    for i in np.flatnonzero(reached < n_t):
+        force[i, reached[i] :] = np.nan
+        finite[i, reached[i] :] = False
+    bound = divergence_bound(model, solver.divergence_factor)
+    with np.errstate(invalid="ignore"):
+        suspect = (codes != 0) | ~finite.all(axis=1) | (np.abs(defl) > bound).any(axis=1)
+    failures: list = [None] * B
+    states = None
+    if keep_states or suspect.any():
+        states = np.asarray(zs) * P["scale"][:, None, :]
+        for i in np.flatnonzero(reached < n_t):
+            states[i, reached[i] :] = np.nan
+    for i in np.flatnonzero(suspect):
+        failures[i] = _check(model, t_evals[i], states[i], int(codes[i]), solver.divergence_factor)
+    return {
+        "mesh_force": force,
+        "status": tuple("success" if f is None else f.kind for f in failures),
+        "failure": tuple(failures),
+        "steps": np.asarray(steps),
+        "wall_time": wall,
+        "compile_time": compile_time,
+        "setup_time": setup,
+        "states": states if keep_states else None,
+    }

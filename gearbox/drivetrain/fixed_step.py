@@ -49,6 +49,7 @@ __all__ = [
     "plan_steps",
     "stability_limit",
     "stability_polynomial",
+    "step_targets",
 ]
 
 #: Default steps per period of the highest frequency, per method (docs/drivetrain.md §11:
@@ -86,10 +87,13 @@ def stability_polynomial(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array(out)
 
 
-def _eigenvalues_at_peak_stiffness(model) -> np.ndarray:
+def _eigenvalues_at_peak_stiffness(model, speeds=None) -> np.ndarray:
     """Eigenvalues (1/s) of the linearised first-order system, drive mesh at its largest
-    stiffness a0 + sum |c_k| (an upper bound of k(theta)), shape (2 n,)."""
+    stiffness a0 + sum |c_k| (an upper bound of k(theta)), shape (B, 2 n) for the
+    ``speeds`` (rad/s, shape (B,); default the model's). Only the propeller's speed
+    damping 2 kappa Omega_2 changes with the speed (docs/drivetrain.md §6)."""
     M, C, K = linear_matrices(model)
+    speeds = np.atleast_1d(model.speed if speeds is None else np.asarray(speeds, float))
     kc = model.drive.k_coef
     h = (kc.size - 1) // 2
     g = model.mesh_vectors()[0]
@@ -97,20 +101,45 @@ def _eigenvalues_at_peak_stiffness(model) -> np.ndarray:
     K = K + (kmax - model.drive.mean_stiffness) * np.outer(g, g)
     n = model.n_dof
     m = np.diag(M)
-    A = np.zeros((2 * n, 2 * n))
-    A[:n, n:] = np.eye(n)
-    A[n:, :n] = -K / m[:, None]
-    A[n:, n:] = -C / m[:, None]
+    A = np.zeros((speeds.size, 2 * n, 2 * n))
+    A[:, :n, n:] = np.eye(n)
+    A[:, n:, :n] = -K / m[:, None]
+    A[:, n:, n:] = -C / m[:, None]
+    # C holds 2 kappa Omega_2 = 2 T_op (lambda_2 / lambda_1) / Omega_2 at the model's speed
+    ratio = model.gear_speed / model.speed
+    dc = 2 * model.torque * (model.drive.lambda2 / model.drive.lambda1) / ratio
+    A[:, n + 3, n + 3] -= (dc / speeds - dc / model.speed) / m[3]
     return np.linalg.eigvals(A)
 
 
-def stability_limit(model, method: str = "Tsit5") -> float:
+def stability_limit(model, method: str = "Tsit5", speeds=None):
     """Largest stable fixed step (s) of ``method`` on the linearised model (drive mesh at
     its largest stiffness): :func:`gearbox.drivetrain.linear.largest_stable_step` with the
-    method's stability polynomial. Contact loss and impacts are not covered: divergence
-    is still checked after every run."""
+    method's stability polynomial. A float, or shape (B,) for ``speeds`` (rad/s).
+    Contact loss and impacts are not covered: divergence is still checked after every
+    run."""
     A, b, _ = explicit_tableau(method)
-    return largest_stable_step(_eigenvalues_at_peak_stiffness(model), stability_polynomial(A, b))
+    lam = _eigenvalues_at_peak_stiffness(model, speeds)
+    out = largest_stable_step(lam, stability_polynomial(A, b))
+    return float(out[0]) if speeds is None else out
+
+
+def step_targets(model, solver, speeds=None):
+    """(target step (s), stability limit (s), f_max (Hz)), each shape (B,), for the
+    ``speeds`` (rad/s; default the model's): ``solver.step``, or 1 / (steps_per_period
+    f_max) capped at 0.8 x the stability limit."""
+    A, b, _ = explicit_tableau(solver.solver)
+    speeds = np.atleast_1d(model.speed if speeds is None else np.asarray(speeds, float))
+    lam = _eigenvalues_at_peak_stiffness(model, speeds)
+    limit = largest_stable_step(lam, stability_polynomial(A, b))
+    f_mesh = model.pinion_teeth * speeds / (2 * math.pi)
+    f_max = np.maximum(np.abs(lam).max(axis=1) / (2 * math.pi), f_mesh)
+    if solver.step is not None:
+        target = np.full(speeds.size, float(solver.step))
+    else:
+        spp = solver.steps_per_period or STEPS_PER_PERIOD.get(solver.solver, 12.0)
+        target = np.minimum(1.0 / (spp * f_max), 0.8 * limit)
+    return target, limit, f_max
 
 
 @dataclass(frozen=True)
@@ -152,9 +181,10 @@ def bucket(n: int) -> int:
     return -(-int(n) // q) * q
 
 
-def plan_steps(model, ts: np.ndarray, solver) -> FixedStepPlan:
+def plan_steps(model, ts: np.ndarray, solver, *, targets=None) -> FixedStepPlan:
     """Step grid from ``ts[0]`` through the output times ``ts[1:]`` (s, increasing):
-    ``ceil(d / target)`` equal steps per interval d.
+    ``ceil(d / target)`` equal steps per interval d. targets: one row of
+    :func:`step_targets` (computed for the model when None).
 
     Raises :class:`gearbox.errors.InputError` when an explicit ``solver.step`` exceeds
     the stability limit.
@@ -162,20 +192,14 @@ def plan_steps(model, ts: np.ndarray, solver) -> FixedStepPlan:
     from ..errors import InputError, Problem
 
     ts = np.asarray(ts, dtype=float)
-    limit = stability_limit(model, solver.solver)
-    lam = _eigenvalues_at_peak_stiffness(model)
-    f_mode = float(np.abs(lam).max()) / (2 * math.pi)
-    f_max = max(f_mode, model.mesh_frequency)
-    if solver.step is not None:
-        target = float(solver.step)
-        if target > limit:
-            raise InputError(
-                Problem("step", target, f"must be <= {limit:.4g} s (stability limit)"),
-                "invalid diffrax solver settings",
-            )
-    else:
-        spp = solver.steps_per_period or STEPS_PER_PERIOD.get(solver.solver, 12.0)
-        target = min(1.0 / (spp * f_max), 0.8 * limit)
+    if targets is None:
+        targets = tuple(float(v[0]) for v in step_targets(model, solver))
+    target, limit, f_max = targets
+    if solver.step is not None and target > limit:
+        raise InputError(
+            Problem("step", target, f"must be <= {limit:.4g} s (stability limit)"),
+            "invalid diffrax solver settings",
+        )
     d = np.diff(ts)
     counts = np.maximum(np.ceil(d / target * (1 - 1e-12)), 1).astype(np.int64)
     h = np.repeat(d / counts, counts)

@@ -32,36 +32,41 @@ __all__ = [
 STEP_GROWTH = 1e-8
 
 
-def largest_stable_step(lam: np.ndarray, poly: np.ndarray, growth: float = STEP_GROWTH) -> float:
+def largest_stable_step(lam: np.ndarray, poly: np.ndarray, growth: float = STEP_GROWTH):
     """Largest fixed step h (s) with |R(h lambda_j)| <= 1 + growth for every eigenvalue.
 
-    lam: eigenvalues (1/s) of a linear first-order system (zeros are ignored); poly:
-    coefficients c_0, c_1, ... of the explicit method's stability polynomial
-    R(z) = sum c_k z^k (Hairer, Wanner, Solving ODEs II, Sec. IV.2). A scan over
-    [0, 6 / max |lambda|] finds the first unstable step, bisection refines it.
+    lam: eigenvalues (1/s) of a linear first-order system, shape (m,) or (B, m) for B
+    systems at once (zeros are ignored); poly: coefficients c_0, c_1, ... of the
+    explicit method's stability polynomial R(z) = sum c_k z^k (Hairer, Wanner, Solving
+    ODEs II, Sec. IV.2). A scan over [0, 6 / max |lambda|] finds the first unstable
+    step, 50 bisections refine it. Returns a float, or shape (B,).
     """
-    lam = np.asarray(lam)
-    lam = lam[np.abs(lam) > 0]
+    lam = np.asarray(lam, dtype=complex)
+    single = lam.ndim == 1
+    lam = np.atleast_2d(lam)
     c = np.asarray(poly, dtype=float)
+    mag = np.abs(lam)
+    top = mag.max(axis=1)
 
-    def ok(h: float) -> bool:
-        return bool(np.all(np.abs(np.polyval(c[::-1], h * lam)) <= 1.0 + growth))
+    def ok(h: np.ndarray) -> np.ndarray:  # h shape (B, k) -> (B, k)
+        z = h[..., None] * lam[:, None, :]
+        r = np.abs(np.polyval(c[::-1], z))
+        return np.all((r <= 1.0 + growth) | (mag[:, None, :] == 0), axis=-1)
 
-    hi = 6.0 / float(np.abs(lam).max())
-    grid = np.linspace(0.0, hi, 241)[1:]
-    good = [ok(h) for h in grid]
-    if all(good):
-        return float(hi)
-    i = good.index(False)
-    lo = float(grid[i - 1]) if i > 0 else 0.0
-    up = float(grid[i])
+    hi = 6.0 / top
+    grid = np.linspace(0.0, 1.0, 241)[1:][None, :] * hi[:, None]
+    good = ok(grid)
+    first_bad = np.where(good.all(axis=1), grid.shape[1], np.argmin(good, axis=1))
+    rows = np.arange(lam.shape[0])
+    lo = np.where(first_bad > 0, grid[rows, np.maximum(first_bad - 1, 0)], 0.0)
+    up = grid[rows, np.minimum(first_bad, grid.shape[1] - 1)]
     for _ in range(50):
         mid = 0.5 * (lo + up)
-        if ok(mid):
-            lo = mid
-        else:
-            up = mid
-    return lo
+        good_mid = ok(mid[:, None])[:, 0]
+        lo = np.where(good_mid, mid, lo)
+        up = np.where(good_mid, up, mid)
+    out = np.where(first_bad == grid.shape[1], hi, lo)
+    return float(out[0]) if single else out
 
 
 def linear_matrices(model: DrivetrainModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -450,6 +450,26 @@ class DrivetrainModel:
             ],
         }
 
+    def speed_params(self, speeds) -> dict[str, np.ndarray]:
+        """:meth:`params` of ``with_speed(w)`` for every w in ``speeds`` (rad/s, shape (B,)),
+        stacked along a leading axis of length B, without building B models.
+
+        Only Omega, Omega_2, kappa (docs §6), the speed part of the state scale and the
+        nominal speeds change with the speed; the static state does not (kappa Omega_2^2
+        = T_op lambda_2 / lambda_1).
+        """
+        base = self.params()
+        w = np.asarray(speeds, dtype=float).ravel()
+        out = {k: np.repeat(np.asarray(v)[None], w.size, axis=0) for k, v in base.items()}
+        w2 = w * self.pinion_teeth / self.gear_teeth
+        n = self.n_dof
+        out["Omega"] = w
+        out["Omega2"] = w2
+        out["kappa"] = self.torque * (self.drive.lambda2 / self.drive.lambda1) / w2**2
+        out["scale"][:, n:] = out["scale"][:, :n] * (self.pinion_teeth * w)[:, None]
+        out["Wn"] = np.stack([w, w, w2, w2, 0 * w, 0 * w], axis=1)[:, :n]
+        return out
+
     def to_dict(self) -> dict[str, Any]:
         d = dataclasses.asdict(self)
 

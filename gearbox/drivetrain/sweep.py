@@ -15,9 +15,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import Problems
-from .linear import periodic_start_state
+from .linear import periodic_start_states
 from .model import CHANNEL_UNITS, DrivetrainModel, outputs
-from .simulate import mesh_force_metrics, record_times
+from .simulate import mesh_force_metrics, mesh_force_metrics_arrays
 from .timeseries import TimeSeries
 
 __all__ = ["SpeedSweep", "speed_sweep"]
@@ -27,7 +27,7 @@ __all__ = ["SpeedSweep", "speed_sweep"]
 class SpeedSweep:
     """Results per speed: rpm, shape (n,); metrics name -> ndarray (n,) (N); status per
     speed; wall_time (s) of the integration (batch) and per speed; timeseries (optional,
-    one TimeSeries per speed)."""
+    one TimeSeries per speed); setup_time (s): parameters and step plans of a batch."""
 
     rpm: np.ndarray
     metrics: dict[str, np.ndarray]
@@ -35,6 +35,7 @@ class SpeedSweep:
     wall_time: float
     compile_time: float
     timeseries: tuple[TimeSeries, ...] = ()
+    setup_time: float = 0.0
 
     @property
     def time_per_speed(self) -> float:
@@ -48,6 +49,7 @@ class SpeedSweep:
             "wall_time_s": self.wall_time,
             "compile_time_s": self.compile_time,
             "time_per_speed_s": self.time_per_speed,
+            "setup_time_s": self.setup_time,
         }
 
 
@@ -66,12 +68,12 @@ def speed_sweep(
 
     With a DiffraxSolver (default), ``batch='vmap'`` runs all speeds as one ``vmap``
     batch (all speeds step in lockstep until the slowest is done: right for a GPU),
-    ``batch='loop'`` one compiled run after the other (right for a CPU: measured 3x
-    cheaper per speed on 200 speeds, 500-3000 rpm, on a 2-core CPU); 'auto' picks vmap
-    on a GPU or TPU and loop on a CPU. Other solvers run one speed after the other
-    through :func:`gearbox.drivetrain.simulate.simulate`.
+    ``batch='loop'`` one compiled run after the other; 'auto' picks vmap for fixed steps
+    (the default) and, for adaptive steps (``rtol`` given), vmap on a GPU or TPU and loop
+    on a CPU (docs/drivetrain.md §11 has the measurements). Other solvers run one speed
+    after the other through :func:`gearbox.drivetrain.simulate.simulate`.
     """
-    from .diffrax_backend import DiffraxSolver, integrate_diffrax_batch
+    from .diffrax_backend import DiffraxSolver, integrate_speeds
 
     r = np.asarray(rpms, dtype=float).ravel()
     p = Problems()
@@ -81,58 +83,69 @@ def speed_sweep(
     p.check(batch in ("auto", "vmap", "loop"), "batch", batch, "must be auto, vmap or loop")
     p.raise_if_any("invalid speed sweep")
     solver = solver if solver is not None else DiffraxSolver()
-    models = [model.with_speed(x * math.pi / 30) for x in r]
-    series: list[TimeSeries] = []
     is_diffrax = getattr(solver, "name", "") == "diffrax"
     if is_diffrax and batch == "auto":
         import jax
 
-        batch = "loop" if jax.default_backend() == "cpu" else "vmap"
+        batch = "vmap" if jax.default_backend() != "cpu" or not solver.adaptive else "loop"
+    omega = r * math.pi / 30
     if is_diffrax and batch == "vmap":
-        y0s = np.stack([periodic_start_state(m) for m in models])
-        tev = np.stack(
-            [
-                record_times(m, settle_cycles / m.mesh_frequency, mesh_cycles, samples_per_cycle)
-                for m in models
-            ]
+        # Per-speed set-up as array arithmetic: start states by one batched solve, record
+        # times by broadcasting, parameters by model.speed_params (no model per speed).
+        y0s = periodic_start_states(model, omega)
+        tm = 2 * math.pi / (model.pinion_teeth * omega)
+        k = np.arange(1, mesh_cycles * samples_per_cycle + 1)
+        tev = settle_cycles * tm[:, None] + k[None, :] * (tm / samples_per_cycle)[:, None]
+        res = integrate_speeds(model, omega, y0s, tev, solver, keep_states=keep_timeseries)
+        metrics = mesh_force_metrics_arrays(
+            tev, res["mesh_force"], model.pinion_teeth * omega / (2 * math.pi)
         )
-        Y, infos = integrate_diffrax_batch(models, y0s, tev, solver)
-        wall, comp = infos[0]["batch_wall_time"], infos[0]["compile_time"]
-        for i, m in enumerate(models):
-            ok = np.all(np.isfinite(Y[i]), axis=1)
-            if keep_timeseries:
-                ch = outputs(m, tev[i][ok], Y[i][ok])
-            else:  # the mesh force only, computed in the batch (cheap for many speeds)
-                ch = {"mesh_force_N": infos[i]["mesh_force"][ok]}
-            series.append(
-                TimeSeries(
-                    time=tev[i][ok],
-                    channels=ch,
-                    units={k: CHANNEL_UNITS[k] for k in ch},
-                    status=infos[i]["status"],
-                    failure=infos[i]["failure"],
-                    steps=infos[i]["steps"],
-                    rejected=infos[i]["rejected"],
-                    wall_time=wall / len(models),
-                    attrs={"solver": "diffrax", "batched": len(models)},
+        series = []
+        if keep_timeseries:
+            for i, w in enumerate(omega):
+                m = model.with_speed(w)
+                ok = np.all(np.isfinite(res["states"][i]), axis=1)
+                ch = outputs(m, tev[i][ok], res["states"][i][ok])
+                series.append(
+                    TimeSeries(
+                        time=tev[i][ok],
+                        channels=ch,
+                        units={k: CHANNEL_UNITS[k] for k in ch},
+                        status=res["status"][i],
+                        failure=res["failure"][i],
+                        steps=int(res["steps"][i]),
+                        wall_time=res["wall_time"] / r.size,
+                        attrs={"solver": "diffrax", "batched": r.size},
+                    )
                 )
-            )
-    else:
-        from .simulate import simulate
+        return SpeedSweep(
+            rpm=r,
+            metrics=metrics,
+            status=res["status"],
+            wall_time=res["wall_time"],
+            compile_time=res["compile_time"],
+            timeseries=tuple(series),
+            setup_time=res["setup_time"],
+        )
+    from .simulate import simulate
 
-        wall, comp = 0.0, 0.0
-        for m in models:
-            ts = simulate(
-                m,
-                solver,
-                settle_time=settle_cycles / m.mesh_frequency,
-                mesh_cycles=mesh_cycles,
-                samples_per_cycle=samples_per_cycle,
-            )
-            wall += ts.wall_time  # integration only, as for the batch
-            comp += float(ts.attrs.get("compile_time_s", 0.0))
-            series.append(ts)
-    mets = [mesh_force_metrics(ts, m) for ts, m in zip(series, models, strict=True)]
+    wall, comp = 0.0, 0.0
+    series: list[TimeSeries] = []
+    for w in omega:
+        m = model.with_speed(w)
+        ts = simulate(
+            m,
+            solver,
+            settle_time=settle_cycles / m.mesh_frequency,
+            mesh_cycles=mesh_cycles,
+            samples_per_cycle=samples_per_cycle,
+        )
+        wall += ts.wall_time  # integration only, as for the batch
+        comp += float(ts.attrs.get("compile_time_s", 0.0))
+        series.append(ts)
+    mets = [
+        mesh_force_metrics(ts, model.with_speed(w)) for ts, w in zip(series, omega, strict=True)
+    ]
     metrics = {k: np.array([d[k] for d in mets]) for k in mets[0]}
     return SpeedSweep(
         rpm=r,
