@@ -331,7 +331,11 @@ def test_fmu_stage_writes_a_valid_fmu(marine, tmp_path):
 def test_speed_sweep_on_a_dask_cluster(marine):
     """The documented cluster path: a Dask client's executor takes the sweep."""
     distributed = pytest.importorskip("distributed")
-    scene = marine.replaced(outputs={"mesh_tables": "analytical"}, simulation={"sweep_speeds": 2})
+    # a speed range without the operating speed: no point is the operating point's run
+    scene = marine.replaced(
+        outputs={"mesh_tables": "analytical"},
+        simulation={"sweep_speeds": 2, "speed_sweep_rpm": [1000.0, 3000.0]},
+    )
     with (
         distributed.LocalCluster(
             n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
