@@ -23,6 +23,7 @@ VERBS = {
     "design": "gearbox.commands.design",
     "sweep": "gearbox.commands.sweep",
     "simulate": "gearbox.commands.simulate",
+    "modes": "gearbox.commands.modes",
     "fmu": "gearbox.commands.fmu",
     "cosim": "gearbox.commands.cosim",
     "tca": "gearbox.commands.tca",
@@ -36,6 +37,7 @@ EPILOG = """examples:
   gearbox design models/case03.toml --json     the same as one JSON object
   gearbox sweep models/case03.toml --out out/  parameter studies (paper Figs. 6-9)
   gearbox tca models/case03.toml --out out/    unloaded contact paths, TE, FPD angles
+  gearbox modes models/case03.toml --json      drivetrain eigenfrequencies and modes
   gearbox <verb> --help                        options of one verb
 """
 

@@ -3,7 +3,8 @@ EXAMPLES = """  gearbox simulate models/case03.toml --json
   gearbox simulate models/case03.toml --solver scipy --out out/sim
   gearbox simulate models/case03.toml --table out/ltca/mesh_table.nc --speed-rpm 1500
   gearbox simulate models/case03.toml --periodic --json  settled periodic response (shooting)
-  gearbox simulate models/case03.toml --modes --json     eigenfrequencies only
+  gearbox simulate models/case03.toml --rtol 1e-8        diffrax with adaptive steps
+  gearbox modes models/case03.toml --json                eigenfrequencies only
 """
 
 
@@ -18,7 +19,11 @@ def add_arguments(parser):
         help="solver (default: simulation.solver of the scene)",
     )
     parser.add_argument(
-        "--rtol", type=float, default=None, help="relative tolerance (default: scene)"
+        "--rtol",
+        type=float,
+        default=None,
+        help="relative tolerance (default: the scene's simulation.rtol for scipy; diffrax "
+        "takes fixed steps unless --rtol is given)",
     )
     parser.add_argument(
         "--table",
@@ -45,36 +50,50 @@ def add_arguments(parser):
     parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
 
 
-def summary(scene, args) -> tuple[dict, object, object, object]:
-    """(summary dict, model, TimeSeries or None, table)."""
+def model_from_args(scene, args):
+    """(DrivetrainModel, MeshTable) of a scene with ``--table`` and ``--speed-rpm``."""
     import math
 
-    from ..drivetrain.linear import modes
     from ..drivetrain.model import DrivetrainModel
-    from ..drivetrain.simulate import default_solver, mesh_force_metrics, simulate
     from ..errors import InputError, Problem
     from ..mesh_analytical import analytical_table, pair_from_scene
     from ..meshtable import MeshTable
 
+    if args.speed_rpm is not None and not (math.isfinite(args.speed_rpm) and args.speed_rpm > 0):
+        raise InputError(Problem("--speed-rpm", args.speed_rpm, "must be > 0 rpm"))
     if args.table:
         table = MeshTable.from_netcdf(args.table)
     else:
         table = analytical_table(
             pair_from_scene(scene), scene["load"]["torques_Nm"], scene=scene.name
         )
-    if args.speed_rpm is not None and not (math.isfinite(args.speed_rpm) and args.speed_rpm > 0):
-        raise InputError(Problem("--speed-rpm", args.speed_rpm, "must be > 0 rpm"))
-    model = DrivetrainModel.from_scene(scene, table, speed_rpm=args.speed_rpm)
-    md = modes(model)
-    out = {
+    return DrivetrainModel.from_scene(scene, table, speed_rpm=args.speed_rpm), table
+
+
+def modes_summary(scene, model, table) -> dict:
+    """Operating point and linear modes (``gearbox modes``, head of ``gearbox simulate``)."""
+    import math
+
+    from ..drivetrain.linear import modes
+
+    return {
         "scene": scene.name,
         "engine_speed_rpm": model.speed * 30 / math.pi,
         "pinion_torque_Nm": model.torque,
         "mesh_frequency_Hz": model.mesh_frequency,
         "mean_mesh_stiffness_N_per_m": model.drive.mean_stiffness,
         "table_method": table.attrs.get("method", ""),
-        **md.to_dict(),
+        **modes(model).to_dict(),
     }
+
+
+def summary(scene, args) -> tuple[dict, object, object, object]:
+    """(summary dict, model, TimeSeries or None, table)."""
+    from ..drivetrain.simulate import default_solver, mesh_force_metrics, simulate
+    from ..errors import InputError, Problem
+
+    model, table = model_from_args(scene, args)
+    out = modes_summary(scene, model, table)
     if args.modes:
         return out, model, None, table
     sim = scene["simulation"]
@@ -82,6 +101,8 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
     rtol = args.rtol if args.rtol is not None else sim["rtol"]
     if not (0 < rtol < 1):
         raise InputError(Problem("--rtol", rtol, "must be in (0, 1)"))
+    if name == "diffrax" and args.rtol is None:
+        rtol = None  # fixed steps from the model's frequencies; --rtol asks for adaptive ones
     solver = default_solver(name, rtol)
     cycles = args.mesh_cycles if args.mesh_cycles is not None else sim["settled_mesh_cycles"]
     if args.periodic and args.mesh_cycles is None and model.common_period_mesh_cycles():

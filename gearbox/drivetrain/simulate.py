@@ -35,7 +35,10 @@ __all__ = [
 
 
 def default_solver(name: str = "diffrax", rtol: float | None = None):
-    """Solver object by name ('diffrax', 'scipy', 'exudyn') with an optional rtol."""
+    """Solver object by name ('diffrax', 'scipy', 'exudyn') with an optional rtol.
+
+    'diffrax' without rtol: fixed steps (``DiffraxSolver()``); with rtol: adaptive steps.
+    """
     if name == "scipy":
         from .scipy_backend import ScipySolver
 

@@ -1,0 +1,65 @@
+"""`gearbox modes SCENE`: eigenfrequencies and mode descriptions (issue 6 interface)."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gearbox.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+CASE03 = ROOT / "models" / "case03.toml"
+
+
+def test_modes_json_lists_eigenfrequencies_and_descriptions(capsys):
+    from gearbox.drivetrain.linear import modes
+    from gearbox.drivetrain.model import DrivetrainModel
+    from gearbox.scene import load_scene
+
+    rc = main(["modes", str(CASE03), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0
+    f = out["eigenfrequencies_Hz"]
+    assert len(f) == 4 and f == sorted(f) and f[0] == pytest.approx(0.0, abs=1e-6)
+    # the same numbers as the library's linear analysis of the scene's model
+    ref = modes(DrivetrainModel.from_scene(load_scene(CASE03))).frequencies
+    assert f == pytest.approx(ref.tolist(), rel=1e-12, abs=1e-9)
+    descr = [m["description"] for m in out["modes"]]
+    assert descr[0].startswith("rigid-body mode") and descr[-1].startswith("mesh mode")
+    assert out["modes"][-1]["mesh_strain_energy_fraction"] > 0.5
+    assert set(out["modes"][1]["shape"]) == {"engine", "pinion", "gear", "propeller"}
+    assert out["mesh_frequency_Hz"] == pytest.approx(29 * 2000 / 60)
+
+
+def test_modes_speed_override_and_text_output(capsys):
+    # The speed moves the mesh frequency (N1 x pinion speed), not the undamped modes.
+    rc = main(["modes", str(CASE03), "--speed-rpm", "1500", "--json"])
+    a = json.loads(capsys.readouterr().out)
+    assert rc == 0 and a["mesh_frequency_Hz"] == pytest.approx(29 * 1500 / 60)
+    rc = main(["modes", str(CASE03)])
+    text = capsys.readouterr().out
+    assert rc == 0 and "mesh mode" in text and "Hz" in text
+    assert a["eigenfrequencies_Hz"][-1] == pytest.approx(
+        float(text.split("mesh mode, ")[1].split()[0]), rel=1e-3
+    )
+
+
+def test_modes_bad_input_exits_nonzero_without_traceback(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(CASE03.read_text() + "\n[drivetrain]\ngear_inertia_kgm2 = -0.1\n")
+    assert main(["modes", str(bad), "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "gear_inertia_kgm2" in err and "Traceback" not in err
+    assert main(["modes", str(CASE03), "--speed-rpm", "-5"]) == 2
+    assert "--speed-rpm" in capsys.readouterr().err
+    # the console entry point, as a user runs it: a missing scene file
+    r = subprocess.run(
+        [sys.executable, "-m", "gearbox", "modes", str(tmp_path / "missing.toml"), "--json"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    assert r.returncode == 2 and r.stdout == ""
+    assert "missing.toml" in r.stderr and "Traceback" not in r.stderr
