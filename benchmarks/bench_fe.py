@@ -42,7 +42,14 @@ def _rel(a, b):
     return (a - b) / b
 
 
-def run_case(case: str, side: str, positions: int, refine: float, neighbours: int = 1) -> dict:
+def run_case(
+    case: str,
+    side: str,
+    positions: int,
+    refine: float,
+    neighbours: int = 1,
+    cut_faces: str = "clamped",
+) -> dict:
     scene = load_scene(ROOT / "models" / f"case{case}.toml")
     design = design_pair(PairSpec.from_scene(scene))
     lt = scene["ltca"]
@@ -66,7 +73,7 @@ def run_case(case: str, side: str, positions: int, refine: float, neighbours: in
     t_fast = time.perf_counter() - t0
 
     fe = FECompliance(
-        FEOptions(mesh=MeshOptions().refined(refine), neighbours=neighbours),
+        FEOptions(mesh=MeshOptions().refined(refine), neighbours=neighbours, cut_faces=cut_faces),
         blanks=blanks_from_design(design),
     )
     t0 = time.perf_counter()
@@ -137,6 +144,7 @@ def main(argv=None) -> int:
     ap.add_argument("--positions", type=int, default=24)
     ap.add_argument("--refine", type=float, default=1.0)
     ap.add_argument("--neighbours", type=int, default=1, help="unloaded teeth each side")
+    ap.add_argument("--cut-faces", default="clamped", choices=("clamped", "free"))
     ap.add_argument("--json", type=Path, help="write every run's numbers to this JSON file")
     a = ap.parse_args(argv)
     print(
@@ -150,7 +158,7 @@ def main(argv=None) -> int:
     rows = []
     for case in a.cases:
         for side in a.flanks:
-            r = run_case(case, side, a.positions, a.refine, a.neighbours)
+            r = run_case(case, side, a.positions, a.refine, a.neighbours, a.cut_faces)
             rows.append(r)
             print(head)
             for i, tq in enumerate(r["torques"]):
@@ -171,6 +179,7 @@ def main(argv=None) -> int:
             "command": "python benchmarks/bench_fe.py " + " ".join(argv or sys.argv[1:]),
             "mesh": f"MeshOptions().refined({a.refine})",
             "neighbours": a.neighbours,
+            "cut_faces": a.cut_faces,
             "positions": a.positions,
         }
         a.json.write_text(

@@ -62,13 +62,16 @@ class FEOptions:
     mesh: element counts (:class:`~gearbox.fe.mesh.MeshOptions`); matching_depth:
     depth d of the matching points below the flank, over m_n; lattice_spacing: unit
     load lattice spacing on the flank (face and profile), over m_n; neighbours: extra
-    unloaded teeth meshed on each side of the loaded ones.
+    unloaded teeth meshed on each side of the loaded ones; cut_faces: boundary condition
+    of the segment's two radial cut faces, ``"clamped"`` or ``"free"`` (the bore is
+    clamped in both).
     """
 
     mesh: MeshOptions = MeshOptions()
     matching_depth: float = 0.25
     lattice_spacing: float = 0.25
     neighbours: int = 1
+    cut_faces: str = "clamped"
 
     def __post_init__(self):
         p = Problems()
@@ -79,6 +82,12 @@ class FEOptions:
             "fe.neighbours",
             self.neighbours,
             "must be an integer >= 0",
+        )
+        p.check(
+            self.cut_faces in ("clamped", "free"),
+            "fe.cut_faces",
+            self.cut_faces,
+            "must be 'clamped' or 'free'",
         )
         p.raise_if_any("invalid FE options")
 
@@ -369,6 +378,7 @@ class FECompliance:
             tuple(range(lo - nb, hi + nb + 1)),
             bore_radius=self._bore.get(gear, loads.bore_radius),
             options=self.options.mesh,
+            clamp_cut_faces=self.options.cut_faces == "clamped",
         )
         model = build_model(mesh, E, nu)
         self.stats["factorisations"] += 1

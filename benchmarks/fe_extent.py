@@ -1,0 +1,79 @@
+"""How the FE level's mesh stiffness depends on the extent of the modelled segment.
+
+The FE level models the loaded teeth, ``neighbours`` unloaded teeth on each side and
+their rim; the bore is clamped and the segment's two radial cut faces are either
+clamped (too stiff: the cut faces hold the rim) or free (too soft). Both converge to
+the full gear's value as the segment grows; this script runs both sequences for one
+case and flank on a coarse mesh and extrapolates each geometrically (Aitken's delta^2
+on the last three values), so that the two estimates bracket and check each other.
+
+    python benchmarks/fe_extent.py --case 03 --flank R            # prints a table
+    python benchmarks/fe_extent.py --case 03 --flank R --jsonl out.jsonl
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from bench_fe import run_case  # noqa: E402
+
+
+def aitken(a: np.ndarray) -> float:
+    """Limit of a geometric sequence from its last three terms (nan if not monotone)."""
+    a0, a1, a2 = (float(v) for v in a[-3:])
+    d1, d2 = a1 - a0, a2 - a1
+    r = d2 / d1 if d1 != 0 else np.nan
+    if not 0 < r < 1:
+        return float("nan")
+    return a2 + d2 * r / (1 - r)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--case", default="03")
+    ap.add_argument("--flank", default="R", choices=("R", "L"))
+    ap.add_argument("--positions", type=int, default=8)
+    ap.add_argument("--refine", type=float, default=0.5)
+    ap.add_argument("--clamped", type=int, nargs="+", default=[1, 2, 3, 4, 5])
+    ap.add_argument("--free", type=int, nargs="+", default=[3, 4, 5])
+    ap.add_argument("--jsonl", type=Path, help="append one JSON line per run")
+    a = ap.parse_args(argv)
+    out = {"clamped": [], "free": []}
+    for bc in ("clamped", "free"):
+        for nb in getattr(a, bc):
+            r = run_case(a.case, a.flank, a.positions, a.refine, nb, bc)
+            k = np.asarray(r["k_fe"], dtype=float)
+            out[bc].append(k)
+            line = {
+                "case": a.case,
+                "flank": a.flank,
+                "refine": a.refine,
+                "positions": a.positions,
+                "cut_faces": bc,
+                "neighbours": nb,
+                "torques": r["torques"],
+                "k_fe": k.tolist(),
+                "dofs": r["dofs"],
+                "t_fe": r["t_fe"],
+            }
+            print(json.dumps(line), flush=True)
+            if a.jsonl is not None:
+                with a.jsonl.open("a") as fh:
+                    fh.write(json.dumps(line) + "\n")
+    for bc in ("clamped", "free"):
+        ks = np.array(out[bc])
+        if len(ks) >= 3:
+            lim = [aitken(ks[:, i]) for i in range(ks.shape[1])]
+            print(f"{bc}: limit {np.round(np.array(lim) / 1e6, 1)} N/um")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
