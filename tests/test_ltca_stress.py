@@ -146,20 +146,32 @@ def _iso(pair, torque, gear):
     )
 
 
+HELICAL_WIDE = ParallelPair(
+    normal_module=4e-3,
+    normal_pressure_angle=math.radians(20),
+    helix_angle=math.radians(30),
+    teeth=(20, 40),
+    face_width=60e-3,
+)
+
+
 @pytest.mark.parametrize("gear", [0, 1], ids=["pinion", "gear"])
-def test_helical_pair_root_stress_against_iso_6336_3(gear):
+@pytest.mark.parametrize("pair", [HELICAL, HELICAL_WIDE], ids=["15deg_b30", "30deg_b60"])
+def test_helical_pair_root_stress_against_iso_6336_3(pair, gear):
     # ISO 6336-3 method B nominal stress sigma_F0 = F_t/(b m_n) Y_F Y_S Y_beta against
-    # the largest root stress over a mesh cycle of the loaded TCA: ISO loads the
+    # the largest root stress over a mesh cycle of the loaded TCA. ISO loads the
     # virtual spur gear's outer point of single pair contact with the whole F_t and
-    # corrects the oblique contact line by the empirical Y_beta; the loaded TCA finds
-    # the load sharing and its line-end concentrations itself. 20 % is the agreement
-    # asserted (measured: see docs/ltca.md, "Root stress"); the independent slices
-    # (no spread) are 3 to 4 times ISO here, which the test rules out too
+    # corrects for the oblique contact line with the empirical, linear Y_beta; the
+    # loaded TCA finds the load sharing and the line-end concentrations itself.
+    # Measured: -5 % (15 deg, eps_beta 0.62) and +9 % (30 deg, eps_beta 2.4); 12 % is
+    # the agreement asserted. The independent slices (no spread) give 2.6 to 3.2
+    # times ISO on these pairs, which this bound rules out
     T = 400.0
-    r = ltca_cycle(lambda f: parallel_grid(HELICAL, f, n_face=40), [T], options=LTCAOptions(48))
+    r = ltca_cycle(lambda f: parallel_grid(pair, f, n_face=40), [T], options=LTCAOptions(48))
     got = (r.root_stress_pinion if gear == 0 else r.root_stress_gear)[0].max()
-    iso = _iso(HELICAL, T, gear)
-    assert iso.Y_beta == pytest.approx(1 - HELICAL.overlap_ratio * 15 / 120)
-    assert got == pytest.approx(iso.sigma_F0, rel=0.20), (
+    iso = _iso(pair, T, gear)
+    eps_b = min(pair.overlap_ratio, 1.0)
+    assert iso.Y_beta == pytest.approx(1 - eps_b * min(math.degrees(pair.helix_angle), 30) / 120)
+    assert got == pytest.approx(iso.sigma_F0, rel=0.12), (
         f"loaded TCA {got / 1e6:.1f} MPa, ISO 6336-3 {iso.sigma_F0 / 1e6:.1f} MPa"
     )

@@ -59,8 +59,8 @@ __all__ = [
 ]
 
 #: Moment-image decay length per unit bending arm h_F and per m_n (RootStressModel)
-SPREAD_HEIGHT = 1.0
-SPREAD_MODULE = 0.0
+SPREAD_HEIGHT = 0.35
+SPREAD_MODULE = 0.87
 
 
 @dataclass(frozen=True)

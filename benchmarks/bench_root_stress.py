@@ -1,0 +1,268 @@
+"""Root stress of the fast level against the FE level's fillet stress (and ISO 6336-3).
+
+For parallel-axis reference pairs (spur and helical, ``--pairs``) and the paper cases
+(models/case01..04.toml, ``--cases``, flanks ``--flanks``), over one mesh cycle and
+the scene's torques:
+
+- FE: the FE level's contact solution and its largest principal fillet stress
+  (``gearbox.fe.stress.fillet_stress``), the reference; also the FE fillet stress
+  under the fast level's contact loads, which isolates the stress model from the
+  load distribution;
+- fast: the slice root stress spread along the face by the moment image
+  (``gearbox.ltca.stress.grid_root_stress``, the mesh tables' value) and, for
+  comparison, the independent slices (no spread);
+- ISO 6336-3:2006 method B nominal stress with Y_beta for the parallel pairs.
+
+Printed per case, flank and torque: the largest root stress over the cycle (pinion,
+gear) of each, and the errors fast / FE - 1; for the pinion the envelope along the
+face (largest over the cycle at each FE face sample) of both levels and its largest
+difference over the FE maximum. Times of the fast and FE levels.
+
+    python benchmarks/bench_root_stress.py --pairs --cases 03 --flanks R
+    python benchmarks/bench_root_stress.py --cases 01 02 03 04 --mesh coarse
+
+``--mesh coarse`` is ``MeshOptions(across=2, profile=4, fillet=2, land=1, rim=2,
+face_length=1.0)``; ``default`` is ``MeshOptions()``. Timings on a shared machine
+vary: compare ratios measured in the same run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from gearbox.fe import FECompliance, FEOptions, MeshOptions  # noqa: E402
+from gearbox.fe.stress import fillet_stress  # noqa: E402
+from gearbox.geometry import PairSpec, design_pair  # noqa: E402
+from gearbox.ltca import FastCompliance, ParallelPair, parallel_grid, solve_contact  # noqa: E402
+from gearbox.ltca.beveloid import beveloid_grids, separation_field  # noqa: E402
+from gearbox.ltca.stress import (  # noqa: E402
+    RootStressModel,
+    grid_root_stress,
+    iso_nominal_root_stress,
+    root_stress_profile,
+)
+from gearbox.scene import load_scene  # noqa: E402
+from gearbox.surface import blanks_from_design  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+MESHES = {
+    "default": MeshOptions(),
+    "coarse": MeshOptions(across=2, profile=4, fillet=2, land=1, rim=2, face_length=1.0),
+}
+DEG = math.pi / 180
+# (pair, torques N m, face slices): the FE refinement study's spur and helical pairs
+# (tests/test_fe_convergence.py) and a parallel pair with case 03's teeth
+PAIRS = {
+    "spur z20/40 m4 b16": (
+        ParallelPair(
+            normal_module=4e-3,
+            normal_pressure_angle=20 * DEG,
+            helix_angle=0.0,
+            teeth=(20, 40),
+            face_width=16e-3,
+        ),
+        (400.0,),
+        8,
+    ),
+    "helical 15 deg z20/40 m4 b12": (
+        ParallelPair(
+            normal_module=4e-3,
+            normal_pressure_angle=20 * DEG,
+            helix_angle=15 * DEG,
+            teeth=(20, 40),
+            face_width=12e-3,
+        ),
+        (300.0,),
+        12,
+    ),
+    "helical 20 deg z29/45 m6 b40": (
+        ParallelPair(
+            normal_module=6e-3,
+            normal_pressure_angle=20 * DEG,
+            helix_angle=20 * DEG,
+            teeth=(29, 45),
+            face_width=40e-3,
+            profile_shift=(0.16, 0.2),
+            root_radius_coefficient=0.25,
+        ),
+        (300.0,),
+        20,
+    ),
+}
+NO_SPREAD = RootStressModel(spread_height=0.0, spread_module=0.0)
+
+
+def _iso(pair: ParallelPair, torque: float, gear: int) -> float:
+    return iso_nominal_root_stress(
+        tangential_force=torque / pair.pitch_radius(0),
+        face_width=pair.face_width,
+        teeth=pair.teeth[gear],
+        normal_module=pair.normal_module,
+        normal_pressure_angle=pair.normal_pressure_angle,
+        helix_angle=pair.helix_angle,
+        profile_shift=pair.profile_shift[gear],
+        tip_diameter=2 * pair.tip_radius(gear),
+        transverse_contact_ratio=pair.transverse_contact_ratio,
+        rack_dedendum=pair.dedendum_coefficient,
+        rack_root_radius=pair.root_radius_coefficient,
+    ).sigma_F0
+
+
+def _cycle(grids, torques, fe) -> dict:
+    """Largest root stresses over the cycle per torque, both levels, and the
+    pinion's envelope along the face."""
+    T = len(torques)
+    keys = ("fe", "fe_on_fast", "fast", "slice")
+    mx = {k: np.zeros((T, 2)) for k in keys}
+    env_z = None
+    env_fe = None
+    env_fast = None
+    t_fast = t_fe = 0.0
+    for g in grids:
+        for t, tq in enumerate(torques):
+            t0 = time.perf_counter()
+            sf = solve_contact(g, FastCompliance(), tq)
+            s_fast = grid_root_stress(g, sf.load)
+            prof = root_stress_profile(g, sf.load, 0)
+            t_fast += time.perf_counter() - t0
+            s_slice = grid_root_stress(g, sf.load, NO_SPREAD)
+            t0 = time.perf_counter()
+            se = solve_contact(g, fe, tq)
+            fs = [fillet_stress(fe, g, se.load, gear) for gear in (0, 1)]
+            t_fe += time.perf_counter() - t0
+            fo = [fillet_stress(fe, g, sf.load, gear) for gear in (0, 1)]
+            for gear in (0, 1):
+                mx["fe"][t, gear] = max(mx["fe"][t, gear], fs[gear].max)
+                mx["fe_on_fast"][t, gear] = max(mx["fe_on_fast"][t, gear], fo[gear].max)
+                mx["fast"][t, gear] = max(mx["fast"][t, gear], float(s_fast[gear].max()))
+                mx["slice"][t, gear] = max(mx["slice"][t, gear], float(s_slice[gear].max()))
+            if env_z is None:
+                env_z = fs[0].z
+                env_fe = np.zeros((T, env_z.size))
+                env_fast = np.zeros((T, env_z.size))
+            env_fe[t] = np.maximum(env_fe[t], fs[0].root_stress.max(axis=0))
+            fast_at = np.interp(env_z, prof.face, prof.stress.max(axis=0))
+            env_fast[t] = np.maximum(env_fast[t], fast_at)
+    return {
+        "torques": list(torques),
+        **{k: v.tolist() for k, v in mx.items()},
+        "envelope_z_m": env_z.tolist(),
+        "envelope_fe_Pa": env_fe.tolist(),
+        "envelope_fast_Pa": env_fast.tolist(),
+        "t_fast_s": t_fast,
+        "t_fe_s": t_fe,
+        "fe_stats": dict(fe.stats),
+    }
+
+
+def run_pair(name: str, mesh: MeshOptions, positions: int) -> dict:
+    pair, torques, n_face = PAIRS[name]
+    grids = [parallel_grid(pair, j / positions, n_face=n_face) for j in range(positions)]
+    fe = FECompliance(FEOptions(mesh=mesh))
+    fe.reserve(grids)
+    r = _cycle(grids, torques, fe)
+    r["iso"] = [[_iso(pair, tq, gear) for gear in (0, 1)] for tq in torques]
+    r["name"] = name
+    return r
+
+
+def run_case(case: str, side: str, mesh: MeshOptions, positions: int) -> dict:
+    scene = load_scene(ROOT / "models" / f"case{case}.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    lt = scene["ltca"]
+    field = separation_field(
+        design,
+        scene,
+        side,
+        n_profile=lt["grid_profile"],
+        n_face=lt["grid_face"],
+        positions=positions,
+    )
+    grids, _ = beveloid_grids(design, scene, field, positions)
+    fe = FECompliance(FEOptions(mesh=mesh), blanks=blanks_from_design(design))
+    fe.reserve(grids)
+    r = _cycle(grids, scene["load"]["torques_Nm"], fe)
+    r["name"] = f"case {case} {'drive' if side == 'R' else 'coast'}"
+    return r
+
+
+def _print(r: dict) -> None:
+    print(f"\n{r['name']}  (fast {r['t_fast_s']:.2f} s, FE {r['t_fe_s']:.1f} s)")
+    head = (
+        f"{'torque':>7} {'gear':>6} {'FE MPa':>7} {'FE(fast F)':>10} {'fast':>7} "
+        f"{'slices':>7} {'fast/FE-1':>9} {'slices/FE-1':>11}"
+    )
+    if "iso" in r:
+        head += f" {'ISO MPa':>8} {'fast/ISO-1':>10} {'FE/ISO-1':>9}"
+    print(head)
+    for t, tq in enumerate(r["torques"]):
+        for gear, name in ((0, "pinion"), (1, "gear")):
+            fe = r["fe"][t][gear]
+            line = (
+                f"{tq:7.0f} {name:>6} {fe / 1e6:7.1f} {r['fe_on_fast'][t][gear] / 1e6:10.1f} "
+                f"{r['fast'][t][gear] / 1e6:7.1f} {r['slice'][t][gear] / 1e6:7.1f} "
+                f"{r['fast'][t][gear] / fe - 1:+9.1%} {r['slice'][t][gear] / fe - 1:+11.1%}"
+            )
+            if "iso" in r:
+                iso = r["iso"][t][gear]
+                line += (
+                    f" {iso / 1e6:8.1f} {r['fast'][t][gear] / iso - 1:+10.1%} {fe / iso - 1:+9.1%}"
+                )
+            print(line)
+    z = np.asarray(r["envelope_z_m"]) * 1e3
+    for t, tq in enumerate(r["torques"]):
+        ef = np.asarray(r["envelope_fe_Pa"][t])
+        es = np.asarray(r["envelope_fast_Pa"][t])
+        dev = np.max(np.abs(es - ef)) / ef.max()
+        print(
+            f"  pinion along the face at {tq:.0f} N m (z mm: {', '.join(f'{v:.0f}' for v in z)}): "
+            f"FE {', '.join(f'{v / 1e6:.0f}' for v in ef)} MPa; "
+            f"fast {', '.join(f'{v / 1e6:.0f}' for v in es)} MPa; "
+            f"largest difference {dev:.1%} of the FE maximum"
+        )
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--pairs", action="store_true", help="the parallel-axis reference pairs")
+    ap.add_argument("--cases", nargs="*", default=[])
+    ap.add_argument("--flanks", nargs="+", default=["R", "L"])
+    ap.add_argument("--mesh", choices=sorted(MESHES), default="default")
+    ap.add_argument("--positions", type=int, default=24)
+    ap.add_argument("--json", type=Path, help="write every run's numbers to this JSON file")
+    a = ap.parse_args(argv)
+    mesh = MESHES[a.mesh]
+    print(
+        f"root stress, fast level against FE ({a.mesh} mesh), {a.positions} positions; "
+        "largest over the cycle; errors = fast / FE - 1"
+    )
+    runs = []
+    if a.pairs:
+        for name in PAIRS:
+            runs.append(run_pair(name, mesh, a.positions))
+            _print(runs[-1])
+    for case in a.cases:
+        for side in a.flanks:
+            runs.append(run_case(case, side, mesh, a.positions))
+            _print(runs[-1])
+    if a.json is not None:
+        meta = {
+            "command": "python benchmarks/bench_root_stress.py " + " ".join(argv or sys.argv[1:]),
+            "mesh": mesh.to_dict(),
+            "positions": a.positions,
+        }
+        a.json.write_text(json.dumps({"meta": meta, "runs": runs}))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
