@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{bf02b638-8d57-51b0-7856-0f7069c713e5}"
+#define MODEL_GUID "{72bd1e5b-72bb-3447-7158-e7a262a50dd3}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
@@ -94,8 +94,9 @@
 typedef struct {
     int n1, n2, nf, nt, np, h, has_coast;
     double axis[2][6];
-    double *torque, *samples, *coef;
-    double lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
+    int ng, ne, npg; /* grid cells per period: mesh, engine (0: none), propeller */
+    double *torque, *samples, *coef, *grid, *egrid, *pgrid;
+    double fmesh, fe, fp, lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
     double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
     double x0[6], qe0;
 } GbxModelData;

@@ -48,14 +48,14 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"mesh.force", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 35 output */
     {"mesh.deflection", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 36 output */
     {"mesh.dte", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 37 output */
-    {"q.engine", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052977, 0}, /* vr 38 state */
-    {"q.pinion", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052977, 0}, /* vr 39 state */
-    {"q.gear", 3, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678585e-05, 0}, /* vr 40 state */
-    {"q.propeller", 3, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678585e-05, 0}, /* vr 41 state */
-    {"v.engine", 3, 4, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.53254670438969, 0}, /* vr 42 state */
-    {"v.pinion", 3, 5, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.53254670438969, 0}, /* vr 43 state */
-    {"v.gear", 3, 6, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.987641209495578, 0}, /* vr 44 state */
-    {"v.propeller", 3, 7, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.987641209495578, 0}, /* vr 45 state */
+    {"q.engine", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 38 state */
+    {"q.pinion", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 39 state */
+    {"q.gear", 3, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 40 state */
+    {"q.propeller", 3, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 41 state */
+    {"v.engine", 3, 4, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 42 state */
+    {"v.pinion", 3, 5, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 43 state */
+    {"v.gear", 3, 6, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 44 state */
+    {"v.propeller", 3, 7, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 45 state */
     {"der(q.engine)", 4, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 46 derivative */
     {"der(q.pinion)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 47 derivative */
     {"der(q.gear)", 4, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 48 derivative */
@@ -121,13 +121,18 @@ static double propeller_torque(double kappa, double Omega2, double w, double Z, 
  * (theta_1 = Omega t + q_1). The mesh laws k_f, e_f, LTE_f are truncated Fourier series
  * in the pinion angle, fitted here from the table samples in resources/ at the
  * operating torque exactly as DrivetrainModel.build does (linear in torque, then the
- * discrete Fourier fit of gearbox.meshtable.fourier_fit).
+ * discrete Fourier fit of gearbox.meshtable.fourier_fit). The right-hand side reads the
+ * series from a grid over one mesh period (mesh_grid): quintic Hermite cells built from
+ * the series' exact values and first and second derivatives at ng = 32 h nodes; the
+ * outputs evaluate the series themselves.
  *
  * Build switches: GBX_WITH_ENGINE, GBX_WITH_PROPELLER (0: that shaft end is an input
  * flange), GBX_BEARINGS (bearing translations along the drive line of action). */
 
 #define NDOF (GBX_BEARINGS ? 6 : 4)
 #define TWO_PI 6.283185307179586
+#define GBX_GRID_PER_HARMONIC 32 /* grid cells per mesh period and harmonic */
+#define GBX_CELL 18              /* doubles per cell: 3 quintics (see mesh_grid) */
 
 /* ------------------------------------------------------------------ tables */
 
@@ -182,6 +187,20 @@ int gbx_model_load(ModelInstance *m) {
     n = 1 + 2 * d->h;
     d->coef = (double *)gbx_calloc(m, (size_t)(6 * n + 9 * d->np), sizeof(double));
     if (!d->coef) return fail(m, "out of memory");
+    d->ng = GBX_GRID_PER_HARMONIC * d->h;
+    d->grid = (double *)gbx_calloc(m, (size_t)(GBX_CELL * d->ng * d->nf + 2 * d->ng), sizeof(double));
+    if (!d->grid) return fail(m, "out of memory");
+#if GBX_WITH_ENGINE
+    /* z <= 24 (engine.cylinders' range): at most 24 GBX_ENGINE_HARMONICS harmonics */
+    d->egrid = (double *)gbx_calloc(
+        m, (size_t)(6 * GBX_GRID_PER_HARMONIC * (3 + 24 * GBX_ENGINE_HARMONICS)), sizeof(double));
+    if (!d->egrid) return fail(m, "out of memory");
+#endif
+#if GBX_WITH_PROPELLER
+    d->pgrid = (double *)gbx_calloc(m, (size_t)(6 * GBX_GRID_PER_HARMONIC * GBX_BLADE_HARMONICS),
+                                    sizeof(double));
+    if (!d->pgrid) return fail(m, "out of memory");
+#endif
     return 0;
 }
 
@@ -190,7 +209,10 @@ void gbx_model_free(ModelInstance *m) {
     gbx_free(m, d->torque);
     gbx_free(m, d->samples);
     gbx_free(m, d->coef);
-    d->torque = d->samples = d->coef = NULL;
+    gbx_free(m, d->grid);
+    gbx_free(m, d->egrid);
+    gbx_free(m, d->pgrid);
+    d->torque = d->samples = d->coef = d->grid = d->egrid = d->pgrid = NULL;
 }
 
 /* a0, a_1..a_h, b_1..b_h of samples v[0..np) (gearbox.meshtable.fourier_fit). */
@@ -214,6 +236,137 @@ static void fourier_fit(int np, int h, const double *v, double *c) {
         c[2 * h] = 0.0;
     }
 }
+
+/* ---------------------------------------------------- mesh laws on a grid
+ *
+ * Over one mesh period in the mesh phase phi = n1 theta_1, cell j of ng covers
+ * [j, j + 1) dphi, dphi = 2 pi / ng, and holds three quintic polynomials in the cell
+ * coordinate tau in [0, 1): k, e and de/dphi. Each interpolates its field's value and
+ * first and second derivatives at both nodes (quintic Hermite, C2 across cells). For
+ * a harmonic of order k the error is below (k dphi)^6 / 46080 of its amplitude: with
+ * ng = 32 h nodes, (2 pi / 32)^6 / 46080 = 1.3e-9 at the highest harmonic h. */
+/* k, k', k'', e, e', e'', e''' (derivatives in phi) of the series at node j */
+static void grid_node(const double *kc, const double *ec, int h, int ng, int j, const double *cs,
+                      const double *sn, double *v) {
+    int k, i;
+    for (i = 0; i < 7; i++) v[i] = 0.0;
+    v[0] = kc[0];
+    v[3] = ec[0];
+    for (k = 1; k <= h; k++) {
+        int r = (int)(((long)k * j) % ng);
+        double c = cs[r], s = sn[r], q = (double)k, q2 = q * q;
+        double kv = kc[k] * c + kc[h + k] * s, kd = kc[h + k] * c - kc[k] * s;
+        double ev = ec[k] * c + ec[h + k] * s, ed = ec[h + k] * c - ec[k] * s;
+        v[0] += kv;
+        v[1] += q * kd;
+        v[2] -= q2 * kv;
+        v[3] += ev;
+        v[4] += q * ed;
+        v[5] -= q2 * ev;
+        v[6] -= q2 * q * ed;
+    }
+}
+
+/* a[0..5] of p(tau) = sum a_i tau^i with p, p', p'' = (f, d, s) at 0 and 1 (d, s per dphi) */
+static void quintic(double f0, double d0, double s0, double f1, double d1, double s1, double dx,
+                    double *a) {
+    double df = f1 - f0;
+    d0 *= dx;
+    d1 *= dx;
+    s0 *= dx * dx;
+    s1 *= dx * dx;
+    a[0] = f0;
+    a[1] = d0;
+    a[2] = 0.5 * s0;
+    a[3] = 10.0 * df - 6.0 * d0 - 4.0 * d1 - 0.5 * (3.0 * s0 - s1);
+    a[4] = -15.0 * df + 8.0 * d0 + 7.0 * d1 + 0.5 * (3.0 * s0 - 2.0 * s1);
+    a[5] = 6.0 * df - 3.0 * (d0 + d1) - 0.5 * (s0 - s1);
+}
+
+/* the cells of every flank from the fitted series (after gbx_model_update's fit) */
+static void mesh_grid(GbxModelData *d) {
+    const int h = d->h, nc = 1 + 2 * h, ng = d->ng;
+    const double dx = TWO_PI / ng;
+    double *cs = d->grid + GBX_CELL * ng * d->nf, *sn = cs + ng;
+    int f, j;
+    for (j = 0; j < ng; j++) {
+        cs[j] = cos(dx * j);
+        sn[j] = sin(dx * j);
+    }
+    for (f = 0; f < d->nf; f++) {
+        const double *kc = d->coef + (3 * f) * nc, *ec = d->coef + (3 * f + 1) * nc;
+        double v0[7], v1[7];
+        grid_node(kc, ec, h, ng, 0, cs, sn, v0);
+        for (j = 0; j < ng; j++) {
+            double *a = d->grid + GBX_CELL * (f * ng + j);
+            grid_node(kc, ec, h, ng, (j + 1) % ng, cs, sn, v1);
+            quintic(v0[0], v0[1], v0[2], v1[0], v1[1], v1[2], dx, a);
+            quintic(v0[3], v0[4], v0[5], v1[3], v1[4], v1[5], dx, a + 6);
+            quintic(v0[4], v0[5], v0[6], v1[4], v1[5], v1[6], dx, a + 12);
+            memcpy(v0, v1, sizeof v0);
+        }
+    }
+}
+
+/* p(tau) by Estrin's scheme (a shorter dependency chain than Horner's) */
+static inline double quintic_value(const double *a, double tau) {
+    double t2 = tau * tau;
+    return (a[0] + a[1] * tau) + t2 * ((a[2] + a[3] * tau) + t2 * (a[4] + a[5] * tau));
+}
+
+/* cell j of n over one period at phase u (in periods) and tau in [0, 1) within it */
+static inline int grid_cell(double u, int n, double *tau) {
+    double s;
+    long w = (long)u; /* floor(u) for |u| < 2^63 without the library call */
+    int j;
+    if ((double)w > u) w--;
+    u -= (double)w;
+    s = u * n;
+    j = (int)s;
+    if (j >= n) j = n - 1;
+    *tau = s - j;
+    return j;
+}
+
+#if GBX_WITH_ENGINE || GBX_WITH_PROPELLER
+/* ---------------------------------------------- time excitations on a grid
+ * The engine's relative torque ripple sum_i ea_i sin(eo_i Omega t) (loads.c.in) is
+ * periodic in u = Omega t / (4 pi) (two revolutions) when z is a whole number, the
+ * propeller's sum_h (r_b / h) sin(h Z Omega_2 t) in u = Z Omega_2 t / (2 pi). Each is
+ * read from quintic Hermite cells over one period, GBX_GRID_PER_HARMONIC per harmonic
+ * of its highest order (the error bound of the mesh grid). */
+
+/* value and first and second derivative in u of sum_i w_i sin(2 pi m_i u) */
+static void sine_node(int nm, const double *mo, const double *w, double u, double *v) {
+    int i;
+    v[0] = v[1] = v[2] = 0.0;
+    for (i = 0; i < nm; i++) {
+        double a = TWO_PI * mo[i], sa = sin(a * u), ca = cos(a * u);
+        v[0] += w[i] * sa;
+        v[1] += w[i] * a * ca;
+        v[2] -= w[i] * a * a * sa;
+    }
+}
+
+/* n cells (6 doubles each) of sum_i w_i sin(2 pi m_i u), u in [0, 1), whole m_i */
+static void sine_grid(double *cells, int n, int nm, const double *mo, const double *w) {
+    const double dx = 1.0 / n;
+    double v0[3], v1[3];
+    int j;
+    sine_node(nm, mo, w, 0.0, v0);
+    for (j = 0; j < n; j++) {
+        sine_node(nm, mo, w, (double)(j + 1) * dx, v1);
+        quintic(v0[0], v0[1], v0[2], v1[0], v1[1], v1[2], dx, cells + 6 * j);
+        memcpy(v0, v1, sizeof v0);
+    }
+}
+
+static inline double sine_grid_value(const double *cells, int n, double u) {
+    double tau;
+    int j = grid_cell(u, n, &tau);
+    return quintic_value(cells + 6 * j, tau);
+}
+#endif
 
 /* Solve A x = b (n <= 6) by Gaussian elimination with partial pivoting; 0 ok. */
 static int solve(int n, double A[6][6], double *b) {
@@ -321,6 +474,7 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
         fourier_fit(np, d->h, lte, d->coef + (3 * f + 2) * nc);
         d->ebound[f] = 0.0;
         for (j = 0; j < nc; j++) d->ebound[f] += fabs(d->coef[(3 * f + 1) * nc + j]);
+        d->ebound[f] *= 1.0 + 1e-6; /* also bounds the grid's e (error below 1e-8) */
         inv_m = d->lam1[f] * d->lam1[f] / j1n + d->lam2[f] * d->lam2[f] / j2n;
         d->kbar[f] = d->coef[3 * f * nc];
         d->cm[f] = d->kbar[f] > 0.0 ? 2.0 * P(mesh_damping_ratio) * sqrt(d->kbar[f] / inv_m) : 0.0;
@@ -340,10 +494,44 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
             }
         }
     }
+    mesh_grid(d);
     d->Omega = P(engine_nominal_speed);
+    d->fmesh = d->n1 * d->Omega / TWO_PI;
     d->Omega2 = d->Omega * d->n1 / d->n2;
     d->T = T;
     d->kappa = T * (d->lam2[0] / d->lam1[0]) / (d->Omega2 * d->Omega2);
+#if GBX_WITH_ENGINE
+    {
+        double z = P(engine_cylinders), mo[GBX_ENGINE_HARMONICS + 3], w[GBX_ENGINE_HARMONICS + 3];
+        int nm = 0;
+        d->ne = 0; /* a fractional z: no common period, engine_torque() itself */
+        if (z == floor(z) && z * GBX_ENGINE_HARMONICS <= 24 * GBX_ENGINE_HARMONICS) {
+            for (i = 1; i <= GBX_ENGINE_HARMONICS; i++) {
+                mo[nm] = i * z;
+                w[nm++] = P(engine_firing_ripple) / i;
+            }
+            for (i = 1; i <= 3; i++) {
+                mo[nm] = i;
+                w[nm++] = P(engine_half_order_ripple) / i;
+            }
+            d->ne = GBX_GRID_PER_HARMONIC * (int)fmax(3.0, z * GBX_ENGINE_HARMONICS);
+            sine_grid(d->egrid, d->ne, nm, mo, w);
+        }
+        d->fe = d->Omega / (2.0 * TWO_PI);
+    }
+#endif
+#if GBX_WITH_PROPELLER
+    {
+        double mo[GBX_BLADE_HARMONICS], w[GBX_BLADE_HARMONICS];
+        for (i = 0; i < GBX_BLADE_HARMONICS; i++) {
+            mo[i] = i + 1;
+            w[i] = P(propeller_blade_pass_ripple) / (i + 1);
+        }
+        d->npg = GBX_GRID_PER_HARMONIC * GBX_BLADE_HARMONICS;
+        sine_grid(d->pgrid, d->npg, GBX_BLADE_HARMONICS, mo, w);
+        d->fp = P(propeller_blades) * d->Omega2 / TWO_PI;
+    }
+#endif
     d->k_in = P(input_shaft_stiffness);
     d->k_out = P(output_shaft_stiffness);
     d->c_in = 2.0 * P(input_shaft_damping_ratio) * sqrt(d->k_in * je * j1n / (je + j1n));
@@ -435,65 +623,101 @@ static double series_value(const double *c, int h, const double *cs, const doubl
     return s;
 }
 
-/* Mesh forces F[2] (N), gaps, and LTE_drive at (t, x, v); docs section 3 */
-static void mesh(const ModelInstance *m, double t, const double *x, const double *v, double *F,
-                 double *lte_drive) {
-    const GbxModelData *d = &m->data;
+/* k_f, e_f and de_f/dtheta_1 of every flank at pinion angle theta = Omega t + x1: from
+ * the grid (fast: the right-hand side) or from the series (exact: the outputs, with
+ * LTE_drive) */
+static void mesh_laws(const GbxModelData *d, double t, double x1, const int *want, int exact,
+                      double *kf, double *ef, double *de, double *lte_drive) {
     const int h = d->h, nc = 1 + 2 * h;
-    double cs[GBX_MAX_HARMONICS + 1], sn[GBX_MAX_HARMONICS + 1], th, c1, s1;
-    int f, k, i;
-    th = d->Omega * t + x[1];
-    c1 = cos(d->n1 * th);
-    s1 = sin(d->n1 * th);
-    cs[0] = 1.0;
-    sn[0] = 0.0;
-    for (k = 1; k <= h; k++) {
-        if (k % 32 == 1) { /* refresh the recurrence against round-off */
-            cs[k] = cos(k * d->n1 * th);
-            sn[k] = sin(k * d->n1 * th);
-        } else {
-            cs[k] = cs[k - 1] * c1 - sn[k - 1] * s1;
-            sn[k] = sn[k - 1] * c1 + cs[k - 1] * s1;
+    int f, k;
+    if (!exact) {
+        /* mesh phase in periods: f_mesh t + n1 x1 / (2 pi) = n1 theta_1 / (2 pi) */
+        double tau;
+        int j = grid_cell(d->fmesh * t + d->n1 * x1 / TWO_PI, d->ng, &tau);
+        for (f = 0; f < d->nf; f++) {
+            const double *a = d->grid + GBX_CELL * (f * d->ng + j);
+            if (!want[f]) continue;
+            kf[f] = quintic_value(a, tau);
+            ef[f] = quintic_value(a + 6, tau);
+            de[f] = d->n1 * quintic_value(a + 12, tau);
         }
+        return;
     }
-    for (f = 0; f < 2; f++) {
-        double kf, ef, de, delta = 0.0, ddelta = 0.0, s, sd;
-        F[f] = 0.0;
-        if (f >= d->nf) continue;
-        for (i = 0; i < NDOF; i++) {
-            delta += d->G[f][i] * x[i];
-            ddelta += d->G[f][i] * v[i];
+    {
+        double cs[GBX_MAX_HARMONICS + 1], sn[GBX_MAX_HARMONICS + 1];
+        double th = d->Omega * t + x1, c1 = cos(d->n1 * th), s1 = sin(d->n1 * th);
+        cs[0] = 1.0;
+        sn[0] = 0.0;
+        for (k = 1; k <= h; k++) {
+            if (k % 32 == 1) { /* refresh the recurrence against round-off */
+                cs[k] = cos(k * d->n1 * th);
+                sn[k] = sin(k * d->n1 * th);
+            } else {
+                cs[k] = cs[k - 1] * c1 - sn[k - 1] * s1;
+                sn[k] = sn[k - 1] * c1 + cs[k - 1] * s1;
+            }
         }
-        /* s <= delta + max|e| - b: no contact possible, F = 0 without the series */
-        if (delta + d->ebound[f] - d->bl[f] <= 0.0) continue;
-        kf = series_value(d->coef + (3 * f) * nc, h, cs, sn);
-        series(d->coef + (3 * f + 1) * nc, h, d->n1, cs, sn, &ef, &de);
-        s = delta - ef - d->bl[f];
-        sd = ddelta - de * (d->Omega + v[1]);
-        if (s > 0.0) F[f] = fmax(kf * s + d->cm[f] * sd, 0.0);
+        for (f = 0; f < d->nf; f++) {
+            kf[f] = series_value(d->coef + (3 * f) * nc, h, cs, sn);
+            series(d->coef + (3 * f + 1) * nc, h, d->n1, cs, sn, &ef[f], &de[f]);
+        }
+        if (lte_drive) *lte_drive = series_value(d->coef + 2 * nc, h, cs, sn);
     }
-    if (lte_drive) {
-        *lte_drive = series_value(d->coef + 2 * nc, h, cs, sn);
+}
+
+/* Mesh forces F[2] (N) at (t, x, v), docs section 3; LTE_drive when asked (exact laws) */
+static void mesh(const ModelInstance *m, double t, const double *x, const double *v, double *F,
+                 int exact, double *lte_drive) {
+    const GbxModelData *d = &m->data;
+    double kf[2], ef[2], de[2], delta[2] = {0.0, 0.0}, ddelta[2] = {0.0, 0.0};
+    int f, i, want[2] = {0, 0}, any = lte_drive != NULL;
+    for (f = 0; f < d->nf; f++) {
+        /* G_f is zero at the engine and the propeller (i = 0, 3) */
+        delta[f] = d->G[f][1] * x[1] + d->G[f][2] * x[2];
+        ddelta[f] = d->G[f][1] * v[1] + d->G[f][2] * v[2];
+        for (i = 4; i < NDOF; i++) {
+            delta[f] += d->G[f][i] * x[i];
+            ddelta[f] += d->G[f][i] * v[i];
+        }
+        /* s <= delta + max|e| - b: no contact possible, F = 0 without the laws */
+        want[f] = delta[f] + d->ebound[f] - d->bl[f] > 0.0;
+        any |= want[f];
+    }
+    F[0] = F[1] = 0.0;
+    if (!any) return;
+    mesh_laws(d, t, x[1], want, exact, kf, ef, de, lte_drive);
+    for (f = 0; f < d->nf; f++) {
+        double s;
+        if (!want[f]) continue;
+        s = delta[f] - ef[f] - d->bl[f];
+        double sd = ddelta[f] - de[f] * (d->Omega + v[1]);
+        if (s > 0.0) {
+            double Ff = kf[f] * s + d->cm[f] * sd;
+            F[f] = Ff > 0.0 ? Ff : 0.0; /* no tension (NaN gives 0, as fmax) */
+        }
     }
 }
 
 static void accelerations(const ModelInstance *m, double t, const double *x, const double *v,
-                          double *a, double *te_out, double *tp_out, double *F) {
+                          int exact, double *a, double *te_out, double *tp_out, double *F) {
     const GbxModelData *d = &m->data;
     double tin, tout, te = 0.0, tp = 0.0;
     int i, f;
-    mesh(m, t, x, v, F, NULL);
+    mesh(m, t, x, v, F, exact, NULL);
     tin = d->k_in * (x[0] - x[1]) + d->c_in * (v[0] - v[1]);
     tout = d->k_out * (x[2] - x[3]) + d->c_out * (v[2] - v[3]);
 #if GBX_WITH_ENGINE
-    te = engine_torque(d->T, d->Omega, P(engine_cylinders), P(engine_firing_ripple),
-                       P(engine_half_order_ripple), t) -
+    te = (d->ne && !exact ? d->T * (1.0 + sine_grid_value(d->egrid, d->ne, d->fe * t))
+                          : engine_torque(d->T, d->Omega, P(engine_cylinders),
+                                          P(engine_firing_ripple), P(engine_half_order_ripple), t)) -
          P(engine_governor_kp) * v[0] - P(engine_governor_ki) * (x[0] - d->qe0) +
          gbx_input(m, VR_engine_torque_input, t);
 #endif
 #if GBX_WITH_PROPELLER
-    tp = propeller_torque(d->kappa, d->Omega2, d->Omega2 + v[3], P(propeller_blades),
-                          P(propeller_blade_pass_ripple), t) +
+    tp = (exact ? propeller_torque(d->kappa, d->Omega2, d->Omega2 + v[3], P(propeller_blades),
+                                   P(propeller_blade_pass_ripple), t)
+                : d->kappa * (d->Omega2 + v[3]) * (d->Omega2 + v[3]) *
+                      (1.0 + sine_grid_value(d->pgrid, d->npg, d->fp * t))) +
          gbx_input(m, VR_propeller_torque_input, t);
 #endif
 #if GBX_WITH_ENGINE
@@ -536,7 +760,7 @@ void gbx_model_derivatives(const ModelInstance *m, double t, const double *s, do
     double x[6], v[6], a[6], F[2];
     int i;
     coordinates(m, t, s, x, v);
-    accelerations(m, t, x, v, a, NULL, NULL, F);
+    accelerations(m, t, x, v, 0, a, NULL, NULL, F);
     for (i = 0; i < NDOF; i++) {
         int k = GBX_STATE_OF_DOF[i];
         if (k >= 0) {
@@ -551,8 +775,8 @@ void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
     double x[6], v[6], a[6], F[2], te, tp, lte, defl = 0.0;
     int i;
     coordinates(m, t, s, x, v);
-    accelerations(m, t, x, v, a, &te, &tp, F);
-    mesh(m, t, x, v, F, &lte);
+    accelerations(m, t, x, v, 1, a, &te, &tp, F);
+    mesh(m, t, x, v, F, 1, &lte);
     for (i = 0; i < NDOF; i++) defl += d->G[0][i] * x[i];
     m->r[VR_pinion_phi] = d->Omega * t + x[1];
     m->r[VR_pinion_w] = d->Omega + v[1];

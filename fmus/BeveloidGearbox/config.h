@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{92a60973-e25c-cc52-90c3-7f478d2041bc}"
+#define MODEL_GUID "{8ad38428-57ea-3a88-e2b1-cd142e817238}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
@@ -73,8 +73,9 @@
 typedef struct {
     int n1, n2, nf, nt, np, h, has_coast;
     double axis[2][6];
-    double *torque, *samples, *coef;
-    double lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
+    int ng, ne, npg; /* grid cells per period: mesh, engine (0: none), propeller */
+    double *torque, *samples, *coef, *grid, *egrid, *pgrid;
+    double fmesh, fe, fp, lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
     double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
     double x0[6], qe0;
 } GbxModelData;

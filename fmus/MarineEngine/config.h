@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER MarineEngine
-#define MODEL_GUID "{5d9096e1-8d26-4061-1913-54848cff3f8c}"
+#define MODEL_GUID "{eab6e4cb-287c-93e5-0743-e0d3d0c99408}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

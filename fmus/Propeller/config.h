@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER Propeller
-#define MODEL_GUID "{606bcfc6-c701-63c8-af10-b6f5b51548db}"
+#define MODEL_GUID "{744d7ca8-ec17-8046-db3d-c19704fcd6ef}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
