@@ -462,3 +462,20 @@ def test_files_of_a_cached_stage_are_copied_from_the_cache(scene, tmp_path, monk
     other = dataclasses.replace(second, results={"response": Value(1.0)})
     assert outputs.write_run(other, tmp_path / "c2").copied == ()
     assert written == ["response", "response"]
+
+
+def _thread_name(_):
+    import threading
+
+    return threading.current_thread().name
+
+
+def test_map_items_on_threads_for_compiled_runs():
+    import os
+
+    got = map_items(_thread_name, range(5), threads=True)
+    assert got[0] == "MainThread"  # the first item runs here (it compiles, if anything)
+    if len(os.sched_getaffinity(0)) > 1:
+        assert all(n.startswith("gearbox-sweep") for n in got[1:]), got
+    assert map_items(_pid, range(4), threads=True) == [os.getpid()] * 4  # no processes
+    assert map_items(_thread_name, range(3), threads=True, jobs=1) == ["MainThread"] * 3

@@ -17,7 +17,9 @@ or BLAS's threads can deadlock, and with jax kept on the CPU in the workers unle
 given, the first item runs here and is timed, and the rest go to a pool on all cores
 only when that is expected to be faster (:func:`use_pool`): starting workers that
 import gearbox and jax cost 2.3-3.4 s on the 2-core development machine, more than a
-short sweep takes in one process.
+short sweep takes in one process. A sweep whose items run compiled code that releases
+the GIL (``threads=True``: the diffrax runs of the speed sweep) goes to a thread pool
+of this process instead: no start, the solver compiled once.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ import multiprocessing
 import os
 import time
 from collections.abc import Callable, Iterable
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from typing import Any
 
 __all__ = ["POOL_START_S", "POOL_WARMUP_S", "default_jobs", "map_items", "use_pool"]
@@ -109,6 +111,7 @@ def map_items(
     jobs: int | None = None,
     progress: bool = False,
     desc: str = "",
+    threads: bool = False,
 ) -> list[Any]:
     """``[fn(x) for x in items]``, in parallel where that pays.
 
@@ -122,6 +125,11 @@ def map_items(
         None decides after timing the first item (module doc).
     progress : bool
         Show a tqdm progress bar on stderr.
+    threads : bool
+        ``fn`` spends its time in compiled code that releases the GIL and may run in
+        several threads at once (a compiled jax run): with ``jobs`` None and no
+        executor, the items after the first run on a thread pool of one thread per
+        core, in this process (nothing to start, nothing compiled again).
     """
     items = list(items)
     from tqdm.auto import tqdm
@@ -131,20 +139,30 @@ def map_items(
         if executor is not None:
             return _submit_all(fn, items, executor, bar)
         done: list[Any] = []
+        pool_type = "process"
         if jobs is None and items:
             t0 = time.perf_counter()
             done.append(fn(items[0]))
             bar.update()
             first_s = time.perf_counter() - t0
             workers = min(default_jobs(), len(items) - 1)
-            jobs = workers if use_pool(len(items) - 1, first_s, workers) else 1
+            if threads and workers > 1:
+                jobs, pool_type = workers, "thread"
+            else:
+                jobs = workers if use_pool(len(items) - 1, first_s, workers) else 1
         rest = items[len(done) :]
         if jobs == 1 or len(rest) <= 1:
             for x in rest:
                 done.append(fn(x))
                 bar.update()
             return done
-        with _pool(min(jobs, len(rest))) as pool:
+        n = min(jobs, len(rest))
+        pool = (
+            ThreadPoolExecutor(n, thread_name_prefix="gearbox-sweep")
+            if pool_type == "thread"
+            else _pool(n)
+        )
+        with pool:
             return done + _submit_all(fn, rest, pool, bar)
     finally:
         bar.close()

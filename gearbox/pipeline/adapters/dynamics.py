@@ -46,6 +46,10 @@ SPECTRUM_CHANNELS = (
     "gear_bearing_force_N",
 )
 
+#: Solvers whose runs may share this process's cores as threads: a compiled jax run
+#: releases the GIL (exudyn and scipy runs stay one after the other, or in processes).
+THREADED = ("diffrax",)
+
 #: Speeds of the Campbell diagram's mode curves (eigenvalues are cheap).
 CAMPBELL_SPEEDS = 61
 
@@ -341,7 +345,8 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
     op = ctx.inputs.get("dynamics")
     reused = {i: _reused_point(op, j[0], j[3], j[4]) for i, j in enumerate(jobs)}
     reused = {i: p for i, p in reused.items() if p is not None}
-    run = iter(ctx.map(sweep_point, [j for i, j in enumerate(jobs) if i not in reused]))
+    todo = [j for i, j in enumerate(jobs) if i not in reused]
+    run = iter(ctx.map(sweep_point, todo, threads=getattr(solver, "name", "") in THREADED))
     points = tuple(reused[i] if i in reused else next(run) for i in range(len(jobs)))
     waterfalls = {}
     for name in SPECTRUM_CHANNELS:
