@@ -20,6 +20,14 @@ difference over the FE maximum. Times of the fast and FE levels.
 
     python benchmarks/bench_root_stress.py --pairs --cases 03 --flanks R
     python benchmarks/bench_root_stress.py --cases 01 02 03 04 --mesh coarse
+    python benchmarks/bench_root_stress.py --kernel
+
+``--kernel`` fits the moment image's decay length on the FE level instead: unit loads
+at every face slice of a spur tooth (z 20/40, m_n 4 mm, b = 6 m_n, the default mesh
+with elements 0.5 m_n long along the face), at three load heights; for the middle
+slice's load, the decay length c whose image (free ends) best fits the FE fillet
+stress along the face (least squares), and the rule ``c = a h_F + b m_n`` through
+the three (:class:`gearbox.ltca.stress.RootStressModel`'s defaults).
 
 ``--mesh coarse`` is ``MeshOptions(across=2, profile=4, fillet=2, land=1, rim=2,
 face_length=1.0)``; ``default`` is ``MeshOptions()``. Timings on a shared machine
@@ -195,6 +203,81 @@ def run_case(case: str, side: str, mesh: MeshOptions, positions: int) -> dict:
     return r
 
 
+def run_kernel() -> dict:
+    """Decay length of the moment image fitted on FE unit loads (see the module doc)."""
+    import dataclasses
+
+    from scipy.optimize import minimize_scalar
+
+    from gearbox.ltca.stress import iso_root_section, moment_image, slice_root_stress
+
+    mn = 4e-3
+    pair = ParallelPair(
+        normal_module=mn,
+        normal_pressure_angle=20 * DEG,
+        helix_angle=0.0,
+        teeth=(20, 40),
+        face_width=6 * mn,
+    )
+    fe = FECompliance(FEOptions(mesh=dataclasses.replace(MeshOptions(), face_length=0.5)))
+    rows = []
+    for frac in (0.999, 0.5):
+        g = parallel_grid(pair, frac, n_face=24)
+        for k in np.unique(g.pair):
+            idx = np.flatnonzero(g.pair == k)
+            i = int(idx[idx.size // 2])
+            unit = np.zeros(g.size)
+            unit[i] = 1.0
+            fs = fillet_stress(fe, g, unit, 0)
+            prof = fs.root_stress[list(fs.teeth).index(k)]
+            t = g.tooth1.take([i])
+            s = float(slice_root_stress(t, np.array([1.0 / g.width[i]]))[0])
+            sec = iso_root_section(
+                zn=t.teeth,
+                normal_module=t.normal_module,
+                normal_pressure_angle=t.normal_pressure_angle,
+                profile_shift=t.profile_shift,
+                rack_dedendum=t.rack_dedendum,
+                rack_root_radius=t.rack_root_radius,
+                load_diameter=2 * t.radius,
+            )
+
+            def err(c, z=fs.z, y0=g.face[i], w=g.width[i], p=prof / s, fr=g.face_range):
+                return float(np.sum((moment_image(z, [y0], w, c, fr)[:, 0] - p) ** 2))
+
+            c = minimize_scalar(err, bounds=(0.05 * mn, 5 * mn), method="bounded").x
+            img = moment_image(fs.z, [g.face[i]], g.width[i], c, g.face_range)[:, 0]
+            rows.append(
+                {
+                    "radius_m": float(t.radius[0]),
+                    "h_F_m": float(sec.h_F[0]),
+                    "decay_m": float(c),
+                    "fe_peak_over_image_peak": float(prof.max() / s / img.max()),
+                    "fe_integral_over_slice": float(
+                        np.sum(prof) * np.mean(np.diff(fs.z)) / s / g.width[i]
+                    ),
+                }
+            )
+    A = np.array([[r["h_F_m"], mn] for r in rows])
+    coef = np.linalg.lstsq(A, np.array([r["decay_m"] for r in rows]), rcond=None)[0]
+    return {"name": "moment-image decay length", "rows": rows, "rule": coef.tolist()}
+
+
+def _print_kernel(r: dict) -> None:
+    print("\nmoment image fitted on FE unit loads (spur z 20/40, m_n 4 mm, b 24 mm)")
+    print(
+        f"{'load radius mm':>14} {'h_F mm':>7} {'c mm':>6} {'c rule mm':>9} {'FE/image peak':>13} {'FE/slice moment':>15}"
+    )
+    a, b = r["rule"]
+    for row in r["rows"]:
+        print(
+            f"{row['radius_m'] * 1e3:14.2f} {row['h_F_m'] * 1e3:7.2f} {row['decay_m'] * 1e3:6.2f} "
+            f"{(a * row['h_F_m'] + b * 4e-3) * 1e3:9.2f} {row['fe_peak_over_image_peak']:13.3f} "
+            f"{row['fe_integral_over_slice']:15.3f}"
+        )
+    print(f"least squares: c = {a:.3f} h_F + {b:.3f} m_n")
+
+
 def _print(r: dict) -> None:
     print(f"\n{r['name']}  (fast {r['t_fast_s']:.2f} s, FE {r['t_fe_s']:.1f} s)")
     head = (
@@ -234,6 +317,7 @@ def _print(r: dict) -> None:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pairs", action="store_true", help="the parallel-axis reference pairs")
+    ap.add_argument("--kernel", action="store_true", help="fit the moment image on FE unit loads")
     ap.add_argument("--cases", nargs="*", default=[])
     ap.add_argument("--flanks", nargs="+", default=["R", "L"])
     ap.add_argument("--mesh", choices=sorted(MESHES), default="default")
@@ -246,6 +330,9 @@ def main(argv=None) -> int:
         "largest over the cycle; errors = fast / FE - 1"
     )
     runs = []
+    if a.kernel:
+        runs.append(run_kernel())
+        _print_kernel(runs[-1])
     if a.pairs:
         for name in PAIRS:
             runs.append(run_pair(name, mesh, a.positions))
