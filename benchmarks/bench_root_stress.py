@@ -21,6 +21,10 @@ difference over the FE maximum. Times of the fast and FE levels.
     python benchmarks/bench_root_stress.py --pairs --cases 03 --flanks R
     python benchmarks/bench_root_stress.py --cases 01 02 03 04 --mesh coarse
     python benchmarks/bench_root_stress.py --kernel
+    python benchmarks/bench_root_stress.py --iso
+
+``--iso`` runs the fast level alone on parallel spur and helical pairs (48 positions)
+against ISO 6336-3 with Y_beta, with and without the spread along the face.
 
 ``--kernel`` fits the moment image's decay length on the FE level instead: unit loads
 at every face slice of a spur tooth (z 20/40, m_n 4 mm, b = 6 m_n, the default mesh
@@ -107,6 +111,60 @@ PAIRS = {
     ),
 }
 NO_SPREAD = RootStressModel(spread_height=0.0, spread_module=0.0)
+
+
+def _pair(teeth, helix_deg, face_mm, module_mm=4.0, **kw) -> ParallelPair:
+    return ParallelPair(
+        normal_module=module_mm * 1e-3,
+        normal_pressure_angle=20 * DEG,
+        helix_angle=helix_deg * DEG,
+        teeth=teeth,
+        face_width=face_mm * 1e-3,
+        **kw,
+    )
+
+
+# ``--iso``: fast level only, against ISO 6336-3 (tests/test_ltca_stress.py holds two)
+ISO_PAIRS = {
+    "spur z30/45 m4 b30": (_pair((30, 45), 0, 30), 400.0),
+    "helical 15 deg z20/40 m4 b12": (_pair((20, 40), 15, 12), 300.0),
+    "helical 15 deg z30/45 m4 b30": (_pair((30, 45), 15, 30), 400.0),
+    "helical 20 deg z29/45 m6 b40": (
+        _pair((29, 45), 20, 40, 6.0, profile_shift=(0.16, 0.2), root_radius_coefficient=0.25),
+        300.0,
+    ),
+    "helical 30 deg z20/40 m4 b60": (_pair((20, 40), 30, 60), 400.0),
+}
+
+
+def run_iso(positions: int) -> None:
+    """Largest root stress over a cycle (40 face slices) against ISO 6336-3."""
+    import gearbox.ltca.analysis as analysis
+
+    print(f"\nfast level against ISO 6336-3 method B (with Y_beta), {positions} positions")
+    print(
+        f"{'pair':>30} {'eps_beta':>8} {'ISO MPa pinion/gear':>20} "
+        f"{'fast / ISO':>13} {'slices / ISO':>13}"
+    )
+    spread = analysis.grid_root_stress
+    for name, (pair, tq) in ISO_PAIRS.items():
+        iso = [_iso(pair, tq, gear) for gear in (0, 1)]
+        got = []
+        for model in (None, NO_SPREAD):
+            analysis.grid_root_stress = (
+                spread if model is None else (lambda g, f: grid_root_stress(g, f, NO_SPREAD))
+            )
+            r = analysis.ltca_cycle(
+                lambda f, p=pair: parallel_grid(p, f, n_face=40),
+                [tq],
+                options=analysis.LTCAOptions(positions=positions),
+            )
+            got.append((r.root_stress_pinion.max() / iso[0], r.root_stress_gear.max() / iso[1]))
+        analysis.grid_root_stress = spread
+        print(
+            f"{name:>30} {pair.overlap_ratio:8.2f} {iso[0] / 1e6:9.1f} / {iso[1] / 1e6:7.1f} "
+            f"{got[0][0]:6.3f}/{got[0][1]:6.3f} {got[1][0]:6.3f}/{got[1][1]:6.3f}"
+        )
 
 
 def _iso(pair: ParallelPair, torque: float, gear: int) -> float:
@@ -318,6 +376,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pairs", action="store_true", help="the parallel-axis reference pairs")
     ap.add_argument("--kernel", action="store_true", help="fit the moment image on FE unit loads")
+    ap.add_argument("--iso", action="store_true", help="fast level against ISO 6336-3 only")
     ap.add_argument("--cases", nargs="*", default=[])
     ap.add_argument("--flanks", nargs="+", default=["R", "L"])
     ap.add_argument("--mesh", choices=sorted(MESHES), default="default")
@@ -330,6 +389,8 @@ def main(argv=None) -> int:
         "largest over the cycle; errors = fast / FE - 1"
     )
     runs = []
+    if a.iso:
+        run_iso(48 if a.positions == 24 else a.positions)
     if a.kernel:
         runs.append(run_kernel())
         _print_kernel(runs[-1])
