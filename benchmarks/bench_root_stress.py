@@ -59,7 +59,7 @@ from gearbox.ltca.beveloid import beveloid_grids, separation_field  # noqa: E402
 from gearbox.ltca.stress import (  # noqa: E402
     RootStressModel,
     grid_root_stress,
-    iso_nominal_root_stress,
+    iso_pair_root_stress,
     root_stress_profile,
 )
 from gearbox.scene import load_scene  # noqa: E402
@@ -71,46 +71,6 @@ MESHES = {
     "coarse": MeshOptions(across=2, profile=4, fillet=2, land=1, rim=2, face_length=1.0),
 }
 DEG = math.pi / 180
-# (pair, torques N m, face slices): the FE refinement study's spur and helical pairs
-# (tests/test_fe_convergence.py) and a parallel pair with case 03's teeth
-PAIRS = {
-    "spur z20/40 m4 b16": (
-        ParallelPair(
-            normal_module=4e-3,
-            normal_pressure_angle=20 * DEG,
-            helix_angle=0.0,
-            teeth=(20, 40),
-            face_width=16e-3,
-        ),
-        (400.0,),
-        8,
-    ),
-    "helical 15 deg z20/40 m4 b12": (
-        ParallelPair(
-            normal_module=4e-3,
-            normal_pressure_angle=20 * DEG,
-            helix_angle=15 * DEG,
-            teeth=(20, 40),
-            face_width=12e-3,
-        ),
-        (300.0,),
-        12,
-    ),
-    "helical 20 deg z29/45 m6 b40": (
-        ParallelPair(
-            normal_module=6e-3,
-            normal_pressure_angle=20 * DEG,
-            helix_angle=20 * DEG,
-            teeth=(29, 45),
-            face_width=40e-3,
-            profile_shift=(0.16, 0.2),
-            root_radius_coefficient=0.25,
-        ),
-        (300.0,),
-        20,
-    ),
-}
-NO_SPREAD = RootStressModel(spread_height=0.0, spread_module=0.0)
 
 
 def _pair(teeth, helix_deg, face_mm, module_mm=4.0, **kw) -> ParallelPair:
@@ -122,6 +82,20 @@ def _pair(teeth, helix_deg, face_mm, module_mm=4.0, **kw) -> ParallelPair:
         face_width=face_mm * 1e-3,
         **kw,
     )
+
+
+# (pair, torques N m, face slices): the FE refinement study's spur and helical pairs
+# (tests/test_fe_convergence.py) and a parallel pair with case 03's teeth
+PAIRS = {
+    "spur z20/40 m4 b16": (_pair((20, 40), 0, 16), (400.0,), 8),
+    "helical 15 deg z20/40 m4 b12": (_pair((20, 40), 15, 12), (300.0,), 12),
+    "helical 20 deg z29/45 m6 b40": (
+        _pair((29, 45), 20, 40, 6.0, profile_shift=(0.16, 0.2), root_radius_coefficient=0.25),
+        (300.0,),
+        20,
+    ),
+}
+NO_SPREAD = RootStressModel(spread_height=0.0, spread_module=0.0)
 
 
 # ``--iso``: fast level only, against ISO 6336-3 (tests/test_ltca_stress.py holds two)
@@ -168,19 +142,7 @@ def run_iso(positions: int) -> None:
 
 
 def _iso(pair: ParallelPair, torque: float, gear: int) -> float:
-    return iso_nominal_root_stress(
-        tangential_force=torque / pair.pitch_radius(0),
-        face_width=pair.face_width,
-        teeth=pair.teeth[gear],
-        normal_module=pair.normal_module,
-        normal_pressure_angle=pair.normal_pressure_angle,
-        helix_angle=pair.helix_angle,
-        profile_shift=pair.profile_shift[gear],
-        tip_diameter=2 * pair.tip_radius(gear),
-        transverse_contact_ratio=pair.transverse_contact_ratio,
-        rack_dedendum=pair.dedendum_coefficient,
-        rack_root_radius=pair.root_radius_coefficient,
-    ).sigma_F0
+    return iso_pair_root_stress(pair, torque, gear).sigma_F0
 
 
 def _cycle(grids, torques, fe) -> dict:

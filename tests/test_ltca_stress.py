@@ -24,7 +24,7 @@ from gearbox.ltca import (
 from gearbox.ltca.stress import (
     RootStressModel,
     grid_root_stress,
-    iso_nominal_root_stress,
+    iso_pair_root_stress,
     moment_image,
     root_stress_profile,
     slice_root_stress,
@@ -130,22 +130,6 @@ def test_profile_covers_every_slot_and_matches_the_grid_points():
         np.testing.assert_allclose(prof.stress[kk, g.slot[on]], s1[on], rtol=1e-12)
 
 
-def _iso(pair, torque, gear):
-    return iso_nominal_root_stress(
-        tangential_force=torque / pair.pitch_radius(0),
-        face_width=pair.face_width,
-        teeth=pair.teeth[gear],
-        normal_module=pair.normal_module,
-        normal_pressure_angle=pair.normal_pressure_angle,
-        helix_angle=pair.helix_angle,
-        profile_shift=pair.profile_shift[gear],
-        tip_diameter=2 * pair.tip_radius(gear),
-        transverse_contact_ratio=pair.transverse_contact_ratio,
-        rack_dedendum=pair.dedendum_coefficient,
-        rack_root_radius=pair.root_radius_coefficient,
-    )
-
-
 HELICAL_WIDE = ParallelPair(
     normal_module=4e-3,
     normal_pressure_angle=math.radians(20),
@@ -169,7 +153,7 @@ def test_helical_pair_root_stress_against_iso_6336_3(pair, gear):
     T = 400.0
     r = ltca_cycle(lambda f: parallel_grid(pair, f, n_face=40), [T], options=LTCAOptions(48))
     got = (r.root_stress_pinion if gear == 0 else r.root_stress_gear)[0].max()
-    iso = _iso(pair, T, gear)
+    iso = iso_pair_root_stress(pair, T, gear)
     eps_b = min(pair.overlap_ratio, 1.0)
     assert iso.Y_beta == pytest.approx(1 - eps_b * min(math.degrees(pair.helix_angle), 30) / 120)
     assert got == pytest.approx(iso.sigma_F0, rel=0.12), (

@@ -52,6 +52,7 @@ __all__ = [
     "RootStressProfile",
     "grid_root_stress",
     "iso_nominal_root_stress",
+    "iso_pair_root_stress",
     "iso_root_section",
     "moment_image",
     "root_stress_profile",
@@ -442,4 +443,23 @@ def iso_nominal_root_stress(
         overlap_ratio=eps_b,
         virtual_contact_ratio=ean,
         section=sec,
+    )
+
+
+def iso_pair_root_stress(pair, torque: float, gear: int) -> IsoRootStress:
+    """:func:`iso_nominal_root_stress` of gear ``gear`` (0 pinion, 1 gear) of a
+    :class:`~gearbox.ltca.parallel.ParallelPair` under the pinion torque ``torque``
+    (N m), F_t at the pinion's reference circle."""
+    return iso_nominal_root_stress(
+        tangential_force=torque / pair.pitch_radius(0),
+        face_width=pair.face_width,
+        teeth=pair.teeth[gear],
+        normal_module=pair.normal_module,
+        normal_pressure_angle=pair.normal_pressure_angle,
+        helix_angle=pair.helix_angle,
+        profile_shift=pair.profile_shift[gear],
+        tip_diameter=2 * pair.tip_radius(gear),
+        transverse_contact_ratio=pair.transverse_contact_ratio,
+        rack_dedendum=pair.dedendum_coefficient,
+        rack_root_radius=pair.root_radius_coefficient,
     )
