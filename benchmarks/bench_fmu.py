@@ -303,7 +303,7 @@ def main():
     print(f"|{'-' * 40}|{'-' * 24}|---|---|---|---|---|")
     for name, setting, wall, err, note in rows:
         print(
-            f"| {name:<38} | {setting:<22} | {wall:8.4f} | {STOP / wall:11.0f} | "
+            f"| {name:<38} | {setting:<22} | {wall:8.4f} | {STOP / wall:11.3g} | "
             f"{wall / base:8.2f} | {err:.1e} | {note} |"
         )
     if not args.quick:
