@@ -454,6 +454,7 @@ def integrate_speeds(
     solver: DiffraxSolver = DiffraxSolver(),
     *,
     keep_states: bool = False,
+    batch: str = "vmap",
 ) -> dict:
     """``model`` at every speed in one ``vmap`` batch, set up without one model per speed.
 
@@ -461,15 +462,15 @@ def integrate_speeds(
     :func:`gearbox.drivetrain.linear.periodic_start_states`); t_evals: output times,
     shape (B, n_t), each row after t = 0. Fixed steps (default) pad every speed's step
     plan to one length (h = 0 steps), so all speeds step in lockstep; adaptive settings
-    (``rtol``) step in lockstep until the slowest is done.
+    (``rtol``) step in lockstep until the slowest is done. ``batch='loop'`` (fixed steps
+    only) runs the speeds one after the other through one compiled chunked run
+    (:func:`gearbox.drivetrain.fixed_step.fixed_solve_fn`), each for its own steps only.
 
     Returns a dict: ``mesh_force`` (N, shape (B, n_t), computed on the device), ``status``
     and ``failure`` (one per speed, as :func:`integrate_diffrax`), ``steps`` (shape (B,)),
     ``wall_time`` (s, the batch run), ``compile_time`` (s), ``setup_time`` (s: parameters,
     step plans), and ``states`` (unscaled, shape (B, n_t, 2 n)) with ``keep_states``.
     """
-    from .scipy_backend import divergence_bound
-
     solver.validate()
     jax, jnp = _jax()
     t_setup = _time.perf_counter()
@@ -484,21 +485,37 @@ def integrate_speeds(
         fn = jax.jit(jax.vmap(solve_fn(solver)))
         args = (P, Z0, ts)
     else:
-        from .fixed_step import bucket, fixed_solve_fn, step_targets
+        from .fixed_step import CHUNK, bucket, fixed_solve_fn, step_targets
 
         tg, lim, fmax = step_targets(model, solver, speeds)
         plans = []
         for i in range(B):
-            plan, reached[i] = _fixed_plan(
-                model, ts[i], solver, targets=(tg[i], lim[i], fmax[i])
-            )
+            plan, reached[i] = _fixed_plan(model, ts[i], solver, targets=(tg[i], lim[i], fmax[i]))
             plans.append(plan)
         steps = np.array([pl.n_steps for pl in plans])
         size = bucket(int(steps.max()))
+        if batch == "loop":
+            size = -(-size // CHUNK) * CHUNK
         plans = [pl.padded(size) for pl in plans]
         T = np.stack([pl.t for pl in plans])
         H = np.stack([pl.h for pl in plans])
         OUT = np.stack([pl.out for pl in plans])
+        if batch == "loop":
+            return _fixed_loop(
+                model,
+                speeds,
+                P,
+                Z0,
+                T,
+                H,
+                OUT,
+                steps,
+                reached,
+                t_evals,
+                solver,
+                keep_states,
+                _time.perf_counter() - t_setup,
+            )
         fn = jax.jit(jax.vmap(fixed_solve_fn(solver.solver, solver.table_cells)))
         args = (P, Z0, T, H, OUT)
     args = jax.tree_util.tree_map(jnp.asarray, args)
@@ -516,12 +533,75 @@ def integrate_speeds(
         steps = np.asarray(steps)
     else:
         zs = res
-        import diffrax
-
-        codes = np.where(reached < n_t, int(diffrax.RESULTS.max_steps_reached._value), 0)
-    force, finite, defl = (
-        np.asarray(a) for a in _batch_summary_fn()(args[0], jnp.asarray(t_evals), zs)
+        codes = _max_steps_codes(reached, n_t)
+    return _speed_results(
+        model,
+        args[0],
+        zs,
+        codes,
+        steps,
+        reached,
+        t_evals,
+        solver,
+        keep_states,
+        wall,
+        compile_time,
+        setup,
     )
+
+
+def _max_steps_codes(reached: np.ndarray, n_t: int) -> np.ndarray:
+    import diffrax
+
+    return np.where(reached < n_t, int(diffrax.RESULTS.max_steps_reached._value), 0)
+
+
+def _fixed_loop(
+    model, speeds, P, Z0, T, H, OUT, steps, reached, t_evals, solver, keep_states, setup
+):
+    """The speeds of :func:`integrate_speeds` one after the other, one compilation."""
+    from .fixed_step import CHUNK, fixed_solve_fn
+
+    jax, jnp = _jax()
+    fn = fixed_solve_fn(solver.solver, solver.table_cells, chunked=True)
+    row = {k: jnp.asarray(v[0]) for k, v in P.items()}
+    n_chunks = -(-steps // CHUNK)
+    start = _time.perf_counter()
+    compiled = fn.lower(row, Z0[0], T[0], H[0], OUT[0], int(n_chunks[0])).compile()
+    compile_time = _time.perf_counter() - start
+    wall = 0.0
+    zs = []
+    for i in range(len(speeds)):
+        args = ({k: v[i] for k, v in P.items()}, Z0[i], T[i], H[i], OUT[i], int(n_chunks[i]))
+        args = jax.tree_util.tree_map(jnp.asarray, args)
+        start = _time.perf_counter()
+        zs.append(np.asarray(jax.block_until_ready(compiled(*args))))
+        wall += _time.perf_counter() - start
+    codes = _max_steps_codes(reached, t_evals.shape[1])
+    return _speed_results(
+        model,
+        jax.tree_util.tree_map(jnp.asarray, P),
+        jnp.asarray(np.stack(zs)),
+        codes,
+        steps,
+        reached,
+        t_evals,
+        solver,
+        keep_states,
+        wall,
+        compile_time,
+        setup,
+    )
+
+
+def _speed_results(
+    model, P, zs, codes, steps, reached, t_evals, solver, keep_states, wall, compile_time, setup
+) -> dict:
+    from .scipy_backend import divergence_bound
+
+    jax, jnp = _jax()
+    B, n_t = t_evals.shape
+    force, finite, defl = (np.asarray(a) for a in _batch_summary_fn()(P, jnp.asarray(t_evals), zs))
     for i in np.flatnonzero(reached < n_t):
         force[i, reached[i] :] = np.nan
         finite[i, reached[i] :] = False
@@ -531,7 +611,7 @@ def integrate_speeds(
     failures: list = [None] * B
     states = None
     if keep_states or suspect.any():
-        states = np.asarray(zs) * P["scale"][:, None, :]
+        states = np.asarray(zs) * np.asarray(P["scale"])[:, None, :]
         for i in np.flatnonzero(reached < n_t):
             states[i, reached[i] :] = np.nan
     for i in np.flatnonzero(suspect):

@@ -297,14 +297,23 @@ def _time_excitations(p, t, jnp):
     return te0, rp
 
 
+#: Steps per chunk of :func:`fixed_solve_fn` with ``chunked=True``.
+CHUNK = 64
+
+
 @lru_cache(maxsize=16)
-def fixed_solve_fn(method: str, cells: int):
+def fixed_solve_fn(method: str, cells: int, chunked: bool = False):
     """A jitted ``f(params, z0, t, h, out) -> zs``: the scaled states after the steps
     ``out`` (shape (n_t, 2 n)) of the fixed-step run with step starts ``t`` and sizes
     ``h`` (shape (S,), a :class:`FixedStepPlan`); a step with h = 0 leaves the state
     unchanged. Compiled once per method, table size and array shapes (pad plans with
     :meth:`FixedStepPlan.padded` to :func:`bucket` sizes to share compilations).
     Differentiable (``jax.grad`` through the scan).
+
+    chunked: ``f(params, z0, t, h, out, n_chunks)`` runs only the first ``n_chunks``
+    chunks of :data:`CHUNK` steps (S a multiple of it) in a ``while_loop``: runs of
+    different lengths padded to one capacity share one compilation without paying for
+    the padding (a speed sweep in a loop). Forward-mode differentiable only.
     """
     import jax
     import jax.numpy as jnp
@@ -312,14 +321,11 @@ def fixed_solve_fn(method: str, cells: int):
     A, b, c = explicit_tableau(method)
     s = len(b)
 
-    def run(p, z0, t, h, out):
+    def setup(p, t, h):
         table = mesh_law_table(p, cells, jnp)
 
         def laws_at(phi):
             return _hermite(table, phi, cells, jnp, jax.lax)
-
-        # time-only excitations of every step and stage, vectorised before the scan
-        te0, rp = _time_excitations(p, t[:, None] + h[:, None] * c[None, :], jnp)
 
         def body(z, xs):
             tj, hj, te_j, rp_j = xs
@@ -335,7 +341,26 @@ def fixed_solve_fn(method: str, cells: int):
                     z = z + (hj * b[i]) * ks[i]
             return z, z
 
-        _, zs = jax.lax.scan(body, z0, (t, h, te0, rp))
+        # time-only excitations of every step and stage, vectorised before the scan
+        te0, rp = _time_excitations(p, t[:, None] + h[:, None] * c[None, :], jnp)
+        return body, (t, h, te0, rp)
+
+    def run(p, z0, t, h, out):
+        body, xs = setup(p, t, h)
+        _, zs = jax.lax.scan(body, z0, xs)
         return zs[out]
 
-    return jax.jit(run)
+    def run_chunked(p, z0, t, h, out, n_chunks):
+        body, xs = setup(p, t, h)
+
+        def chunk(carry):
+            i, z, buf = carry
+            part = tuple(jax.lax.dynamic_slice_in_dim(x, i * CHUNK, CHUNK) for x in xs)
+            z, zs = jax.lax.scan(body, z, part)
+            return i + 1, z, jax.lax.dynamic_update_slice_in_dim(buf, zs, i * CHUNK, 0)
+
+        buf = jnp.zeros((t.shape[0], z0.shape[0]), z0.dtype)
+        _, _, buf = jax.lax.while_loop(lambda c: c[0] < n_chunks, chunk, (0, z0, buf))
+        return buf[out]
+
+    return jax.jit(run_chunked if chunked else run)

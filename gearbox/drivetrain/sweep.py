@@ -68,10 +68,12 @@ def speed_sweep(
 
     With a DiffraxSolver (default), ``batch='vmap'`` runs all speeds as one ``vmap``
     batch (all speeds step in lockstep until the slowest is done: right for a GPU),
-    ``batch='loop'`` one compiled run after the other; 'auto' picks vmap for fixed steps
-    (the default) and, for adaptive steps (``rtol`` given), vmap on a GPU or TPU and loop
-    on a CPU (docs/drivetrain.md §11 has the measurements). Other solvers run one speed
-    after the other through :func:`gearbox.drivetrain.simulate.simulate`.
+    ``batch='loop'`` one compiled run after the other (fixed steps: one compilation for
+    all speeds, each running its own steps only); 'auto' picks vmap on a GPU or TPU and
+    loop on a CPU (docs/drivetrain.md §11 has the measurements). The set-up per speed
+    (start states, parameters, step plans) is array arithmetic, not one model per speed.
+    Other solvers, and adaptive diffrax in a loop, run one speed after the other through
+    :func:`gearbox.drivetrain.simulate.simulate`.
     """
     from .diffrax_backend import DiffraxSolver, integrate_speeds
 
@@ -87,16 +89,18 @@ def speed_sweep(
     if is_diffrax and batch == "auto":
         import jax
 
-        batch = "vmap" if jax.default_backend() != "cpu" or not solver.adaptive else "loop"
+        batch = "vmap" if jax.default_backend() != "cpu" else "loop"
     omega = r * math.pi / 30
-    if is_diffrax and batch == "vmap":
+    if is_diffrax and (batch == "vmap" or not solver.adaptive):
         # Per-speed set-up as array arithmetic: start states by one batched solve, record
         # times by broadcasting, parameters by model.speed_params (no model per speed).
         y0s = periodic_start_states(model, omega)
         tm = 2 * math.pi / (model.pinion_teeth * omega)
         k = np.arange(1, mesh_cycles * samples_per_cycle + 1)
         tev = settle_cycles * tm[:, None] + k[None, :] * (tm / samples_per_cycle)[:, None]
-        res = integrate_speeds(model, omega, y0s, tev, solver, keep_states=keep_timeseries)
+        res = integrate_speeds(
+            model, omega, y0s, tev, solver, keep_states=keep_timeseries, batch=batch
+        )
         metrics = mesh_force_metrics_arrays(
             tev, res["mesh_force"], model.pinion_teeth * omega / (2 * math.pi)
         )
