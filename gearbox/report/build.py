@@ -8,13 +8,17 @@ import time
 from collections.abc import Callable
 from datetime import UTC, datetime
 from pathlib import Path
-from types import MappingProxyType
 
 from .. import __version__
 from ..commands._common import write_atomic
 from ..pipeline.summary import STATUSES
+from . import sections
 from .html import CSS, ReportWarning, Section, esc, table
 from .provenance import package_versions, provenance_rows
+
+#: Scene entries a report section reads besides its stage's result (see
+#: :mod:`gearbox.report.sections`).
+SECTION_READS = sections.SECTION_READS
 
 __all__ = [
     "RENDERERS",
@@ -22,6 +26,7 @@ __all__ = [
     "assemble",
     "build_report",
     "scene_toml",
+    "section_drafts",
     "section_key",
     "write_report",
 ]
@@ -103,80 +108,56 @@ def _stage_table(run, drawn: dict[str, str]) -> str:
     )
 
 
-#: Scene entries a section reads besides its stage's result. The renderer sees a scene
-#: holding only these (reading anything else raises ``KeyError``, named in the
-#: warnings), and they enter the section's cache key.
-SECTION_READS: dict[str, tuple[str, ...]] = {"ltca": ("load.operating_torque_Nm",)}
-
-#: Modules that draw the sections; their source enters every section's cache key.
-SECTION_CODE = (
-    "gearbox.report",
-    "gearbox.geometry.plotting",
-    "gearbox.tca.plot",
-    "gearbox.ltca.plot",
-    "gearbox.spectrum.plotting",
-)
-
-#: Distributions whose versions enter the section keys (they shape the figures).
-SECTION_PACKAGES = ("matplotlib", "numpy")
-
-
-def _stage_view(run, name: str):
-    """What a renderer of stage ``name`` sees: its result, its key, the scene entries
-    of :data:`SECTION_READS` and an empty summary (the summary changes every run)."""
-    from ..pipeline.runner import PipelineRun
-    from ..pipeline.stage import restricted_scene
-    from ..pipeline.summary import RunSummary
-
-    return PipelineRun(
-        restricted_scene(run.scene, SECTION_READS.get(name, ())),
-        MappingProxyType({name: run.results[name]}),
-        MappingProxyType({name: run.keys.get(name, "")}),
-        RunSummary((), (), 0.0),
-    )
-
-
 def section_key(run, name: str) -> str:
-    """Cache key of stage ``name``'s report section(s) in ``run``."""
-    from ..pipeline.cache import derived_key
-    from ..pipeline.stage import read_values
-
-    reads = SECTION_READS.get(name, ())
-    return derived_key(
-        "report",
-        name,
-        run.keys[name],
-        code=SECTION_CODE,
-        values=read_values(run.scene, reads),
-        packages=SECTION_PACKAGES,
-    )
+    """Cache key of stage ``name``'s report section(s) in ``run``
+    (:func:`gearbox.report.sections.section_key`)."""
+    return sections.section_key(run.scene, name, run.keys[name])
 
 
-def _render(name: str, render: Callable, run, own: bool) -> tuple[list[Section], str]:
+def _renderer(name: str) -> Callable:
+    """The default renderer of stage ``name`` (its own, else the generic one)."""
+    from .generic import render_generic
+
+    return (RENDERERS or _renderers()).get(name) or render_generic(name, name)
+
+
+def section_drafts(run_scene, cache=None) -> sections.SectionDrafts:
+    """A ``run_pipeline(on_result=...)`` hook that draws each stage's sections in the
+    background as the run goes on; hand it to :func:`assemble` (``drafts=``)."""
+    return sections.SectionDrafts(run_scene, _renderer, cache)
+
+
+def _render(name: str, render: Callable, run, own: bool, drafts) -> tuple[list[Section], str]:
     """The section(s) of one stage and where they came from (``"cached"`` or the
-    seconds spent drawing). Default renderers see :func:`_stage_view` and their
-    sections are kept in the run's cache under :func:`section_key`; a renderer
-    passed in by the caller sees the whole run and is not cached."""
-    t0 = time.perf_counter()
+    seconds spent drawing). Default renderers see only their stage
+    (:func:`gearbox.report.sections.stage_view`) and their sections are kept in the
+    run's cache; a renderer passed in by the caller sees the whole run and is not
+    cached."""
+    result = run.results[name]
     if not own:
-        got = render(run.results[name], run)
+        t0 = time.perf_counter()
+        got = render(result, run)
         return (got if isinstance(got, list) else [got]), f"{time.perf_counter() - t0:.2f}"
-    from ..pipeline.cache import remembered
-
-    def draw() -> tuple[Section, ...]:
-        got = render(run.results[name], _stage_view(run, name))
-        return tuple(got if isinstance(got, list) else [got])
-
+    job = drafts.take(name, result) if drafts is not None else None
+    if job is not None:
+        got, drawn = job.result()
+        return list(got), drawn
     cached_key = getattr(run, "cached_key", None)
     store = run.cache if cached_key is not None and cached_key(name) is not None else None
-    key = section_key(run, name) if store is not None else ""
-    sections, hit = remembered(store, "report", key, draw)
-    return list(sections), ("cached" if hit else f"{time.perf_counter() - t0:.2f}")
+    got, drawn = sections.draw(name, render, run.scene, result, run.keys.get(name, ""), store)
+    return list(got), drawn
 
 
-def assemble(run, *, renderers: dict[str, Callable] | None = None) -> tuple[str, dict[str, str]]:
+def assemble(
+    run, *, renderers: dict[str, Callable] | None = None, drafts=None
+) -> tuple[str, dict[str, str]]:
     """``(html, drawn)``: the report of ``run`` and, per stage with a section, where
-    the section came from (``"cached"``, or the seconds spent drawing it)."""
+    the section came from (``"cached"``, or the seconds spent drawing it).
+
+    ``drafts`` (:func:`section_drafts`, the run's ``on_result`` hook) holds sections
+    drawn while the run went on; they are used for the very results they were drawn
+    from.
+    """
     own = renderers is None
     if renderers is None:
         renderers = RENDERERS or _renderers()
@@ -192,7 +173,7 @@ def assemble(run, *, renderers: dict[str, Callable] | None = None) -> tuple[str,
         if name not in run.results:
             continue
         try:
-            got, drawn[name] = _render(name, render, run, own)
+            got, drawn[name] = _render(name, render, run, own, drafts)
         except Exception as exc:
             print(f"gearbox report: section {name!r} failed: {exc!r}", file=sys.stderr)
             warnings.append(

@@ -1,0 +1,134 @@
+"""Report sections of one stage: what their renderer sees, their cache key, and
+drawing them in the background while later stages compute.
+
+A renderer of stage ``name`` sees the stage's result and a run view holding only
+that result, its key and the scene entries of :data:`SECTION_READS` (reading
+anything else raises ``KeyError``, named in the report's warnings). So a section
+depends on the stage's key and those entries only, and is kept in the run's cache
+under :func:`section_key`: a stage that came from the cache is not drawn again.
+
+:class:`SectionDrafts` is a ``run_pipeline(on_result=...)`` hook: each stage's
+sections are drawn on one background thread as soon as its result exists, while the
+next stages compute (their compiled jax runs release the GIL), and
+:func:`gearbox.report.build.assemble` takes them from there.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
+from types import MappingProxyType
+from typing import Any
+
+from .html import Section
+
+__all__ = [
+    "SECTION_CODE",
+    "SECTION_PACKAGES",
+    "SECTION_READS",
+    "SectionDrafts",
+    "draw",
+    "section_key",
+    "stage_view",
+]
+
+#: Scene entries a section reads besides its stage's result; they enter its cache key.
+SECTION_READS: dict[str, tuple[str, ...]] = {"ltca": ("load.operating_torque_Nm",)}
+
+#: Modules that draw the sections; their source enters every section's cache key.
+SECTION_CODE = (
+    "gearbox.report",
+    "gearbox.geometry.plotting",
+    "gearbox.tca.plot",
+    "gearbox.ltca.plot",
+    "gearbox.spectrum.plotting",
+)
+
+#: Distributions whose versions enter the section keys (they shape the figures).
+SECTION_PACKAGES = ("matplotlib", "numpy")
+
+
+def stage_view(scene, name: str, result: Any, key: str):
+    """What a renderer of stage ``name`` sees: a run with only its result and key, the
+    scene entries of :data:`SECTION_READS` and an empty summary (the summary changes
+    every run)."""
+    from ..pipeline.runner import PipelineRun
+    from ..pipeline.stage import restricted_scene
+    from ..pipeline.summary import RunSummary
+
+    return PipelineRun(
+        restricted_scene(scene, SECTION_READS.get(name, ())),
+        MappingProxyType({name: result}),
+        MappingProxyType({name: key}),
+        RunSummary((), (), 0.0),
+    )
+
+
+def section_key(scene, name: str, key: str) -> str:
+    """Cache key of the section(s) of stage ``name`` whose result has ``key``."""
+    from ..pipeline.cache import derived_key
+    from ..pipeline.stage import read_values
+
+    return derived_key(
+        "report",
+        name,
+        key,
+        code=SECTION_CODE,
+        values=read_values(scene, SECTION_READS.get(name, ())),
+        packages=SECTION_PACKAGES,
+    )
+
+
+def draw(
+    name: str, render: Callable, scene, result: Any, key: str, cache=None
+) -> tuple[tuple[Section, ...], str]:
+    """The section(s) of one stage and where they came from: ``"cached"``, or the
+    seconds spent drawing. With a cache, they are taken from it or stored there."""
+    from ..pipeline.cache import remembered
+
+    t0 = time.perf_counter()
+
+    def make() -> tuple[Section, ...]:
+        got = render(result, stage_view(scene, name, result, key))
+        return tuple(got if isinstance(got, list) else [got])
+
+    skey = section_key(scene, name, key) if cache is not None else ""
+    sections, hit = remembered(cache, "report", skey, make)
+    return tuple(sections), ("cached" if hit else f"{time.perf_counter() - t0:.2f}")
+
+
+class SectionDrafts:
+    """Draws each stage's report sections on one background thread as soon as the
+    stage's result exists (a ``run_pipeline(on_result=...)`` hook).
+
+    ``renderer(name)`` gives the renderer of a stage; ``cache`` (or None) keeps the
+    sections as :func:`draw` does. :meth:`take` gives the drawing of one result;
+    :meth:`close` (also on leaving a ``with`` block) drops what has not started.
+    """
+
+    def __init__(self, scene, renderer: Callable[[str], Callable], cache=None):
+        self._scene = scene
+        self._renderer = renderer
+        self._cache = cache
+        self._pool = ThreadPoolExecutor(1, thread_name_prefix="gearbox-report")
+        self._jobs: dict[str, tuple[Any, Future]] = {}
+
+    def __call__(self, name: str, result: Any, key: str) -> None:
+        render = self._renderer(name)
+        job = self._pool.submit(draw, name, render, self._scene, result, key, self._cache)
+        self._jobs[name] = (result, job)
+
+    def take(self, name: str, result: Any) -> Future | None:
+        """The drawing of stage ``name`` when it was made from this very ``result``."""
+        got = self._jobs.get(name)
+        return got[1] if got is not None and got[0] is result else None
+
+    def close(self) -> None:
+        self._pool.shutdown(wait=True, cancel_futures=True)
+
+    def __enter__(self) -> SectionDrafts:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
