@@ -7,16 +7,10 @@ EXAMPLES = """  gearbox modes models/case03.toml
 
 def add_arguments(parser):
     from ._common import add_scene_argument
+    from .simulate import add_model_arguments
 
     add_scene_argument(parser)
-    parser.add_argument(
-        "--table",
-        default=None,
-        help="mesh table (netCDF, from `gearbox ltca`); default: analytical ISO 6336-1 table",
-    )
-    parser.add_argument(
-        "--speed-rpm", type=float, default=None, help="engine speed (rpm), overrides the scene"
-    )
+    add_model_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object")
 
 

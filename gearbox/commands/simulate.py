@@ -25,14 +25,7 @@ def add_arguments(parser):
         help="relative tolerance (default: the scene's simulation.rtol for scipy; diffrax "
         "takes fixed steps unless --rtol is given)",
     )
-    parser.add_argument(
-        "--table",
-        default=None,
-        help="mesh table (netCDF, from `gearbox ltca`); default: analytical ISO 6336-1 table",
-    )
-    parser.add_argument(
-        "--speed-rpm", type=float, default=None, help="engine speed (rpm), overrides the scene"
-    )
+    add_model_arguments(parser)
     parser.add_argument(
         "--mesh-cycles", type=int, default=None, help="recorded mesh cycles (default: scene)"
     )
@@ -48,6 +41,18 @@ def add_arguments(parser):
         "--out", default=None, help="folder for timeseries.csv/.nc, summary.json, mesh_table.nc"
     )
     parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+
+
+def add_model_arguments(parser) -> None:
+    """``--table`` and ``--speed-rpm`` (read by :func:`model_from_args`)."""
+    parser.add_argument(
+        "--table",
+        default=None,
+        help="mesh table (netCDF, from `gearbox ltca`); default: analytical ISO 6336-1 table",
+    )
+    parser.add_argument(
+        "--speed-rpm", type=float, default=None, help="engine speed (rpm), overrides the scene"
+    )
 
 
 def model_from_args(scene, args):

@@ -38,7 +38,7 @@ def _enable_x64() -> None:
 _enable_x64()  # at import, as the module docstring says: arrays made later are float64
 
 _SOLVERS = ("Tsit5", "Dopri5", "Dopri8", "Heun", "Kvaerno5")
-_FIXED = ("Tsit5", "Dopri5", "Dopri8", "Heun")
+_FIXED = ("Tsit5", "Dopri8")
 
 
 def _jax():
@@ -55,11 +55,12 @@ class DiffraxSolver:
     """jax settings: fixed-step ``Tsit5`` by default; diffrax's adaptive stepping with ``rtol``.
 
     rtol None (default): the fixed-step explicit Runge-Kutta of
-    :mod:`gearbox.drivetrain.fixed_step` (``solver`` names the diffrax tableau: Tsit5,
-    Dopri5, Dopri8, Heun) at the step ``step`` (s) or, when None, ``1 / (steps_per_period
+    :mod:`gearbox.drivetrain.fixed_step` (``solver`` names the diffrax tableau: Tsit5 or
+    Dopri8) at the step ``step`` (s) or, when None, ``1 / (steps_per_period
     f_max)`` (f_max: highest eigenfrequency of the linearised model or the mesh
-    frequency; ``steps_per_period`` None: 12 for Tsit5), capped at 0.8 x the stability
-    limit; mesh laws from a cubic Hermite table of ``table_cells`` cells per mesh cycle.
+    frequency; ``steps_per_period`` None: 12 for Tsit5, 6 for Dopri8), capped at 0.8 x
+    the stability limit; mesh laws from a Hermite table of ``table_cells`` cells per
+    mesh cycle.
 
     rtol given: ``diffrax.diffeqsolve`` with a PID step-size controller on the scaled
     state; atol (None = rtol); dtmin_fraction: smallest step as a fraction of the mesh
@@ -325,10 +326,8 @@ def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.
     Y = zs * p["scale"]
     code = 0
     if reached < len(Y):
-        import diffrax
-
         Y[reached:] = np.nan
-        code = int(diffrax.RESULTS.max_steps_reached._value)
+        code = _max_steps_code()
     failure = _check(model, ts[1:], Y, code, solver.divergence_factor)
     info = {
         "status": "success" if failure is None else failure.kind,
@@ -500,103 +499,62 @@ def integrate_speeds(
         T = np.stack([pl.t for pl in plans])
         H = np.stack([pl.h for pl in plans])
         OUT = np.stack([pl.out for pl in plans])
-        if batch == "loop":
-            return _fixed_loop(
-                model,
-                speeds,
-                P,
-                Z0,
-                T,
-                H,
-                OUT,
-                steps,
-                reached,
-                t_evals,
-                solver,
-                keep_states,
-                _time.perf_counter() - t_setup,
-            )
         fn = jax.jit(jax.vmap(fixed_solve_fn(solver.solver, solver.table_cells)))
         args = (P, Z0, T, H, OUT)
     args = jax.tree_util.tree_map(jnp.asarray, args)
     setup = _time.perf_counter() - t_setup
-    start = _time.perf_counter()
-    compiled = fn.lower(*args).compile()
-    compile_time = _time.perf_counter() - start
-    start = _time.perf_counter()
-    res = jax.block_until_ready(compiled(*args))
-    wall = _time.perf_counter() - start
+    if not solver.adaptive and batch == "loop":
+        zs, compile_time, wall = _fixed_loop(solver, args, steps)
+    else:
+        start = _time.perf_counter()
+        compiled = fn.lower(*args).compile()
+        compile_time = _time.perf_counter() - start
+        start = _time.perf_counter()
+        zs = jax.block_until_ready(compiled(*args))
+        wall = _time.perf_counter() - start
     if solver.adaptive:
-        zs, codes, steps, _ = res
+        zs, codes, steps, _ = zs
         zs = zs[:, 1:]
         codes = np.asarray(codes)
-        steps = np.asarray(steps)
     else:
-        zs = res
-        codes = _max_steps_codes(reached, n_t)
-    return _speed_results(
-        model,
-        args[0],
-        zs,
-        codes,
-        steps,
-        reached,
-        t_evals,
-        solver,
-        keep_states,
-        wall,
-        compile_time,
-        setup,
-    )
+        codes = np.where(reached < n_t, _max_steps_code(), 0)
+    out = _speed_results(model, args[0], zs, codes, steps, reached, t_evals, solver, keep_states)
+    return out | {"wall_time": wall, "compile_time": compile_time, "setup_time": setup}
 
 
-def _max_steps_codes(reached: np.ndarray, n_t: int) -> np.ndarray:
+def _max_steps_code() -> int:
     import diffrax
 
-    return np.where(reached < n_t, int(diffrax.RESULTS.max_steps_reached._value), 0)
+    return int(diffrax.RESULTS.max_steps_reached._value)
 
 
-def _fixed_loop(
-    model, speeds, P, Z0, T, H, OUT, steps, reached, t_evals, solver, keep_states, setup
-):
-    """The speeds of :func:`integrate_speeds` one after the other, one compilation."""
+def _fixed_loop(solver: DiffraxSolver, args, steps: np.ndarray):
+    """(scaled states, compile time, run time) of the speeds of :func:`integrate_speeds`
+    one after the other through one compiled chunked run, each for its own steps."""
     from .fixed_step import CHUNK, fixed_solve_fn
 
     jax, jnp = _jax()
     fn = fixed_solve_fn(solver.solver, solver.table_cells, chunked=True)
-    row = {k: jnp.asarray(v[0]) for k, v in P.items()}
     n_chunks = -(-steps // CHUNK)
+
+    def row(i):
+        return jax.tree_util.tree_map(lambda v: v[i], args) + (int(n_chunks[i]),)
+
     start = _time.perf_counter()
-    compiled = fn.lower(row, Z0[0], T[0], H[0], OUT[0], int(n_chunks[0])).compile()
+    compiled = fn.lower(*row(0)).compile()
     compile_time = _time.perf_counter() - start
     wall = 0.0
     zs = []
-    for i in range(len(speeds)):
-        args = ({k: v[i] for k, v in P.items()}, Z0[i], T[i], H[i], OUT[i], int(n_chunks[i]))
-        args = jax.tree_util.tree_map(jnp.asarray, args)
+    for i in range(len(steps)):
+        a = row(i)
         start = _time.perf_counter()
-        zs.append(np.asarray(jax.block_until_ready(compiled(*args))))
+        zs.append(jax.block_until_ready(compiled(*a)))
         wall += _time.perf_counter() - start
-    codes = _max_steps_codes(reached, t_evals.shape[1])
-    return _speed_results(
-        model,
-        jax.tree_util.tree_map(jnp.asarray, P),
-        jnp.asarray(np.stack(zs)),
-        codes,
-        steps,
-        reached,
-        t_evals,
-        solver,
-        keep_states,
-        wall,
-        compile_time,
-        setup,
-    )
+    return jnp.stack(zs), compile_time, wall
 
 
-def _speed_results(
-    model, P, zs, codes, steps, reached, t_evals, solver, keep_states, wall, compile_time, setup
-) -> dict:
+def _speed_results(model, P, zs, codes, steps, reached, t_evals, solver, keep_states) -> dict:
+    """Mesh force, status and failures per speed from the scaled states ``zs`` (device)."""
     from .scipy_backend import divergence_bound
 
     jax, jnp = _jax()
@@ -621,8 +579,5 @@ def _speed_results(
         "status": tuple("success" if f is None else f.kind for f in failures),
         "failure": tuple(failures),
         "steps": np.asarray(steps),
-        "wall_time": wall,
-        "compile_time": compile_time,
-        "setup_time": setup,
         "states": states if keep_states else None,
     }

@@ -52,9 +52,9 @@ __all__ = [
     "step_targets",
 ]
 
-#: Default steps per period of the highest frequency, per method (docs/drivetrain.md §11:
-#: the errors they give on the default scene).
-STEPS_PER_PERIOD = {"Tsit5": 12.0, "Dopri5": 12.0, "Dopri8": 6.0, "Heun": 200.0}
+#: Default steps per period of the highest frequency, per method: the errors they give on
+#: the default scene are in docs/drivetrain.md §11 (work-precision table).
+STEPS_PER_PERIOD = {"Tsit5": 12.0, "Dopri8": 6.0}
 
 
 def explicit_tableau(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -137,7 +137,7 @@ def step_targets(model, solver, speeds=None):
     if solver.step is not None:
         target = np.full(speeds.size, float(solver.step))
     else:
-        spp = solver.steps_per_period or STEPS_PER_PERIOD.get(solver.solver, 12.0)
+        spp = solver.steps_per_period or STEPS_PER_PERIOD[solver.solver]
         target = np.minimum(1.0 / (spp * f_max), 0.8 * limit)
     return target, limit, f_max
 
