@@ -185,23 +185,3 @@ def test_section_key_follows_what_the_section_reads(run, monkeypatch):
     other = dataclasses.replace(run, scene=run.scene.replaced(load={"operating_torque_Nm": 123.0}))
     assert len({k0, k1, build.section_key(other, "design")}) == 3
     assert build.section_key(run, "design") == k1  # and it is stable
-
-
-def test_sections_drawn_while_the_run_goes_on_are_the_same(run):
-    from gearbox.report.build import assemble, section_drafts
-
-    plain = dataclasses.replace(run, cache=None)
-    with section_drafts(run.scene) as drafts:
-        for name, result in run.results.items():
-            drafts(name, result, run.keys[name])  # as run_pipeline(on_result=...) does
-        threads = {name: drafts.take(name, result) for name, result in run.results.items()}
-        html, drawn = assemble(plain, drafts=drafts)
-        assert drafts.take("design", dataclasses.replace(run["design"])) is None
-    assert all(job is not None and job.done() for job in threads.values())
-    ref, _ = assemble(plain)
-
-    def body(h):
-        return h[h.index("<nav>") : h.index('id="provenance"')]
-
-    assert body(html) == body(ref)
-    assert set(drawn) == {"design", "sweep"} and "cached" not in drawn.values()

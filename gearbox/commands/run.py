@@ -68,7 +68,6 @@ def _outputs_line(written) -> str:
 
 
 def run(args) -> int:
-    import contextlib
     import os
     import sys
     from pathlib import Path
@@ -104,24 +103,15 @@ def run(args) -> int:
         print(f"gearbox run: {rec.name} {rec.status} ({rec.seconds:.2f} s)", file=sys.stderr)
 
     quiet = progress or args.no_progress
-    requested = args.only if args.only is not None else scene["outputs"]["requested"]
-    with contextlib.ExitStack() as stack:
-        drafts = None
-        if "report" in requested:  # sections drawn while later stages compute
-            from ..pipeline.runner import _as_cache
-            from ..report.build import section_drafts
-
-            drafts = stack.enter_context(section_drafts(scene, _as_cache(cache)))
-        result = run_pipeline(
-            scene,
-            args.only,
-            cache=cache,
-            jobs=args.jobs,
-            progress=progress,
-            on_stage=None if quiet else note,
-            on_result=drafts,
-        )
-        written = write_run(result, out, drafts=drafts)
+    result = run_pipeline(
+        scene,
+        args.only,
+        cache=cache,
+        jobs=args.jobs,
+        progress=progress,
+        on_stage=None if quiet else note,
+    )
+    written = write_run(result, out)
     files = written.files
     s = result.summary
     if args.json:

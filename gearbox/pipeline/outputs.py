@@ -194,11 +194,9 @@ class Written:
         }
 
 
-def write_run(run, folder: str | Path, *, drafts=None) -> Written:
+def write_run(run, folder: str | Path) -> Written:
     """Write the run's files into ``folder``: each requested stage's results, the
-    report (when requested; ``drafts``: sections drawn while the run went on, see
-    :func:`gearbox.report.build.section_drafts`) and, last, ``run_summary.json``
-    (with these timings)."""
+    report (when requested) and, last, ``run_summary.json`` (with these timings)."""
     folder = Path(folder)
     files: list[Path] = []
     seconds: dict[str, float] = {}
@@ -217,7 +215,7 @@ def write_run(run, folder: str | Path, *, drafts=None) -> Written:
         from ..report.build import assemble
 
         t0 = time.perf_counter()
-        html, drawn = assemble(run, drafts=drafts)
+        html, drawn = assemble(run)
         files.append(write_atomic(folder / "report.html", html))
         seconds["report"] = time.perf_counter() - t0
     written = Written(tuple(files), seconds, tuple(copied), drawn)

@@ -174,7 +174,6 @@ def run_pipeline(
     jobs: int | None = None,
     progress: bool = False,
     on_stage: Callable[[StageRecord], None] | None = None,
-    on_result: Callable[[str, Any, str], None] | None = None,
 ) -> PipelineRun:
     """Compute, or load from the cache, every stage that ``requested`` needs.
 
@@ -197,11 +196,6 @@ def run_pipeline(
         tqdm progress bars on stderr.
     on_stage : callable, optional
         Called with each stage's :class:`StageRecord` as soon as the stage is done.
-    on_result : callable, optional
-        ``on_result(stage, result, key)`` as soon as a stage's result exists
-        (computed or from the cache), e.g. to draw its report section in the
-        background (:func:`gearbox.report.build.section_drafts`). It should return
-        at once; an exception in it is not caught.
 
     A stage that raises is recorded as ``failed`` (its message in the summary, its
     traceback logged to the ``gearbox.pipeline`` logger) and the stages downstream of
@@ -253,8 +247,6 @@ def run_pipeline(
             else:
                 dt = time.perf_counter() - t0
                 record(StageRecord(name, "cached", dt, keys[name], "", meta.get("seconds", 0.0)))
-                if on_result is not None:
-                    on_result(name, results[name], keys[name])
                 continue
         ctx = StageContext(
             name=name,
@@ -285,8 +277,6 @@ def run_pipeline(
                     detail + "; " if detail else ""
                 ) + f"not cached ({type(exc).__name__}: {exc})"
         record(StageRecord(name, "computed", time.perf_counter() - t0, keys[name], detail))
-        if on_result is not None:
-            on_result(name, result, keys[name])
     bar.close()
     summary = RunSummary(
         records=tuple(records),

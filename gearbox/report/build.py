@@ -26,7 +26,6 @@ __all__ = [
     "assemble",
     "build_report",
     "scene_toml",
-    "section_drafts",
     "section_key",
     "write_report",
 ]
@@ -114,20 +113,7 @@ def section_key(run, name: str) -> str:
     return sections.section_key(run.scene, name, run.keys[name])
 
 
-def _renderer(name: str) -> Callable:
-    """The default renderer of stage ``name`` (its own, else the generic one)."""
-    from .generic import render_generic
-
-    return (RENDERERS or _renderers()).get(name) or render_generic(name, name)
-
-
-def section_drafts(run_scene, cache=None) -> sections.SectionDrafts:
-    """A ``run_pipeline(on_result=...)`` hook that draws each stage's sections in the
-    background as the run goes on; hand it to :func:`assemble` (``drafts=``)."""
-    return sections.SectionDrafts(run_scene, _renderer, cache)
-
-
-def _render(name: str, render: Callable, run, own: bool, drafts) -> tuple[list[Section], str]:
+def _render(name: str, render: Callable, run, own: bool) -> tuple[list[Section], str]:
     """The section(s) of one stage and where they came from (``"cached"`` or the
     seconds spent drawing). Default renderers see only their stage
     (:func:`gearbox.report.sections.stage_view`) and their sections are kept in the
@@ -138,26 +124,15 @@ def _render(name: str, render: Callable, run, own: bool, drafts) -> tuple[list[S
         t0 = time.perf_counter()
         got = render(result, run)
         return (got if isinstance(got, list) else [got]), f"{time.perf_counter() - t0:.2f}"
-    job = drafts.take(name, result) if drafts is not None else None
-    if job is not None:
-        got, drawn = job.result()
-        return list(got), drawn
     cached_key = getattr(run, "cached_key", None)
     store = run.cache if cached_key is not None and cached_key(name) is not None else None
     got, drawn = sections.draw(name, render, run.scene, result, run.keys.get(name, ""), store)
     return list(got), drawn
 
 
-def assemble(
-    run, *, renderers: dict[str, Callable] | None = None, drafts=None
-) -> tuple[str, dict[str, str]]:
+def assemble(run, *, renderers: dict[str, Callable] | None = None) -> tuple[str, dict[str, str]]:
     """``(html, drawn)``: the report of ``run`` and, per stage with a section, where
-    the section came from (``"cached"``, or the seconds spent drawing it).
-
-    ``drafts`` (:func:`section_drafts`, the run's ``on_result`` hook) holds sections
-    drawn while the run went on; they are used for the very results they were drawn
-    from.
-    """
+    the section came from (``"cached"``, or the seconds spent drawing it)."""
     own = renderers is None
     if renderers is None:
         renderers = RENDERERS or _renderers()
@@ -173,7 +148,7 @@ def assemble(
         if name not in run.results:
             continue
         try:
-            got, drawn[name] = _render(name, render, run, own, drafts)
+            got, drawn[name] = _render(name, render, run, own)
         except Exception as exc:
             print(f"gearbox report: section {name!r} failed: {exc!r}", file=sys.stderr)
             warnings.append(

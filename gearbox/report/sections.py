@@ -1,23 +1,19 @@
-"""Report sections of one stage: what their renderer sees, their cache key, and
-drawing them in the background while later stages compute.
+"""Report sections of one stage: what their renderer sees and their cache key.
 
 A renderer of stage ``name`` sees the stage's result and a run view holding only
 that result, its key and the scene entries of :data:`SECTION_READS` (reading
 anything else raises ``KeyError``, named in the report's warnings). So a section
 depends on the stage's key and those entries only, and is kept in the run's cache
 under :func:`section_key`: a stage that came from the cache is not drawn again.
-
-:class:`SectionDrafts` is a ``run_pipeline(on_result=...)`` hook: each stage's
-sections are drawn on one background thread as soon as its result exists, while the
-next stages compute (their compiled jax runs release the GIL), and
-:func:`gearbox.report.build.assemble` takes them from there.
+(Drawing the sections on a background thread while later stages computed was tried
+and measured: no faster on a 16-core machine, the drawing and the stages' Python
+parts share the GIL.)
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from concurrent.futures import Future, ThreadPoolExecutor
 from types import MappingProxyType
 from typing import Any
 
@@ -27,7 +23,6 @@ __all__ = [
     "SECTION_CODE",
     "SECTION_PACKAGES",
     "SECTION_READS",
-    "SectionDrafts",
     "draw",
     "section_key",
     "stage_view",
@@ -96,39 +91,3 @@ def draw(
     skey = section_key(scene, name, key) if cache is not None else ""
     sections, hit = remembered(cache, "report", skey, make)
     return tuple(sections), ("cached" if hit else f"{time.perf_counter() - t0:.2f}")
-
-
-class SectionDrafts:
-    """Draws each stage's report sections on one background thread as soon as the
-    stage's result exists (a ``run_pipeline(on_result=...)`` hook).
-
-    ``renderer(name)`` gives the renderer of a stage; ``cache`` (or None) keeps the
-    sections as :func:`draw` does. :meth:`take` gives the drawing of one result;
-    :meth:`close` (also on leaving a ``with`` block) drops what has not started.
-    """
-
-    def __init__(self, scene, renderer: Callable[[str], Callable], cache=None):
-        self._scene = scene
-        self._renderer = renderer
-        self._cache = cache
-        self._pool = ThreadPoolExecutor(1, thread_name_prefix="gearbox-report")
-        self._jobs: dict[str, tuple[Any, Future]] = {}
-
-    def __call__(self, name: str, result: Any, key: str) -> None:
-        render = self._renderer(name)
-        job = self._pool.submit(draw, name, render, self._scene, result, key, self._cache)
-        self._jobs[name] = (result, job)
-
-    def take(self, name: str, result: Any) -> Future | None:
-        """The drawing of stage ``name`` when it was made from this very ``result``."""
-        got = self._jobs.get(name)
-        return got[1] if got is not None and got[0] is result else None
-
-    def close(self) -> None:
-        self._pool.shutdown(wait=True, cancel_futures=True)
-
-    def __enter__(self) -> SectionDrafts:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
