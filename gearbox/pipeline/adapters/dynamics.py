@@ -269,20 +269,25 @@ class SweepPoint:
     wall_time: float
 
 
-def sweep_point(job: tuple) -> SweepPoint:
-    """Simulate one speed and keep its spectra (module level: runs in worker processes)."""
-    model, solver, sim, speed_rpm, torque = job
-    ts, metrics = _simulate(model, solver, sim)
+def _point(model, ts, metrics, speed_rpm: float, torque: float) -> SweepPoint:
+    """A sweep point from a settled run ``ts`` of ``model`` and its metrics."""
     spectra = spectra_of(ts, _orders(model)) if ts.success and ts.time.size > 1 else {}
     return SweepPoint(
         float(speed_rpm),
         float(torque),
         ts.status,
         spectra,
-        metrics,
+        dict(metrics),
         int(ts.nfev),
         float(ts.wall_time),
     )
+
+
+def sweep_point(job: tuple) -> SweepPoint:
+    """Simulate one speed and keep its spectra (module level: runs in worker processes)."""
+    model, solver, sim, speed_rpm, torque = job
+    ts, metrics = _simulate(model, solver, sim)
+    return _point(model, ts, metrics, speed_rpm, torque)
 
 
 @dataclass(frozen=True)
@@ -317,17 +322,7 @@ def _reused_point(op, model, speed_rpm: float, torque: float) -> SweepPoint | No
         return None
     if not math.isclose(op.torque_Nm, torque, rel_tol=1e-9):
         return None
-    ts = op.series
-    spectra = spectra_of(ts, _orders(model)) if ts.success and ts.time.size > 1 else {}
-    return SweepPoint(
-        float(speed_rpm),
-        float(torque),
-        ts.status,
-        spectra,
-        dict(op.metrics),
-        int(ts.nfev),
-        float(ts.wall_time),
-    )
+    return _point(model, op.series, op.metrics, speed_rpm, torque)
 
 
 def compute_waterfall(ctx: StageContext) -> SpeedSweep:
