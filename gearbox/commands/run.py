@@ -36,8 +36,9 @@ def add_arguments(parser):
         "--jobs",
         type=int,
         metavar="N",
-        help="worker processes for sweeps; 1: none (default: a pool on all cores when "
-        "timing the first item says it pays)",
+        help="worker processes for sweeps; 1: none (default: diffrax sweeps on threads, "
+        "one per core; other sweeps on a pool of processes when timing the first item "
+        "says it pays)",
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bars")
     parser.add_argument(
