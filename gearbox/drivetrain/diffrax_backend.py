@@ -70,6 +70,12 @@ class DiffraxSolver:
     plain integral controller (0, 1) rejected 3,074 of 10,046 steps, error 3.1e-5 in the
     mesh-order amplitude; (0.1, 0.3) rejected 1,067 of 8,712, error 3.7e-6.
 
+    contact_rtol: a fixed-step run in which the mesh leaves its nominal contact (drive
+    flank open or coast flank closed at a step end: impacts, whose kinks a fixed step
+    crosses unlocated) is repeated with adaptive steps at this rtol (``info['stepping']``
+    says so); None keeps the fixed-step result, with the count of such steps in
+    ``info['contact_loss_steps']``. docs/drivetrain.md §11 has the errors that motivate it.
+
     Both: max_steps caps the steps of a run (reported as ``max_steps``);
     divergence_factor: see :func:`gearbox.drivetrain.scipy_backend.divergence_bound`.
     """
@@ -85,6 +91,7 @@ class DiffraxSolver:
     step: float | None = None
     steps_per_period: float | None = None
     table_cells: int = 2048
+    contact_rtol: float | None = 1e-9
 
     name = "diffrax"
 
@@ -116,6 +123,8 @@ class DiffraxSolver:
             if self.steps_per_period is not None:
                 p.in_range("steps_per_period", self.steps_per_period, 2, 1e6)
             p.in_range("table_cells", self.table_cells, 64, 2**20)
+            if self.contact_rtol is not None:
+                p.in_range("contact_rtol", self.contact_rtol, 1e-14, 1, hi_open=True)
         p.check(self.max_steps >= 1, "max_steps", self.max_steps, "must be >= 1")
         p.raise_if_any("invalid diffrax solver settings")
 
@@ -296,7 +305,7 @@ def _fixed_plan(model: DrivetrainModel, ts: np.ndarray, solver: DiffraxSolver, t
 
 
 def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.0):
-    from .fixed_step import bucket, fixed_solve_fn
+    from .fixed_step import bucket, excitation_terms, fixed_solve_fn
 
     jax, jnp = _jax()
     p = model.params()
@@ -304,7 +313,7 @@ def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.
     plan, reached = _fixed_plan(model, ts, solver)
     steps = plan.n_steps
     plan = plan.padded(bucket(steps))
-    fn = fixed_solve_fn(solver.solver, solver.table_cells)
+    fn = fixed_solve_fn(solver.solver, solver.table_cells, terms=excitation_terms(p))
     args = (
         {k: jnp.asarray(v) for k, v in p.items()},
         jnp.asarray(np.asarray(y0, float) / p["scale"]),
@@ -313,6 +322,7 @@ def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.
         jnp.asarray(plan.out),
     )
     key = ("fixed", solver.solver, solver.table_cells, plan.n_steps, plan.out.size)
+    key += excitation_terms(p)
     key += tuple((k, np.shape(v)) for k, v in p.items())
     compiled = _COMPILED.get(key)
     start = _time.perf_counter()
@@ -321,9 +331,15 @@ def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.
         _COMPILED[key] = compiled
     compile_time = _time.perf_counter() - start
     start = _time.perf_counter()
-    zs = np.asarray(jax.block_until_ready(compiled(*args)))
+    zs, lost = jax.block_until_ready(compiled(*args))
     wall = _time.perf_counter() - start
-    Y = zs * p["scale"]
+    lost = int(lost)
+    if lost and solver.contact_rtol is not None:
+        t, Y, info = integrate_diffrax(model, y0, t_eval, _contact_solver(solver), t0=t0)
+        info["wall_time"] += wall
+        info["compile_time"] += compile_time
+        return t, Y, info | {"stepping": "adaptive (contact loss)", "contact_loss_steps": lost}
+    Y = np.asarray(zs) * p["scale"]
     code = 0
     if reached < len(Y):
         Y[reached:] = np.nan
@@ -339,8 +355,19 @@ def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.
         "compile_time": compile_time,
         "step": float(plan.h.max()) if plan.h.size else 0.0,
         "stability_limit": plan.limit,
+        "stepping": "fixed",
+        "contact_loss_steps": lost,
     }
     return ts[1:], Y, info
+
+
+def _contact_solver(solver: DiffraxSolver) -> DiffraxSolver:
+    """The adaptive settings that repeat a fixed-step run after contact loss."""
+    return DiffraxSolver(
+        rtol=solver.contact_rtol,
+        max_steps=solver.max_steps,
+        divergence_factor=solver.divergence_factor,
+    )
 
 
 def _stages(method: str) -> int:
@@ -468,7 +495,10 @@ def integrate_speeds(
     Returns a dict: ``mesh_force`` (N, shape (B, n_t), computed on the device), ``status``
     and ``failure`` (one per speed, as :func:`integrate_diffrax`), ``steps`` (shape (B,)),
     ``wall_time`` (s, the batch run), ``compile_time`` (s), ``setup_time`` (s: parameters,
-    step plans), and ``states`` (unscaled, shape (B, n_t, 2 n)) with ``keep_states``.
+    step plans), ``contact_loss_steps`` (shape (B,): fixed steps out of the nominal
+    contact; those speeds are repeated with adaptive steps at ``solver.contact_rtol``,
+    their time included) and ``states`` (unscaled, shape (B, n_t, 2 n)) with
+    ``keep_states``.
     """
     solver.validate()
     jax, jnp = _jax()
@@ -484,7 +514,7 @@ def integrate_speeds(
         fn = jax.jit(jax.vmap(solve_fn(solver)))
         args = (P, Z0, ts)
     else:
-        from .fixed_step import CHUNK, bucket, fixed_solve_fn, step_targets
+        from .fixed_step import CHUNK, bucket, excitation_terms, fixed_solve_fn, step_targets
 
         tg, lim, fmax = step_targets(model, solver, speeds)
         plans = []
@@ -499,7 +529,8 @@ def integrate_speeds(
         T = np.stack([pl.t for pl in plans])
         H = np.stack([pl.h for pl in plans])
         OUT = np.stack([pl.out for pl in plans])
-        fn = jax.jit(jax.vmap(fixed_solve_fn(solver.solver, solver.table_cells)))
+        fn = fixed_solve_fn(solver.solver, solver.table_cells, terms=excitation_terms(P))
+        fn = jax.jit(jax.vmap(fn))
         args = (P, Z0, T, H, OUT)
     args = jax.tree_util.tree_map(jnp.asarray, args)
     setup = _time.perf_counter() - t_setup
@@ -512,14 +543,37 @@ def integrate_speeds(
         start = _time.perf_counter()
         zs = jax.block_until_ready(compiled(*args))
         wall = _time.perf_counter() - start
+    lost = np.zeros(B, dtype=int)
     if solver.adaptive:
         zs, codes, steps, _ = zs
         zs = zs[:, 1:]
         codes = np.asarray(codes)
     else:
+        zs, lost = zs
+        lost = np.asarray(lost)
         codes = np.where(reached < n_t, _max_steps_code(), 0)
+        if solver.contact_rtol is not None and lost.any():
+            # repeat the speeds with contact loss with adaptive steps, one by one
+            zs = np.array(zs)
+            steps = steps.copy()
+            for i in np.flatnonzero(lost):
+                _, Yi, info = integrate_diffrax(
+                    model.with_speed(speeds[i]), y0s[i], t_evals[i], _contact_solver(solver)
+                )
+                zs[i] = Yi / P["scale"][i]
+                steps[i] = info["steps"]
+                reached[i] = n_t
+                codes[i] = 0 if info["failure"] is None else _max_steps_code()
+                wall += info["wall_time"]
+                compile_time += info["compile_time"]
+            zs = jnp.asarray(zs)
     out = _speed_results(model, args[0], zs, codes, steps, reached, t_evals, solver, keep_states)
-    return out | {"wall_time": wall, "compile_time": compile_time, "setup_time": setup}
+    return out | {
+        "wall_time": wall,
+        "compile_time": compile_time,
+        "setup_time": setup,
+        "contact_loss_steps": lost,
+    }
 
 
 def _max_steps_code() -> int:
@@ -531,10 +585,10 @@ def _max_steps_code() -> int:
 def _fixed_loop(solver: DiffraxSolver, args, steps: np.ndarray):
     """(scaled states, compile time, run time) of the speeds of :func:`integrate_speeds`
     one after the other through one compiled chunked run, each for its own steps."""
-    from .fixed_step import CHUNK, fixed_solve_fn
+    from .fixed_step import CHUNK, excitation_terms, fixed_solve_fn
 
     jax, jnp = _jax()
-    fn = fixed_solve_fn(solver.solver, solver.table_cells, chunked=True)
+    fn = fixed_solve_fn(solver.solver, solver.table_cells, True, excitation_terms(args[0]))
     n_chunks = -(-steps // CHUNK)
 
     def row(i):
@@ -544,13 +598,15 @@ def _fixed_loop(solver: DiffraxSolver, args, steps: np.ndarray):
     compiled = fn.lower(*row(0)).compile()
     compile_time = _time.perf_counter() - start
     wall = 0.0
-    zs = []
+    zs, lost = [], []
     for i in range(len(steps)):
         a = row(i)
         start = _time.perf_counter()
-        zs.append(jax.block_until_ready(compiled(*a)))
+        z, n_lost = jax.block_until_ready(compiled(*a))
         wall += _time.perf_counter() - start
-    return jnp.stack(zs), compile_time, wall
+        zs.append(z)
+        lost.append(n_lost)
+    return (jnp.stack(zs), jnp.stack(lost)), compile_time, wall
 
 
 def _speed_results(model, P, zs, codes, steps, reached, t_evals, solver, keep_states) -> dict:

@@ -42,6 +42,7 @@ from .linear import largest_stable_step, linear_matrices
 __all__ = [
     "FixedStepPlan",
     "bucket",
+    "excitation_terms",
     "explicit_tableau",
     "fixed_solve_fn",
     "lean_rhs",
@@ -288,13 +289,32 @@ def lean_rhs(t, z, p, laws_at, te0, rp):
     return jnp.stack([v[i] / sc[i] for i in range(n)] + acc)
 
 
-def _time_excitations(p, t, jnp):
+def _time_excitations(p, t, jnp, terms=None):
     """Engine torque without governor (N m) and propeller ripple factor at times t (any
-    shape): docs/drivetrain.md §5-6."""
+    shape): docs/drivetrain.md §5-6. terms: (engine, propeller) index tuples of the
+    orders to evaluate (:func:`excitation_terms`); None: all."""
+    eo, ea, po, pa = p["eo"], p["ea"], p["po"], p["pa"]
+    if terms is not None:
+        ie, ip = (np.asarray(i, dtype=int) for i in terms)
+        eo, ea, po, pa = eo[ie], ea[ie], po[ip], pa[ip]
     tt = t[..., None]
-    te0 = p["T"] * (1.0 + jnp.sum(p["ea"] * jnp.sin(p["eo"] * p["Omega"] * tt), axis=-1))
-    rp = 1.0 + jnp.sum(p["pa"] * jnp.sin(p["po"] * p["Omega2"] * tt), axis=-1)
+    te0 = p["T"] * (1.0 + jnp.sum(ea * jnp.sin(eo * p["Omega"] * tt), axis=-1))
+    rp = 1.0 + jnp.sum(pa * jnp.sin(po * p["Omega2"] * tt), axis=-1)
     return te0, rp
+
+
+def excitation_terms(params) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    """Indices of the engine and propeller orders with non-zero amplitude in ``params``
+    (shape (..., k) each: a batch counts a term when any member has it). The others
+    add nothing to the torques; leaving them out of :func:`fixed_solve_fn` saves the
+    sines (on the default scene 2 of 5 terms remain), and their amplitudes' derivative
+    with them."""
+
+    def nz(a):
+        a = np.asarray(a).reshape(-1, np.shape(a)[-1])
+        return tuple(int(i) for i in np.flatnonzero(np.any(a != 0, axis=0)))
+
+    return nz(params["ea"]), nz(params["pa"])
 
 
 #: Steps per chunk of :func:`fixed_solve_fn` with ``chunked=True``.
@@ -302,11 +322,12 @@ CHUNK = 64
 
 
 @lru_cache(maxsize=16)
-def fixed_solve_fn(method: str, cells: int, chunked: bool = False):
-    """A jitted ``f(params, z0, t, h, out) -> zs``: the scaled states after the steps
-    ``out`` (shape (n_t, 2 n)) of the fixed-step run with step starts ``t`` and sizes
-    ``h`` (shape (S,), a :class:`FixedStepPlan`); a step with h = 0 leaves the state
-    unchanged. Compiled once per method, table size and array shapes (pad plans with
+def fixed_solve_fn(method: str, cells: int, chunked: bool = False, terms=None):
+    """A jitted ``f(params, z0, t, h, out) -> (zs, lost)``: the scaled states after the
+    steps ``out`` (shape (n_t, 2 n)) of the fixed-step run with step starts ``t`` and
+    sizes ``h`` (shape (S,), a :class:`FixedStepPlan`; a step with h = 0 leaves the
+    state unchanged), and the number of steps that end out of the nominal contact (drive
+    flank open or coast flank closed: the fixed step crosses these kinks unlocated). Compiled once per method, table size and array shapes (pad plans with
     :meth:`FixedStepPlan.padded` to :func:`bucket` sizes to share compilations).
     Differentiable (``jax.grad`` through the scan).
 
@@ -314,6 +335,9 @@ def fixed_solve_fn(method: str, cells: int, chunked: bool = False):
     chunks of :data:`CHUNK` steps (S a multiple of it) in a ``while_loop``: runs of
     different lengths padded to one capacity share one compilation without paying for
     the padding (a speed sweep in a loop). Forward-mode differentiable only.
+
+    terms: the engine and propeller orders to evaluate (:func:`excitation_terms`);
+    None: all of them.
     """
     import jax
     import jax.numpy as jnp
@@ -342,16 +366,26 @@ def fixed_solve_fn(method: str, cells: int, chunked: bool = False):
             return z, z
 
         # time-only excitations of every step and stage, vectorised before the scan
-        te0, rp = _time_excitations(p, t[:, None] + h[:, None] * c[None, :], jnp)
-        return body, (t, h, te0, rp)
+        te0, rp = _time_excitations(p, t[:, None] + h[:, None] * c[None, :], jnp, terms)
+
+        def lost(zs, valid):
+            """Steps that end with the drive flank open or the coast flank closed."""
+            y = zs * p["scale"]
+            n = y.shape[-1] // 2
+            phi = p["N1"] * (p["Omega"] * (t + h) + y[:, 1] + p["phase"])
+            r = jax.vmap(laws_at)(phi)  # (S, 6)
+            gap = y[:, :n] @ p["G"].T - r[:, 2:4] - p["bl"]
+            return jnp.sum(valid & ((gap[:, 0] <= 0) | (gap[:, 1] > 0)))
+
+        return body, (t, h, te0, rp), lost
 
     def run(p, z0, t, h, out):
-        body, xs = setup(p, t, h)
+        body, xs, lost = setup(p, t, h)
         _, zs = jax.lax.scan(body, z0, xs)
-        return zs[out]
+        return zs[out], lost(zs, h > 0)
 
     def run_chunked(p, z0, t, h, out, n_chunks):
-        body, xs = setup(p, t, h)
+        body, xs, lost = setup(p, t, h)
 
         def chunk(carry):
             i, z, buf = carry
@@ -361,6 +395,7 @@ def fixed_solve_fn(method: str, cells: int, chunked: bool = False):
 
         buf = jnp.zeros((t.shape[0], z0.shape[0]), z0.dtype)
         _, _, buf = jax.lax.while_loop(lambda c: c[0] < n_chunks, chunk, (0, z0, buf))
-        return buf[out]
+        ran = jnp.arange(t.shape[0]) < n_chunks * CHUNK
+        return buf[out], lost(buf, ran & (h > 0))
 
     return jax.jit(run_chunked if chunked else run)

@@ -209,6 +209,9 @@ def simulate(
         "compile_time_s": info.get("compile_time", 0.0),
         "start": start,
     }
+    for k in ("stepping", "contact_loss_steps"):  # the jax backend's fixed-step path
+        if k in info:
+            attrs[k] = info[k]
     if shoot is not None:
         attrs.update(
             shooting_iterations=shoot.iterations,

@@ -27,7 +27,9 @@ __all__ = ["SpeedSweep", "speed_sweep"]
 class SpeedSweep:
     """Results per speed: rpm, shape (n,); metrics name -> ndarray (n,) (N); status per
     speed; wall_time (s) of the integration (batch) and per speed; timeseries (optional,
-    one TimeSeries per speed); setup_time (s): parameters and step plans of a batch."""
+    one TimeSeries per speed); setup_time (s): parameters and step plans of a batch;
+    contact_loss_steps: per speed, fixed steps out of the nominal contact (those speeds
+    were repeated with adaptive steps, DiffraxSolver.contact_rtol)."""
 
     rpm: np.ndarray
     metrics: dict[str, np.ndarray]
@@ -36,6 +38,7 @@ class SpeedSweep:
     compile_time: float
     timeseries: tuple[TimeSeries, ...] = ()
     setup_time: float = 0.0
+    contact_loss_steps: np.ndarray | None = None
 
     @property
     def time_per_speed(self) -> float:
@@ -50,6 +53,9 @@ class SpeedSweep:
             "compile_time_s": self.compile_time,
             "time_per_speed_s": self.time_per_speed,
             "setup_time_s": self.setup_time,
+            "contact_loss_steps": None
+            if self.contact_loss_steps is None
+            else self.contact_loss_steps.tolist(),
         }
 
 
@@ -130,6 +136,7 @@ def speed_sweep(
             compile_time=res["compile_time"],
             timeseries=tuple(series),
             setup_time=res["setup_time"],
+            contact_loss_steps=res["contact_loss_steps"],
         )
     from .simulate import simulate
 
