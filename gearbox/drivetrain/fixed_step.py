@@ -2,8 +2,8 @@
 
 ``DiffraxSolver()`` (no ``rtol``) integrates here; ``DiffraxSolver(rtol=...)`` keeps
 diffrax's adaptive PID stepping. docs/drivetrain.md §11 has the measurements behind
-the choice (one second at 2000 rpm: adaptive diffrax Tsit5 pays 10-15 us per step on
-the 2-core CPU, this scan 2-3 us per step at the same number of stages).
+the choice (one second at 2000 rpm on the shared 2-core CPU: adaptive diffrax Tsit5
+24-26 us per step, this scan 1.6-3.5 us per step at the same number of stages).
 
 Step: ``h_target = 1 / (steps_per_period * max(f_mode, f_mesh))`` with ``f_mode`` the
 highest eigenfrequency of the linearised model with the drive mesh at its largest
@@ -11,9 +11,10 @@ stiffness (damped first-order system) and ``f_mesh = N_1 Omega / (2 pi)``, at mo
 x the method's stability limit on that system (:func:`stability_limit`). Every interval
 between output times gets ``ceil(d / h_target)`` equal steps, so the samples lie on the
 step grid (the exudyn backend's rule, docs/exudyn.md). A fixed step has no error
-estimate and cannot collapse; a run that blows up anyway (impacts, a step chosen by
-hand) is caught after the run as NaN or divergence with its time and state, as for the
-adaptive path.
+estimate and cannot collapse; a run that blows up anyway (a step chosen by hand) is
+caught after the run as NaN or divergence with its time and state, as for the adaptive
+path. Steps that end out of the nominal contact are counted (impacts: the caller
+repeats the run with adaptive steps, ``DiffraxSolver.contact_rtol``).
 
 Right-hand side (:func:`lean_rhs`): the equations of :func:`gearbox.drivetrain.model.rhs`
 (docs/drivetrain.md §2-7) in scalar arithmetic, which XLA on the CPU fuses into a few
