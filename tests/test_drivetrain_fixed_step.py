@@ -281,3 +281,11 @@ def test_contact_loss_hands_the_run_to_adaptive_steps(base):
     # at 2000 rpm the mesh stays in contact: fixed steps throughout
     two = simulate(m, DiffraxSolver(), mesh_cycles=10)
     assert two.attrs["stepping"] == "fixed" and two.attrs["contact_loss_steps"] == 0
+    # a sweep re-runs only the speeds with contact loss, with the same adaptive settings
+    from gearbox.drivetrain.sweep import speed_sweep
+
+    sw = speed_sweep(m, [663.3, 2000.0], DiffraxSolver(), settle_cycles=0, mesh_cycles=40)
+    assert sw.status == ("success", "success")
+    assert sw.contact_loss_steps[0] > 0 and sw.contact_loss_steps[1] == 0
+    k = "mesh_force_mesh_order_amplitude_N"
+    assert sw.metrics[k][0] == pytest.approx(a[k], rel=1e-9)

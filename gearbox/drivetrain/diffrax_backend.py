@@ -544,6 +544,7 @@ def integrate_speeds(
         zs = jax.block_until_ready(compiled(*args))
         wall = _time.perf_counter() - start
     lost = np.zeros(B, dtype=int)
+    reruns: dict = {}
     if solver.adaptive:
         zs, codes, steps, _ = zs
         zs = zs[:, 1:]
@@ -563,11 +564,18 @@ def integrate_speeds(
                 zs[i] = Yi / P["scale"][i]
                 steps[i] = info["steps"]
                 reached[i] = n_t
-                codes[i] = 0 if info["failure"] is None else _max_steps_code()
+                codes[i] = 0
+                reruns[i] = info["failure"]
                 wall += info["wall_time"]
                 compile_time += info["compile_time"]
             zs = jnp.asarray(zs)
     out = _speed_results(model, args[0], zs, codes, steps, reached, t_evals, solver, keep_states)
+    if reruns:  # the adaptive runs' own reports (their NaN samples are in zs already)
+        fails = list(out["failure"])
+        for i, f in reruns.items():
+            fails[i] = f
+        out["failure"] = tuple(fails)
+        out["status"] = tuple("success" if f is None else f.kind for f in fails)
     return out | {
         "wall_time": wall,
         "compile_time": compile_time,
