@@ -195,6 +195,50 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "flanks": Field(
             "strs", ["drive", "coast"], "Flanks to analyse.", choices=("drive", "coast"), min_len=1
         ),
+        "pinion_tip_relief_um": _f(
+            0.0,
+            "Tip relief C_a of the pinion (um): material removed normal to both flanks at "
+            "the tip circle; 0 = the paper's unmodified flanks. Rule of thumb (ISO/Niemann): "
+            "about the mesh deflection at the design load.",
+            0,
+            100,
+        ),
+        "pinion_tip_relief_length_mm": _f(
+            0.0,
+            "Length of the pinion's tip relief (mm), measured radially down from the tip "
+            "circle at each face position (start diameter d_Ca = d_a - 2 L); must be > 0 "
+            "when the relief is, and the relief must start above the base circle.",
+            0,
+            50,
+        ),
+        "pinion_tip_relief_shape": _s(
+            "linear",
+            "Shape of the pinion's tip relief over the roll length sqrt(r^2 - r_b^2) from "
+            "its start to the tip: 'linear' or 'parabolic'.",
+            ("linear", "parabolic"),
+        ),
+        "gear_tip_relief_um": _f(
+            0.0,
+            "Tip relief C_a of the gear (um): material removed normal to both flanks at "
+            "the tip circle; 0 = the paper's unmodified flanks. Rule of thumb (ISO/Niemann): "
+            "about the mesh deflection at the design load.",
+            0,
+            100,
+        ),
+        "gear_tip_relief_length_mm": _f(
+            0.0,
+            "Length of the gear's tip relief (mm), measured radially down from the tip "
+            "circle at each face position (start diameter d_Ca = d_a - 2 L); must be > 0 "
+            "when the relief is, and the relief must start above the base circle.",
+            0,
+            50,
+        ),
+        "gear_tip_relief_shape": _s(
+            "linear",
+            "Shape of the gear's tip relief over the roll length sqrt(r^2 - r_b^2) from "
+            "its start to the tip: 'linear' or 'parabolic'.",
+            ("linear", "parabolic"),
+        ),
     },
     "drivetrain": {
         "engine_inertia_kgm2": _f(2.0, "Engine inertia incl. flywheel (kg m^2).", 0, None, True),
@@ -411,6 +455,42 @@ class Scene:
         return scene_from_dict(d, path=self.path)
 
 
+def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> None:
+    """Checks that involve more than one key (after the per-key checks)."""
+    lt = data.get("ltca", {})
+    for name in ("pinion", "gear"):
+        amount = lt.get(f"{name}_tip_relief_um")
+        length = lt.get(f"{name}_tip_relief_length_mm")
+        if (
+            isinstance(amount, float)
+            and isinstance(length, float)
+            and amount > 0
+            and not length > 0
+        ):
+            probs.add(
+                f"ltca.{name}_tip_relief_length_mm",
+                length,
+                f"must be in (0, 50] when ltca.{name}_tip_relief_um is > 0 ({amount:g})",
+            )
+    pair, pin, gear = data.get("pair", {}), data.get("pinion", {}), data.get("gear", {})
+    parallel = (
+        pair.get("shaft_angle_deg") == 0
+        and pair.get("design_mode") == "cone_angles"
+        and pin.get("cone_angle_deg") == 0
+        and gear.get("cone_angle_deg") == 0
+    )
+    for name in ("pinion", "gear"):
+        amount = lt.get(f"{name}_tip_relief_um")
+        if parallel and isinstance(amount, float) and amount > 0:
+            probs.add(
+                f"ltca.{name}_tip_relief_um",
+                amount,
+                "must be 0 for a parallel-axis pair (shaft and cone angles 0): the scene's "
+                "closed-form parallel path does not apply tip relief (crossed beveloid "
+                "pairs only; gearbox.ltca.parallel.parallel_grid takes it as an argument)",
+            )
+
+
 def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:
     """Validate a nested dict (TOML layout) and fill defaults; raise on any problem."""
     probs = Problems()
@@ -444,6 +524,7 @@ def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:
                 "{...}",
                 f"unknown section; valid sections: {', '.join(s for s in SCHEMA if s)}",
             )
+    _check_relations(data, probs)
     where = f"scene {path}" if path else "scene"
     probs.raise_if_any(f"invalid {where}")
     return Scene(MappingProxyType(data), path)
@@ -463,6 +544,19 @@ def load_scene(path: str | Path) -> Scene:
     return scene_from_dict(raw, path=p)
 
 
+#: Notes printed under a section's heading in the generated reference.
+_SECTION_NOTES = {
+    "ltca": (
+        "Tip relief (`*_tip_relief_*`): the material removed normal to both flanks of a "
+        "gear near its tip enters the separation field of crossed beveloid pairs "
+        "(unloaded TE, loaded contact and edge detection see the modified flanks); its "
+        "length is radial from the tip circle at each face position and its shape runs "
+        "over the roll length. All zero by default: the paper's unmodified flanks. "
+        'Measured effect on case 03 in docs/ltca.md, section "Tip relief".'
+    ),
+}
+
+
 def schema_markdown() -> str:
     """The scene schema as a Markdown reference (``docs/scene.md``)."""
     lines = [
@@ -476,6 +570,7 @@ def schema_markdown() -> str:
         lines += [
             f"## `[{sec}]`" if sec else "## top level",
             "",
+            *([_SECTION_NOTES[sec], ""] if sec in _SECTION_NOTES else []),
             "| key | kind | default | range | meaning |",
             "|---|---|---|---|---|",
         ]

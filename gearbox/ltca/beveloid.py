@@ -22,6 +22,13 @@ Contact lines. In each face slice the contact point is the minimum of the separa
 along the profile (parabolic refinement); a minimum on the border of the valid
 profile range means the contact would lie beyond the flank edge (tip or form
 circle): such points are marked ``edge`` and loads on them are flagged.
+
+Tip relief (:class:`TipRelief`, scene keys ``ltca.pinion_tip_relief_*`` and
+``ltca.gear_tip_relief_*``): the material removed normal to each flank near its tip is
+added to the separation, on the pinion at the pinion point's radius and on the gear at
+the gear partner's radius, in the field, on its continuation and in the three exact
+evaluations of the contact-line refinement; the unloaded TE, the loaded contact and the
+edge detection then see the modified flanks.
 """
 
 from __future__ import annotations
@@ -38,10 +45,110 @@ from .analysis import LTCAOptions, ltca_cycle
 from .compliance import compliance_for
 from .grid import ContactGrid, ToothSections
 
-__all__ = ["SeparationField", "beveloid_ltca", "separation_field"]
+__all__ = [
+    "SeparationField",
+    "TipRelief",
+    "beveloid_ltca",
+    "separation_field",
+    "tip_relief_from_scene",
+]
 
 _SIDE_INDEX = {"R": 0, "L": 1}
 _FLANK_SIDE = {"drive": "R", "coast": "L"}
+
+
+_RELIEF_SHAPES = {"linear": 1, "parabolic": 2}
+
+
+@dataclass(frozen=True)
+class TipRelief:
+    """Tip relief (profile modification) of one gear's flanks, SI.
+
+    amount: C_a (m), the material removed normal to the flank at the tip circle
+    (0 = the paper's unmodified flanks); length: L_a (m), measured radially down from
+    the tip circle r_a(z) at each face position, so the relief starts at
+    ``r_s = r_a - L_a`` (the diameter d_Ca = d_a - 2 L_a of ISO 21771 profile
+    modifications); shape: ``linear`` or ``parabolic`` in the roll length
+    ``xi = sqrt(r^2 - r_b^2)``: ``C(r) = C_a t^e``, ``t = (xi - xi_s) / (xi_a - xi_s)``,
+    e = 1 or 2, zero below r_s. Beyond the tip (the flank's continuation, used only to
+    tell an interior minimum from an edge one) the same law is continued.
+    """
+
+    amount: float = 0.0
+    length: float = 0.0
+    shape: str = "linear"
+
+    def __post_init__(self):
+        p = Problems()
+        p.in_range("amount", self.amount, 0.0, None)
+        p.in_range("length", self.length, 0.0, None)
+        if self.shape not in _RELIEF_SHAPES:
+            p.add("shape", self.shape, f"must be one of {', '.join(_RELIEF_SHAPES)}")
+        if self.amount > 0 and not self.length > 0:
+            p.add("length", self.length, "must be > 0 when the relief amount is > 0")
+        p.raise_if_any("invalid tip relief")
+
+    @property
+    def active(self) -> bool:
+        return self.amount > 0
+
+    def removal(self, radius, tip_radius, base_radius: float) -> np.ndarray:
+        """Material removed normal to the flank (m) at ``radius`` (m) of a transverse
+        section whose tip radius is ``tip_radius`` (m); involute base radius r_b (m).
+        The relief must start above the base circle (``r_a - L_a > r_b``)."""
+        r = np.asarray(radius, dtype=float)
+        if not self.active:
+            return np.zeros_like(r)
+        ra = np.asarray(tip_radius, dtype=float)
+        rs = ra - self.length
+        if np.any(rs <= base_radius):
+            raise InputError(
+                Problem(
+                    "length",
+                    self.length,
+                    f"the relief would start at {float(np.min(rs)) * 1e3:.3f} mm radius, "
+                    f"not above the base circle ({base_radius * 1e3:.3f} mm)",
+                )
+            )
+        xs = np.sqrt(rs**2 - base_radius**2)
+        xa = np.sqrt(ra**2 - base_radius**2)
+        xi = np.sqrt(np.maximum(r**2 - base_radius**2, 0.0))
+        t = np.maximum(xi - xs, 0.0) / (xa - xs)
+        return self.amount * t ** _RELIEF_SHAPES[self.shape]
+
+
+def tip_relief_from_scene(design, scene) -> tuple[TipRelief, TipRelief]:
+    """(pinion, gear) tip reliefs of the scene's ``[ltca]`` keys (um, mm -> m).
+
+    The relief must start above the base circle over the whole face width on both
+    flanks; otherwise the error names the length key, its value and the valid range.
+    """
+    from ..surface import blanks_from_design
+
+    lt = scene["ltca"]
+    blanks = blanks_from_design(design)
+    out = []
+    probs = Problems()
+    for name, gd, blank in zip(
+        ("pinion", "gear"), (design.pinion, design.gear), blanks, strict=True
+    ):
+        amount = float(lt.get(f"{name}_tip_relief_um", 0.0)) * 1e-6
+        length_mm = float(lt.get(f"{name}_tip_relief_length_mm", 0.0))
+        relief = TipRelief(amount, length_mm * 1e-3, lt.get(f"{name}_tip_relief_shape", "linear"))
+        if relief.active:
+            ra = blank.tip_radius(np.array([blank.z_toe, blank.z_heel]))
+            depth = float(np.min(ra) - max(gd.base_radius))
+            probs.in_range(
+                f"ltca.{name}_tip_relief_length_mm",
+                length_mm,
+                0.0,
+                depth * 1e3,
+                lo_open=True,
+                hi_open=True,
+            )
+        out.append(relief)
+    probs.raise_if_any("invalid tip relief (the relief must start above the base circle)")
+    return out[0], out[1]
 
 
 @dataclass(frozen=True)
@@ -236,12 +343,19 @@ def separation_field(
     n_face: int,
     positions: int,
     pitches: tuple[int, int] = (-3, 3),
+    relief: tuple[TipRelief, TipRelief] | None = None,
 ) -> SeparationField:
     """Separation field of the reference tooth pair on flank ``side`` ("R" or "L")
-    at ``positions`` per mesh cycle over ``pitches`` mesh cycles around phi_1 = 0."""
+    at ``positions`` per mesh cycle over ``pitches`` mesh cycles around phi_1 = 0.
+
+    relief: (pinion, gear) :class:`TipRelief`; ``None`` takes the scene's
+    (:func:`tip_relief_from_scene`). Its removal is added to every separation."""
     from ..surface import blanks_from_design, tip_parameter
 
     pinion, gear = blanks_from_design(design)
+    if relief is None:
+        relief = tip_relief_from_scene(design, scene)
+    mods = _Modification(design, pinion, gear, side, relief)
     asm = _assembly(design, scene)
     N1, N2 = design.pinion.teeth, design.gear.teeth
     pitch = 2 * math.pi / N1
@@ -253,6 +367,7 @@ def separation_field(
     zz = np.repeat(z, n_profile)
     uu = u.ravel()
     p1, _, _, n1 = _jets(pinion, side, zz, uu)
+    relief1 = mods.pinion(p1)  # (npts,) removal on the pinion, fixed over the angles
     phase = _gear_phase(design, asm, pinion, gear, side, 0.0, 0.5 * float(u_tip.mean()))
     phi1 = np.arange(pitches[0] * positions, pitches[1] * positions + 1) * (pitch / positions)
     M = phi1.size
@@ -289,8 +404,11 @@ def separation_field(
         u2_tip = np.interp(x[:, 0], z2_tab, u2_tab)
         on = ok & (x[:, 0] >= z2_toe) & (x[:, 0] <= z2_heel) & (x[:, 1] >= 0) & (x[:, 1] <= u2_tip)
         r2, _, _, _ = _jets(gear, side, x[:, 0], x[:, 1])
-        sep[i] = np.where(on, x[:, 2], np.nan)
-        sep_ext[i] = np.where(ok, x[:, 2], np.nan)
+        t = x[:, 2]
+        if mods.active:
+            t = t + relief1 + mods.gear(r2)
+        sep[i] = np.where(on, t, np.nan)
+        sep_ext[i] = np.where(ok, t, np.nan)
         grad[i] = np.hypot(r2[:, 0], r2[:, 1])
         gz[i] = x[:, 0]
     S, U = n_face, n_profile
@@ -313,6 +431,7 @@ def separation_field(
         n1.reshape(S, U, 3),
         grad.reshape(M, S, U),
         gz.reshape(M, S, U),
+        mods,
     )
     return SeparationField(
         side=side,
@@ -329,8 +448,36 @@ def separation_field(
     )
 
 
+class _Modification:
+    """Flank modifications of a pair on one flank side: material removed (m) at
+    pinion and gear flank points given in their own frames (radius = hypot(x, y),
+    tip radius r_a at the point's axial position z)."""
+
+    def __init__(self, design, pinion, gear, side, relief):
+        self.parts = [
+            (rel, blank, gd.base_radius[_SIDE_INDEX[side]])
+            for rel, blank, gd in zip(
+                relief, (pinion, gear), (design.pinion, design.gear), strict=True
+            )
+        ]
+        self.active = any(rel.active for rel, _, _ in self.parts)
+
+    def _removal(self, k, points):
+        rel, blank, rb = self.parts[k]
+        if not rel.active:
+            return np.zeros(points.shape[0])
+        radius = np.hypot(points[:, 0], points[:, 1])
+        return rel.removal(radius, blank.tip_radius(points[:, 2]), rb)
+
+    def pinion(self, points):
+        return self._removal(0, points)
+
+    def gear(self, points):
+        return self._removal(1, points)
+
+
 def _refine_lines(
-    pinion, gear, asm, side, phase, ratio, phi1, z, u, sep, sep_ext, xs, p1, n1, grad, gz
+    pinion, gear, asm, side, phase, ratio, phi1, z, u, sep, sep_ext, xs, p1, n1, grad, gz, mods
 ):
     """Contact line of every (angle, slot): see :class:`SeparationField`.
 
@@ -384,7 +531,11 @@ def _refine_lines(
             pf = np.einsum("nij,nj->ni", M1, pk) + asm.pinion_origin
             nf = np.einsum("nij,nj->ni", M1, nk)
             xk, okk, _ = _project(gear, side, M2, asm.gear_origin, pf, nf, x0)
-            vals.append(xk[:, 2])
+            if mods.active:
+                r2k, _, _, _ = _jets(gear, side, xk[:, 0], xk[:, 1])
+                vals.append(xk[:, 2] + mods.pinion(pk) + mods.gear(r2k))
+            else:
+                vals.append(xk[:, 2])
             oks.append(okk)
             if k == 0:
                 xk0 = xk
@@ -464,6 +615,23 @@ def _sections(gd, blank, side, radius, z):
 _REACH = 2e-4  # m: points farther than this from first contact are left out
 
 
+def _gear_widths(g_z, has, dz):
+    """Extent along the gear's axis of each pinion slot of width dz on the contact
+    lines: |d z_2 / d slot| from the gear-axial coordinates of neighbouring slots
+    (one-sided at the ends of a line), the median ratio where a line has one slot."""
+    gz = np.where(has, g_z, np.nan)
+    d = np.full(gz.shape, np.nan)
+    both = np.abs(gz[:, 2:] - gz[:, :-2]) / 2
+    d[:, 1:-1] = both
+    fwd = np.abs(gz[:, 1:] - gz[:, :-1])
+    d[:, :-1] = np.where(np.isfinite(d[:, :-1]), d[:, :-1], fwd)
+    d[:, 1:] = np.where(np.isfinite(d[:, 1:]), d[:, 1:], fwd)
+    ratio = d / dz
+    med = np.nanmedian(ratio[has]) if np.any(np.isfinite(ratio[has])) else 1.0
+    ratio = np.where(np.isfinite(ratio) & (ratio > 0), ratio, med)
+    return dz * ratio
+
+
 def beveloid_grids(design, scene, field: SeparationField, positions: int, reach: float = _REACH):
     """Contact grids at ``positions`` per mesh cycle from a separation field.
 
@@ -503,6 +671,10 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
     sense = float(np.sign(np.nanmean(np.where(has, arm_raw, np.nan))))
     arm = sense * arm_raw
     proj = np.sqrt(np.maximum(1 - (nf @ zaxis) ** 2, 1e-12))
+    # the gear's own: the normal against its transverse plane, and the slot's extent
+    # along its axis (the gear-axial coordinate of the contact line per pinion slot)
+    proj2 = np.sqrt(np.maximum(1 - (nf @ asm.gear_axis) ** 2, 1e-12))
+    width2 = _gear_widths(g_z, has, dz)
     # first pass: the points of every position and their rigid rotation to contact
     picks = []
     for j in range(positions):
@@ -542,6 +714,8 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
                 separation=s_i - m_i * phi_ref,
                 arm=m_i,
                 transverse_projection=proj[fi, slots],
+                width2=width2[fi, slots],
+                transverse_projection2=proj2[fi, slots],
                 curvature_radius=1.0 / curv[fi, slots],
                 profile=uu[fi, slots],
                 profile_range=(u_lo, u_top),
@@ -559,9 +733,16 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
     return grids, sense
 
 
-def beveloid_ltca(design, scene, *, options: LTCAOptions | None = None):
+def beveloid_ltca(
+    design,
+    scene,
+    *,
+    options: LTCAOptions | None = None,
+    relief: tuple[TipRelief, TipRelief] | None = None,
+):
     """Loaded TCA and mesh table of a crossed beveloid pair for the scene's torques and
     flanks (``drive`` = R, ``coast`` = L). Returns :class:`~gearbox.ltca.table.LTCAResult`.
+    relief: (pinion, gear) tip reliefs; ``None`` takes the scene's ``[ltca]`` keys.
     """
     from .table import LTCAResult, mesh_table
 
@@ -575,11 +756,19 @@ def beveloid_ltca(design, scene, *, options: LTCAOptions | None = None):
     else:
         compliance = compliance_for(lt["fidelity"])
     torques = scene["load"]["torques_Nm"]
+    if relief is None:
+        relief = tip_relief_from_scene(design, scene)
     results, senses, fields = {}, {}, {}
     for flank in lt["flanks"]:
         side = _FLANK_SIDE[flank]
         field = separation_field(
-            design, scene, side, n_profile=lt["grid_profile"], n_face=lt["grid_face"], positions=P
+            design,
+            scene,
+            side,
+            n_profile=lt["grid_profile"],
+            n_face=lt["grid_face"],
+            positions=P,
+            relief=relief,
         )
         grids, sense = beveloid_grids(design, scene, field, P)
         res = ltca_cycle(

@@ -11,6 +11,10 @@ Plane-of-action coordinates: roll distance ``xi`` along the transverse line of
 action, measured from the pinion's tangent point T1 (so the pinion's transverse
 radius of curvature at the contact is ``xi``), and ``y`` along the face width from the
 face middle. Contact line of tooth pair k: ``xi = xi_0 + k p_bt + y tan(beta_b)``.
+
+Tip relief (``parallel_grid(..., relief=...)``, :class:`gearbox.ltca.beveloid.TipRelief`
+per gear): the material removed at the pinion radius ``sqrt(r_b1^2 + xi^2)`` and at the
+gear radius ``sqrt(r_b2^2 + (T1T2 - xi)^2)`` is the separation at the roll position.
 """
 
 from __future__ import annotations
@@ -178,7 +182,9 @@ def _inv_inverse(y: float) -> float:
     return float(brentq(lambda a: inv(a) - y, 1e-6, 1.5, xtol=1e-15, rtol=1e-15, maxiter=200))
 
 
-def parallel_grid(pair: ParallelPair, fraction: float, n_face: int = 40) -> ContactGrid:
+def parallel_grid(
+    pair: ParallelPair, fraction: float, n_face: int = 40, relief=None
+) -> ContactGrid:
     """Contact grid of a parallel involute pair at one pinion position.
 
     fraction: pinion position in mesh cycles (0 = the reference pair's contact line
@@ -186,7 +192,9 @@ def parallel_grid(pair: ParallelPair, fraction: float, n_face: int = 40) -> Cont
     n_face: slices across the face width (cell centres).
 
     Every tooth pair whose contact line crosses the active flank gets one point per
-    slice inside the active path; separations are zero (perfect involutes).
+    slice inside the active path; separations are zero (perfect involutes) unless
+    ``relief`` = (pinion, gear) :class:`~gearbox.ltca.beveloid.TipRelief` is given:
+    then each point's separation is the material both reliefs remove at its radii.
     """
     p = Problems()
     p.in_range("n_face", n_face, 3, None)
@@ -253,7 +261,7 @@ def parallel_grid(pair: ParallelPair, fraction: float, n_face: int = 40) -> Cont
         face=face,
         width=np.full(n, dy),
         line_length=np.full(n, dy / cb),
-        separation=np.zeros(n),
+        separation=_relief_separation(pair, relief, r1, r2),
         arm=np.full(n, rb1 * cb),
         transverse_projection=np.full(n, cb),
         curvature_radius=rho,
@@ -269,3 +277,14 @@ def parallel_grid(pair: ParallelPair, fraction: float, n_face: int = 40) -> Cont
         youngs_modulus=pair.youngs_modulus,
         poisson_ratio=pair.poisson_ratio,
     )
+
+
+def _relief_separation(pair: ParallelPair, relief, r1, r2) -> np.ndarray:
+    """Separation (m) from the tip reliefs at pinion and gear radii r1, r2 (m)."""
+    sep = np.zeros(np.shape(r1))
+    if relief is None:
+        return sep
+    for i, (rel, r) in enumerate(zip(relief, (r1, r2), strict=True)):
+        if rel.active:
+            sep = sep + rel.removal(r, pair.tip_radius(i), pair.base_radius(i))
+    return sep
