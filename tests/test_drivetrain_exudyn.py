@@ -88,8 +88,9 @@ def test_exudyn_agrees_with_scipy_on_the_default_scene(marine, marine_ref):
 
 def test_exudyn_diffrax_and_scipy_agree_three_ways(marine, marine_ref):
     # Issue 6: "exudyn, diffrax and scipy give the same dynamic mesh force (RMS and the
-    # mesh-order amplitude) within 1e-4 relative on the default scene". diffrax at its
-    # default rtol 1e-6; measured when written: largest pairwise difference 6e-6.
+    # mesh-order amplitude) within 1e-4 relative on the default scene". diffrax with its
+    # default settings (fixed steps since; with adaptive rtol 1e-6 the largest pairwise
+    # difference measured 6e-6 when written).
     pytest.importorskip("diffrax")
     from gearbox.drivetrain.diffrax_backend import DiffraxSolver
 
