@@ -24,15 +24,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_fe import run_case  # noqa: E402
 
-
-def aitken(a: np.ndarray) -> float:
-    """Limit of a geometric sequence from its last three terms (nan if not monotone)."""
-    a0, a1, a2 = (float(v) for v in a[-3:])
-    d1, d2 = a1 - a0, a2 - a1
-    r = d2 / d1 if d1 != 0 else np.nan
-    if not 0 < r < 1:
-        return float("nan")
-    return a2 + d2 * r / (1 - r)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from gearbox.fe.extent import extent_limit  # noqa: E402
 
 
 def main(argv=None) -> int:
@@ -67,11 +60,12 @@ def main(argv=None) -> int:
             if a.jsonl is not None:
                 with a.jsonl.open("a") as fh:
                     fh.write(json.dumps(line) + "\n")
-    for bc in ("clamped", "free"):
-        ks = np.array(out[bc])
-        if len(ks) >= 3:
-            lim = [aitken(ks[:, i]) for i in range(ks.shape[1])]
-            print(f"{bc}: limit {np.round(np.array(lim) / 1e6, 1)} N/um")
+    if len(out["clamped"]) >= 3 and len(out["free"]) >= 3:
+        lim, err = extent_limit(np.array(out["clamped"]), np.array(out["free"]))
+        print(
+            f"whole gear: {np.round(lim / 1e6, 1)} +- {np.round(err / 1e6, 1)} N/um; "
+            f"over the first clamped segment: {np.round(lim / out['clamped'][0], 3)}"
+        )
     return 0
 
 

@@ -15,6 +15,7 @@ from .analysis import CycleResult as CycleResult
 from .analysis import LTCAOptions as LTCAOptions
 from .analysis import cycle_summary as cycle_summary
 from .analysis import ltca_cycle as ltca_cycle
+from .compliance import BODY_COMPLIANCE as BODY_COMPLIANCE
 from .compliance import Compliance as Compliance
 from .compliance import FastCompliance as FastCompliance
 from .compliance import compliance_for as compliance_for
@@ -36,6 +37,7 @@ __all__ = [
     "ContactSolution",
     "ContactSolver",
     "CycleResult",
+    "BODY_COMPLIANCE",
     "FastCompliance",
     "IsoStiffness",
     "LTCAOptions",

@@ -615,6 +615,23 @@ def _sections(gd, blank, side, radius, z):
 _REACH = 2e-4  # m: points farther than this from first contact are left out
 
 
+def _gear_widths(g_z, has, dz):
+    """Extent along the gear's axis of each pinion slot of width dz on the contact
+    lines: |d z_2 / d slot| from the gear-axial coordinates of neighbouring slots
+    (one-sided at the ends of a line), the median ratio where a line has one slot."""
+    gz = np.where(has, g_z, np.nan)
+    d = np.full(gz.shape, np.nan)
+    both = np.abs(gz[:, 2:] - gz[:, :-2]) / 2
+    d[:, 1:-1] = both
+    fwd = np.abs(gz[:, 1:] - gz[:, :-1])
+    d[:, :-1] = np.where(np.isfinite(d[:, :-1]), d[:, :-1], fwd)
+    d[:, 1:] = np.where(np.isfinite(d[:, 1:]), d[:, 1:], fwd)
+    ratio = d / dz
+    med = np.nanmedian(ratio[has]) if np.any(np.isfinite(ratio[has])) else 1.0
+    ratio = np.where(np.isfinite(ratio) & (ratio > 0), ratio, med)
+    return dz * ratio
+
+
 def beveloid_grids(design, scene, field: SeparationField, positions: int, reach: float = _REACH):
     """Contact grids at ``positions`` per mesh cycle from a separation field.
 
@@ -654,6 +671,10 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
     sense = float(np.sign(np.nanmean(np.where(has, arm_raw, np.nan))))
     arm = sense * arm_raw
     proj = np.sqrt(np.maximum(1 - (nf @ zaxis) ** 2, 1e-12))
+    # the gear's own: the normal against its transverse plane, and the slot's extent
+    # along its axis (the gear-axial coordinate of the contact line per pinion slot)
+    proj2 = np.sqrt(np.maximum(1 - (nf @ asm.gear_axis) ** 2, 1e-12))
+    width2 = _gear_widths(g_z, has, dz)
     # first pass: the points of every position and their rigid rotation to contact
     picks = []
     for j in range(positions):
@@ -693,6 +714,8 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
                 separation=s_i - m_i * phi_ref,
                 arm=m_i,
                 transverse_projection=proj[fi, slots],
+                width2=width2[fi, slots],
+                transverse_projection2=proj2[fi, slots],
                 curvature_radius=1.0 / curv[fi, slots],
                 profile=uu[fi, slots],
                 profile_range=(u_lo, u_top),

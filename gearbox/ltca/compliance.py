@@ -37,7 +37,13 @@ from ..errors import Problems
 from .grid import ContactGrid
 from .slice_model import slice_compliance, weber_approach
 
-__all__ = ["Compliance", "FastCompliance", "compliance_for"]
+__all__ = ["BODY_COMPLIANCE", "Compliance", "FastCompliance", "compliance_for"]
+
+#: Body compliance of :class:`FastCompliance` over 1/(E b), fitted on the FE level
+#: (docs/fe.md, "Calibration of the fast level"): the minimax fit of the mean mesh
+#: stiffness of the paper's cases 01-04, both flanks, 150/300/450 N m, against the FE
+#: level at its default mesh with the segment-extent correction.
+BODY_COMPLIANCE = 0.92
 
 
 @runtime_checkable
@@ -91,39 +97,49 @@ class FastCompliance:
     """Semi-analytical compliance: thin slices, shear-layer coupling, Weber contact.
 
     coupling_length: slice-coupling decay length over the tooth's whole depth (-);
-    0 turns the coupling off (independent slices).
+    0 turns the coupling off (independent slices). tooth_factor: factor on the slice
+    compliance (bending, shear, compression, foundation; not the contact flattening).
+    body_compliance: compliance of each gear's body common to all its loaded points,
+    over ``1 / (E b)`` (b the face width): a rank-one term ``body_compliance / (E b)``
+    added to every entry of each gear's block (all tooth pairs), the far-field
+    deflection of the rim that a two-dimensional slice foundation does not hold.
     """
 
     coupling_length: float = 1.0
+    tooth_factor: float = 1.0
+    body_compliance: float = BODY_COMPLIANCE
     name: str = "fast"
     load_dependent: bool = True
 
     def __post_init__(self):
         p = Problems()
         p.in_range("coupling_length", self.coupling_length, 0.0, 20.0)
+        p.in_range("tooth_factor", self.tooth_factor, 0.1, 10.0)
+        p.in_range("body_compliance", self.body_compliance, 0.0, 100.0)
         p.raise_if_any("invalid fast compliance")
 
     def slice_parts(self, grid: ContactGrid):
         """Normal compliance per unit face width of pinion and gear slices (m per N/m)."""
         E, nu = grid.youngs_modulus, grid.poisson_ratio
-        proj2 = grid.transverse_projection**2
-        c1 = slice_compliance(grid.tooth1, E, nu).total * proj2
-        c2 = slice_compliance(grid.tooth2, E, nu).total * proj2
+        p1 = grid.transverse_projection**2
+        p2 = grid.transverse_projection2**2
+        c1 = slice_compliance(grid.tooth1, E, nu).total * p1 * self.tooth_factor
+        c2 = slice_compliance(grid.tooth2, E, nu).total * p2 * self.tooth_factor
         return c1, c2
 
     def tooth_matrix(self, grid: ContactGrid) -> np.ndarray:
         n = grid.size
         C = np.zeros((n, n))
         c1, c2 = self.slice_parts(grid)
-        for teeth, c in ((grid.tooth1, c1), (grid.tooth2, c2)):
+        for teeth, c, widths in ((grid.tooth1, c1, grid.width), (grid.tooth2, c2, grid.width2)):
             depth = teeth.tip_radius - teeth.root_radius
             for k in grid.pairs():
                 idx = np.flatnonzero(grid.pair == k)
                 idx = idx[np.argsort(grid.slot[idx])]
                 slots = grid.slot[idx]
-                width = float(np.mean(grid.width[idx]))
+                width = float(np.mean(widths[idx]))
                 if self.coupling_length == 0.0 or idx.size == 1:
-                    C[idx, idx] += c[idx] / grid.width[idx]
+                    C[idx, idx] += c[idx] / widths[idx]
                     continue
                 # every slot of the face: occupied ones carry their own slice, the
                 # others (no contact line there) the nearest occupied slice's
@@ -136,6 +152,11 @@ class FastCompliance:
                 lam = self.coupling_length * float(np.mean(depth[idx]))
                 block = _pasternak_block(c_slot, width, lam)
                 C[np.ix_(idx, idx)] += block[np.ix_(slots, slots)]
+        if self.body_compliance > 0.0:
+            # one rank-one term per gear
+            for widths in (grid.width, grid.width2):
+                face = float(grid.n_slots * np.mean(widths))
+                C += self.body_compliance / (grid.youngs_modulus * face)
         return C
 
     def contact_diagonal(self, grid: ContactGrid, line_load: np.ndarray) -> np.ndarray:

@@ -127,7 +127,11 @@ class ContactGrid:
       of the separation;
     - ``position``, ``normal`` shape (n, 3): point and unit normal (force of the pinion
       on the gear) in Sf, for the mesh point P and line of action n;
-    - ``tooth1``, ``tooth2``: :class:`ToothSections` of pinion and gear.
+    - ``tooth1``, ``tooth2``: :class:`ToothSections` of pinion and gear;
+    - ``width2``, ``transverse_projection2`` (optional): the same two for the gear,
+      where its axis is not parallel to the pinion's (crossed axes): the slice width
+      along the gear's axis and the cosine between the normal and the gear's
+      transverse plane. ``None`` (parallel axes): the pinion's values.
     """
 
     pair: np.ndarray
@@ -150,6 +154,8 @@ class ContactGrid:
     tooth2: ToothSections
     youngs_modulus: float
     poisson_ratio: float
+    width2: np.ndarray | None = None
+    transverse_projection2: np.ndarray | None = None
 
     def __post_init__(self):
         probs = Problems()
@@ -183,8 +189,21 @@ class ContactGrid:
                 probs.add(name, f"shape {a.shape}", f"must have shape ({n}, 3)")
             a.setflags(write=False)
             object.__setattr__(self, name, a)
+        for name in ("width2", "transverse_projection2"):
+            v = getattr(self, name)
+            if v is None:
+                v = getattr(self, name[:-1])
+            object.__setattr__(self, name, _frozen_array(v, n, name, probs, float))
         probs.raise_if_any("invalid contact grid")
-        for name in ("width", "line_length", "arm", "curvature_radius", "transverse_projection"):
+        for name in (
+            "width",
+            "line_length",
+            "arm",
+            "curvature_radius",
+            "transverse_projection",
+            "width2",
+            "transverse_projection2",
+        ):
             a = getattr(self, name)
             if not np.all(np.isfinite(a) & (a > 0)):
                 i = int(np.flatnonzero(~(np.isfinite(a) & (a > 0)))[0])
