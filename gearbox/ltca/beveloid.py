@@ -467,7 +467,9 @@ class _Modification:
         if not rel.active:
             return np.zeros(points.shape[0])
         radius = np.hypot(points[:, 0], points[:, 1])
-        return rel.removal(radius, blank.tip_radius(points[:, 2]), rb)
+        # the flank's continuation beyond the face keeps the end section's tip radius
+        z = np.clip(points[:, 2], blank.z_toe, blank.z_heel)
+        return rel.removal(radius, blank.tip_radius(z), rb)
 
     def pinion(self, points):
         return self._removal(0, points)
