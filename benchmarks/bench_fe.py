@@ -11,6 +11,10 @@ memory: the factors' size and the process's peak resident memory.
     python benchmarks/bench_fe.py --cases 03 --refine 0.5 --positions 8
 
 ``--refine`` scales the FE mesh (``MeshOptions().refined(f)``; 1 = default mesh).
+``--extent`` also extrapolates the FE segment (loaded teeth, one neighbour each side,
+clamped cut faces) to the whole gear on a coarse mesh (``gearbox.fe.extent``; about
+8 coarse runs per case and flank) and prints the fast level's error against that, the
+reference the fast level is calibrated on (docs/fe.md).
 Timings on a shared machine vary: compare ratios measured in the same run.
 """
 
@@ -28,6 +32,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from gearbox.fe import FECompliance, FEOptions, MeshOptions  # noqa: E402
+from gearbox.fe.extent import extent_limit  # noqa: E402
 from gearbox.fe.stress import fillet_stress  # noqa: E402
 from gearbox.geometry import PairSpec, design_pair  # noqa: E402
 from gearbox.ltca import LTCAOptions, ltca_cycle, solve_contact  # noqa: E402
@@ -137,6 +142,16 @@ def run_case(
     }
 
 
+def extent_factor(case: str, side: str, positions: int = 8, refine: float = 0.5):
+    """Whole gear over the first clamped segment, per torque, on a coarse mesh
+    (``gearbox.fe.extent.extent_limit`` of segments with 1-5 neighbours clamped and
+    3-5 free), and the relative uncertainty."""
+    clamped = [run_case(case, side, positions, refine, nb, "clamped")["k_fe"] for nb in range(1, 6)]
+    free = [run_case(case, side, positions, refine, nb, "free")["k_fe"] for nb in (3, 4, 5)]
+    lim, err = extent_limit(np.array(clamped), np.array(free))
+    return lim / np.asarray(clamped[0]), err / lim
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", nargs="+", default=["01", "02", "03", "04"])
@@ -145,6 +160,12 @@ def main(argv=None) -> int:
     ap.add_argument("--refine", type=float, default=1.0)
     ap.add_argument("--neighbours", type=int, default=1, help="unloaded teeth each side")
     ap.add_argument("--cut-faces", default="clamped", choices=("clamped", "free"))
+    ap.add_argument(
+        "--extent",
+        action="store_true",
+        help="also extrapolate the segment to the whole gear (coarse-mesh study per case "
+        "and flank) and give the fast level's errors against that",
+    )
     ap.add_argument("--json", type=Path, help="write every run's numbers to this JSON file")
     a = ap.parse_args(argv)
     print(
@@ -159,12 +180,26 @@ def main(argv=None) -> int:
     for case in a.cases:
         for side in a.flanks:
             r = run_case(case, side, a.positions, a.refine, a.neighbours, a.cut_faces)
+            if a.extent:
+                t0 = time.perf_counter()
+                f, u = extent_factor(case, side)
+                k_fast = r["k_fe"] * (1 + r["k"])
+                r["k_whole"] = r["k_fe"] * f
+                r["k_whole_err"] = u
+                r["k_vs_whole"] = k_fast / r["k_whole"] - 1
+                r["t_extent"] = time.perf_counter() - t0
             rows.append(r)
-            print(head)
+            print(head + ("  k_whole N/um   d k (whole)" if a.extent else ""))
             for i, tq in enumerate(r["torques"]):
+                extra = ""
+                if a.extent:
+                    extra = (
+                        f"  {r['k_whole'][i] / 1e6:7.1f} +-{r['k_whole_err'][i]:.1%} "
+                        f"{r['k_vs_whole'][i]:+7.1%}"
+                    )
                 print(
                     f"{case:>4} {r['flank']:>5} {tq:7.0f} {r['k_fe'][i] / 1e6:10.1f} "
-                    f"{r['k'][i]:+7.1%} {r['lte'][i]:+8.1%} {r['p'][i]:+7.1%}"
+                    f"{r['k'][i]:+7.1%} {r['lte'][i]:+8.1%} {r['p'][i]:+7.1%}" + extra
                 )
             print(
                 f"     root stress (pinion, middle torque): FE {r['root_fe'] / 1e6:.0f} MPa, "
@@ -194,9 +229,10 @@ def main(argv=None) -> int:
             )
         )
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    kerr = np.concatenate([r["k"] for r in rows])
+    kerr = np.concatenate([r["k_vs_whole" if a.extent else "k"] for r in rows])
     print(
-        f"\nmean-stiffness error of the fast level: median {np.median(kerr):+.1%}, "
+        f"\nmean-stiffness error of the fast level against the "
+        f"{'whole-gear' if a.extent else 'segment'} FE level: median {np.median(kerr):+.1%}, "
         f"range {kerr.min():+.1%} .. {kerr.max():+.1%} (target |error| <= 5 %)"
     )
     tfe = [r["t_fe"] for r in rows]
