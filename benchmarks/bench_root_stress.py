@@ -55,7 +55,11 @@ from gearbox.fe import FECompliance, FEOptions, MeshOptions  # noqa: E402
 from gearbox.fe.stress import fillet_stress  # noqa: E402
 from gearbox.geometry import PairSpec, design_pair  # noqa: E402
 from gearbox.ltca import FastCompliance, ParallelPair, parallel_grid, solve_contact  # noqa: E402
-from gearbox.ltca.beveloid import beveloid_grids, separation_field  # noqa: E402
+from gearbox.ltca.beveloid import (  # noqa: E402
+    beveloid_grids,
+    separation_field,
+    tip_relief_from_scene,
+)
 from gearbox.ltca.stress import (  # noqa: E402
     RootStressModel,
     grid_root_stress,
@@ -214,6 +218,7 @@ def run_case(case: str, side: str, mesh: MeshOptions, positions: int) -> dict:
         n_profile=lt["grid_profile"],
         n_face=lt["grid_face"],
         positions=positions,
+        relief=tip_relief_from_scene(design, scene),
     )
     grids, _ = beveloid_grids(design, scene, field, positions)
     fe = FECompliance(FEOptions(mesh=mesh), blanks=blanks_from_design(design))
