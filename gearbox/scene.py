@@ -472,23 +472,6 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
                 length,
                 f"must be in (0, 50] when ltca.{name}_tip_relief_um is > 0 ({amount:g})",
             )
-    pair, pin, gear = data.get("pair", {}), data.get("pinion", {}), data.get("gear", {})
-    parallel = (
-        pair.get("shaft_angle_deg") == 0
-        and pair.get("design_mode") == "cone_angles"
-        and pin.get("cone_angle_deg") == 0
-        and gear.get("cone_angle_deg") == 0
-    )
-    for name in ("pinion", "gear"):
-        amount = lt.get(f"{name}_tip_relief_um")
-        if parallel and isinstance(amount, float) and amount > 0:
-            probs.add(
-                f"ltca.{name}_tip_relief_um",
-                amount,
-                "must be 0 for a parallel-axis pair (shaft and cone angles 0): the scene's "
-                "closed-form parallel path does not apply tip relief (crossed beveloid "
-                "pairs only; gearbox.ltca.parallel.parallel_grid takes it as an argument)",
-            )
 
 
 def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:
@@ -548,7 +531,8 @@ def load_scene(path: str | Path) -> Scene:
 _SECTION_NOTES = {
     "ltca": (
         "Tip relief (`*_tip_relief_*`): the material removed normal to both flanks of a "
-        "gear near its tip enters the separation field of crossed beveloid pairs "
+        "gear near its tip enters the separation field of crossed beveloid pairs and the "
+        "closed-form grid of parallel-axis pairs "
         "(unloaded TE, loaded contact and edge detection see the modified flanks); its "
         "length is radial from the tip circle at each face position and its shape runs "
         "over the roll length. All zero by default: the paper's unmodified flanks. "

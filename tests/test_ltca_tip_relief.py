@@ -21,7 +21,7 @@ from gearbox.ltca.beveloid import (
     tip_relief_from_scene,
 )
 from gearbox.ltca.parallel import parallel_grid
-from gearbox.ltca.table import parallel_pair_from_design
+from gearbox.ltca.table import parallel_pair_from_design, scene_ltca
 from gearbox.scene import load_scene
 from gearbox.surface import blanks_from_design
 
@@ -237,9 +237,21 @@ def test_relief_starting_below_the_base_circle_is_an_error(case03):
         TipRelief(1e-6, 0.0)
 
 
-def test_relief_on_a_parallel_scene_is_refused_not_ignored():
+def test_relief_on_a_parallel_scene_reaches_the_tables():
+    # the scene path of a parallel-axis pair passes the relief to the closed-form grid:
+    # the same relief given to parallel_grid directly gives the same table
     scene = load_scene(DATA / "ltca_parallel_helical.toml")
-    with pytest.raises(InputError) as e:
-        scene.replaced(ltca=_relief_keys(10.0, 1.2))
-    assert "ltca.pinion_tip_relief_um" in str(e.value)
-    assert "parallel" in str(e.value)
+    relieved = scene.replaced(ltca=_relief_keys(10.0, 1.2))
+    design = design_pair(PairSpec.from_scene(relieved))
+    opts = LTCAOptions(positions=8)
+    plain = scene_ltca(design, scene, options=opts).flanks["drive"]
+    res = scene_ltca(design, relieved, options=opts).flanks["drive"]
+    assert not np.allclose(res.lte, plain.lte)
+    pair = parallel_pair_from_design(design, relieved)
+    relief = tip_relief_from_scene(design, relieved)
+    direct = ltca_cycle(
+        lambda f: parallel_grid(pair, f, relieved["ltca"]["grid_face"], relief=relief),
+        relieved["load"]["torques_Nm"],
+        options=opts,
+    )
+    assert np.allclose(res.lte, direct.lte, rtol=1e-12, atol=0)

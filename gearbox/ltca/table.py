@@ -156,17 +156,22 @@ def parallel_ltca(
     fidelity: str = "fast",
     n_face: int = 40,
     scene_name: str = "",
+    relief=None,
 ) -> LTCAResult:
     """Loaded TCA and mesh table of a parallel-axis pair.
 
     Frame: pinion axis along z through the origin, gear axis through (a, 0, 0); the
     drive contact lies at y < 0 near the pitch point (r_w1, 0, 0). Symmetric tooth
-    profiles: the coast flank is the drive flank mirrored.
+    profiles (tip reliefs ``relief`` = (pinion, gear) :class:`~gearbox.ltca.beveloid.
+    TipRelief` act on both flanks alike): the coast flank is the drive flank mirrored.
     """
     options = options or LTCAOptions()
     compliance = compliance_for(fidelity)
     drive = ltca_cycle(
-        lambda f: parallel_grid(pair, f, n_face), torques, options=options, compliance=compliance
+        lambda f: parallel_grid(pair, f, n_face, relief=relief),
+        torques,
+        options=options,
+        compliance=compliance,
     )
     res = {}
     if "drive" in flanks:
@@ -201,6 +206,9 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
         abs(g.cone_angle) < 1e-12 for g in (design.pinion, design.gear)
     )
     if parallel:
+        from .beveloid import tip_relief_from_scene
+
+        relief = tip_relief_from_scene(design, scene)
         return parallel_ltca(
             parallel_pair_from_design(design, scene),
             scene["load"]["torques_Nm"],
@@ -209,6 +217,7 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
             fidelity=lt["fidelity"],
             n_face=lt["grid_face"],
             scene_name=scene.name,
+            relief=relief if any(r.active for r in relief) else None,
         )
     from .beveloid import beveloid_ltca
 
