@@ -41,7 +41,7 @@ def main(argv=None) -> int:
     out = {"clamped": [], "free": []}
     for bc in ("clamped", "free"):
         for nb in getattr(a, bc):
-            r = run_case(a.case, a.flank, a.positions, a.refine, nb, bc)
+            r = run_case(a.case, a.flank, a.positions, a.refine, nb, bc, far_field="none")
             k = np.asarray(r["k_fe"], dtype=float)
             out[bc].append(k)
             line = {

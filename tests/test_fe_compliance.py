@@ -19,7 +19,9 @@ SPUR = ParallelPair(
     teeth=(20, 40),
     face_width=8e-3,
 )
-COARSE = FEOptions(mesh=MeshOptions.coarse())
+# the segment alone (no far-field correction, tests/test_fe_far_field.py): these tests
+# are about the level's assembly and contact, and stay cheap
+COARSE = FEOptions(mesh=MeshOptions.coarse(), far_field="none")
 
 
 @pytest.fixture(scope="module")

@@ -8,6 +8,10 @@ default mesh: mean mesh stiffness against ISO 6336-1 method B, the stiffness cur
 shape against the published analytical slice model of the fast level (Yang & Lin
 1987, Tian 2004, Sainsot et al. 2004, Weber & Banaschek 1953), and the root stress
 against ISO 6336-3 method B at the outer point of single pair contact.
+
+All statements here are about the FE segment (loaded teeth, one neighbour each side,
+clamped cut faces): ``far_field="none"``. The whole gear (the segment plus the far-field
+correction) is tested in tests/test_fe_far_field.py.
 """
 
 import math
@@ -50,7 +54,7 @@ def _grid(f):
 def study():
     out = []
     for f in FACTORS:
-        fe = FECompliance(FEOptions(mesh=MeshOptions.coarse().refined(f)))
+        fe = FECompliance(FEOptions(mesh=MeshOptions.coarse().refined(f), far_field="none"))
         res = ltca_cycle(_grid, [TORQUE], options=LTCAOptions(positions=POSITIONS), compliance=fe)
         # root stress: the whole normal load on one tooth pair, uniform over the face,
         # at the pinion's outer point of single pair contact (ISO 6336-3's d_en)
@@ -175,7 +179,7 @@ HELICAL = ParallelPair(
 
 
 def _helical_k(mesh):
-    fe = FECompliance(FEOptions(mesh=mesh))
+    fe = FECompliance(FEOptions(mesh=mesh, far_field="none"))
     grids = [parallel_grid(HELICAL, q / POSITIONS, n_face=6) for q in range(POSITIONS)]
     fe.reserve(grids)
     res = ltca_cycle(

@@ -42,17 +42,18 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..errors import Problem, Problems
+from ..errors import InputError, Problem, Problems
 from ..ltca.grid import ContactGrid
 from ..ltca.slice_model import hertz_half_width
 from ..surface.blank import ToothBlank
 from ..surface.generation import flank_jets, flank_points
 from ..surface.sample import SolveFailure, parameter_at_radius, tip_parameter
 from .boussinesq import depth_deflection, surface_deflection
+from .extent import extent_limit
 from .mesh import FEBuildError, MeshOptions, build_tooth_mesh, locate
 from .model import ToothModel, build_model
 
-__all__ = ["FEOptions", "FECompliance", "GearLoads", "beveloid_loads", "gear_loads"]
+__all__ = ["FEOptions", "FECompliance", "FarField", "GearLoads", "beveloid_loads", "gear_loads"]
 
 
 @dataclass(frozen=True)
@@ -72,6 +73,8 @@ class FEOptions:
     lattice_spacing: float = 0.25
     neighbours: int = 1
     cut_faces: str = "clamped"
+    far_field: str = "extrapolated"
+    far_field_mesh: MeshOptions = MeshOptions().refined(0.5)
 
     def __post_init__(self):
         p = Problems()
@@ -89,6 +92,12 @@ class FEOptions:
             self.cut_faces,
             "must be 'clamped' or 'free'",
         )
+        p.check(
+            self.far_field in ("extrapolated", "none"),
+            "fe.far_field",
+            self.far_field,
+            "must be 'extrapolated' or 'none'",
+        )
         p.raise_if_any("invalid FE options")
 
     def to_dict(self) -> dict:
@@ -99,6 +108,8 @@ class FEOptions:
     def from_dict(cls, d: dict) -> FEOptions:
         d = dict(d)
         d["mesh"] = MeshOptions.from_dict(d["mesh"])
+        if "far_field_mesh" in d:
+            d["far_field_mesh"] = MeshOptions.from_dict(d["far_field_mesh"])
         return cls(**d)
 
 
@@ -321,10 +332,39 @@ class _Solved:
     fillet: np.ndarray
 
 
+_FAR_FIELD_FORM = "uniform"
+
+
+@dataclass(frozen=True)
+class FarField:
+    """Far-field correction of one gear and loaded flank (see
+    :meth:`FECompliance.far_field`).
+
+    compliance: the constant added to every entry of the gear's block (m/N);
+    uncertainty: its extent uncertainty (m/N, half the difference of the clamped and
+    free extrapolations); segment: the mean depth response of the coarse segment that
+    matches the level's own (m/N); spread: standard deviation over mean of the
+    entry-wise extrapolated correction over the depth points of the loadable teeth and
+    the sub-lattice loads (its non-uniformity); sequence: mean depth responses of the
+    coarse segments, ``{(cut faces, neighbours): m/N}``; seconds: wall time.
+    """
+
+    compliance: float
+    uncertainty: float
+    segment: float
+    spread: float
+    sequence: dict
+    seconds: float
+    teeth: tuple = ()
+    sub: object = None
+    shape: np.ndarray | None = None
+
+
 @dataclass
 class _GearModel:
     model: ToothModel
     key: tuple
+    bore: float = 0.0
     lattices: dict = field(default_factory=dict)  # (side) -> lattice geometry
     # (side, loaded tooth) -> _Solved; ("depth", side, tooth) -> depth operator;
     # ("fillet", side, tooth) -> fillet points
@@ -354,7 +394,14 @@ class FECompliance:
         self._teeth_hint = teeth or {}
         self._bore: dict = {}
         self._models: dict = {}
-        self.stats = {"factorisations": 0, "solves": 0, "build_s": 0.0, "solve_s": 0.0}
+        self.stats = {
+            "factorisations": 0,
+            "solves": 0,
+            "build_s": 0.0,
+            "solve_s": 0.0,
+            "far_field_factorisations": 0,
+            "far_field_s": 0.0,
+        }
 
     # ------------------------------------------------------------------ models
     def _model(self, loads: GearLoads, gear: int, E: float, nu: float) -> _GearModel:
@@ -383,7 +430,7 @@ class FECompliance:
         model = build_model(mesh, E, nu)
         self.stats["factorisations"] += 1
         self.stats["build_s"] += time.perf_counter() - t0
-        gm = _GearModel(model=model, key=key)
+        gm = _GearModel(model=model, key=key, bore=mesh.bore_radius)
         self._models[key] = gm
         return gm
 
@@ -437,20 +484,15 @@ class FECompliance:
         t2 = np.cross(n, t1)
         return P, n, t1, t2
 
-    def _responses(self, gm: _GearModel, side: str, tooth: int) -> _Solved:
-        """Responses to the lattice unit loads on one tooth (one solve per load)."""
-        key = (side, tooth)
-        if key in gm.responses:
-            return gm.responses[key]
-        import time
+    def _unit_loads(self, gm: _GearModel, side: str, tooth: int, Z, U):
+        """Nodal loads of unit forces along the inward normal, each spread over a square
+        patch of side ``lattice_spacing m_n`` centred at flank point (Z, U) of tooth
+        ``tooth`` (3 x 3 Gauss points, consistent nodal loads): sparse (n_dofs, Z.size)."""
+        import scipy.sparse as sp
 
-        t0 = time.perf_counter()
         model = gm.model
         mesh = model.mesh
         blank = mesh.blank
-        lat = self._lattice(gm, side)
-        Z, U = np.meshgrid(lat.z, lat.u, indexing="ij")
-        Z, U = Z.ravel(), U.ravel()
         P, n, t1, t2 = self._surface(blank, side, tooth, Z, U)
         half = 0.5 * self.options.lattice_spacing * blank.normal_module
         g = np.array([-math.sqrt(0.6), 0.0, math.sqrt(0.6)])
@@ -469,8 +511,6 @@ class FECompliance:
         Op = model.point_operator(cells, X)  # (3 q, n_dofs)
         # unit force along the inward normal -n, weights of the patch quadrature
         f = -(n[owner] * wts[:, None])  # (q, 3)
-        import scipy.sparse as sp
-
         S = sp.csr_matrix(
             (
                 f.ravel(),
@@ -478,7 +518,24 @@ class FECompliance:
             ),
             shape=(3 * pts.shape[0], Z.size),
         )
-        F = (Op.T @ S).tocsc()
+        return (Op.T @ S).tocsc()
+
+    def _responses(self, gm: _GearModel, side: str, tooth: int) -> _Solved:
+        """Responses to the lattice unit loads on one tooth (one solve per load)."""
+        key = (side, tooth)
+        if key in gm.responses:
+            return gm.responses[key]
+        import time
+
+        import scipy.sparse as sp
+
+        t0 = time.perf_counter()
+        model = gm.model
+        mesh = model.mesh
+        lat = self._lattice(gm, side)
+        Z, U = np.meshgrid(lat.z, lat.u, indexing="ij")
+        Z, U = Z.ravel(), U.ravel()
+        F = self._unit_loads(gm, side, tooth, Z, U)
         # only what the compliance and the fillet stresses need is kept: the depth
         # responses on every loadable tooth and the unknowns of the fillet elements
         from .stress import fillet_points
@@ -544,6 +601,104 @@ class FECompliance:
         gm.responses[key] = D
         return D
 
+    def _far_field_runs(self):
+        """Segments of the extent study: (cut faces, neighbours), clamped first."""
+        nb = self.options.neighbours
+        last = max(5, nb + 2)
+        runs = [("clamped", k) for k in range(nb, last + 1)]
+        runs += [("free", k) for k in range(last - 2, last + 1)]
+        return runs
+
+    def _far_field_study(self, gm: _GearModel, side: str):
+        """Depth responses of coarse segments of growing extent to unit loads on a
+        sub-lattice of each loadable tooth: {(cut faces, neighbours): (n_resp, n_load)}
+        m/N, the sub-lattice (z, u) and the loadable teeth."""
+        import scipy.sparse as sp
+
+        mesh0 = gm.model.mesh
+        blank = mesh0.blank
+        nb = self.options.neighbours
+        loadable = mesh0.teeth[nb : len(mesh0.teeth) - nb] or mesh0.teeth
+        lo, hi = loadable[0], loadable[-1]
+        lat = self._lattice(gm, side)
+        sub = _Lattice(
+            z=lat.z[np.unique([0, lat.z.size // 2, lat.z.size - 1])],
+            u=lat.u[np.unique([0, lat.u.size // 2, lat.u.size - 1])],
+        )
+        Zs, Us = np.meshgrid(sub.z, sub.u, indexing="ij")
+        Zs, Us = Zs.ravel(), Us.ravel()
+        _, E, nu = gm.key
+        runs = self._far_field_runs()
+        if (self.options.cut_faces, nb) not in runs:
+            runs.append((self.options.cut_faces, nb))
+        out = {}
+        for bc, k in runs:
+            mesh = build_tooth_mesh(
+                blank,
+                tuple(range(lo - k, hi + k + 1)),
+                bore_radius=gm.bore,
+                options=self.options.far_field_mesh,
+                clamp_cut_faces=bc == "clamped",
+            )
+            cg = _GearModel(model=build_model(mesh, E, nu), key=gm.key, bore=gm.bore)
+            cg.lattices[side] = lat
+            self.stats["far_field_factorisations"] += 1
+            D = sp.vstack([self._depth_operator(cg, side, tb) for tb in loadable]).tocsr()
+            cols = []
+            for ta in loadable:
+                F = self._unit_loads(cg, side, ta, Zs, Us)
+                for j in range(Zs.size):
+                    cols.append(D @ cg.model.solve(F[:, [j]].toarray()[:, 0]))
+            out[(bc, k)] = np.stack(cols, axis=1)
+            del cg, mesh
+        return out, sub, loadable
+
+    def far_field(self, grid: ContactGrid, gear: int) -> FarField:
+        """Far-field correction of gear ``gear`` for the flank ``grid`` loads (cached per
+        gear model and flank: a table pays it once per gear and flank)."""
+        loads = self.loads(grid, gear)
+        gm = self._model(loads, gear, grid.youngs_modulus, grid.poisson_ratio)
+        return self._far_field(gm, loads.side)
+
+    def _far_field(self, gm: _GearModel, side: str) -> FarField:
+        key = ("far", side)
+        if key in gm.responses:
+            return gm.responses[key]
+        import time
+
+        t0 = time.perf_counter()
+        out, sub, loadable = self._far_field_study(gm, side)
+        runs = self._far_field_runs()
+        mean = {r: float(np.mean(v)) for r, v in out.items()}
+        cl = np.array([out[r] for r in runs if r[0] == "clamped"])
+        fr = np.array([out[r] for r in runs if r[0] == "free"])
+        lim, err = extent_limit(
+            [mean[r] for r in runs if r[0] == "clamped"],
+            [mean[r] for r in runs if r[0] == "free"],
+        )
+        base = mean[(self.options.cut_faces, self.options.neighbours)]
+        try:
+            d = extent_limit(cl, fr)[0] - out[(self.options.cut_faces, self.options.neighbours)]
+            spread = float(np.std(d) / np.mean(d))
+        except InputError:
+            spread = float("nan")  # some entries do not converge monotonically
+        N = max(r[1] for r in runs)
+        S = out[("clamped", N)] - out[(self.options.cut_faces, self.options.neighbours)]
+        ff = FarField(
+            teeth=tuple(loadable),
+            sub=sub,
+            shape=S / np.mean(S),
+            compliance=float(lim) - base,
+            uncertainty=float(err),
+            segment=base,
+            spread=spread,
+            sequence=mean,
+            seconds=time.perf_counter() - t0,
+        )
+        gm.responses[key] = ff
+        self.stats["far_field_s"] += ff.seconds
+        return ff
+
     def _weights(self, lat: _Lattice, z, u):
         """Bilinear interpolation weights onto the lattice, shape (n, n_lat)."""
         nz, nu = lat.z.size, lat.u.size
@@ -594,6 +749,22 @@ class FECompliance:
                 ib, Wb = W[tb]
                 Clat = solved.depth[int(tb)]  # (n_lat responses on tb, n_lat loads on ta)
                 C[np.ix_(ib, ia)] = Wb @ Clat @ Wa.T
+        if self.options.far_field == "extrapolated":
+            ff = self._far_field(gm, loads.side)
+            if _FAR_FIELD_FORM == "uniform":
+                C += ff.compliance
+            else:
+                lat = self._lattice(gm, loads.side)
+                nr, ns = lat.z.size * lat.u.size, ff.sub.z.size * ff.sub.u.size
+                for ta in teeth:
+                    ia = W[ta][0]
+                    Wa = self._weights(ff.sub, loads.z[ia], loads.u[ia])
+                    a = ff.teeth.index(int(ta))
+                    for tb in teeth:
+                        ib, Wb = W[tb]
+                        b = ff.teeth.index(int(tb))
+                        blk = ff.shape[b * nr : (b + 1) * nr, a * ns : (a + 1) * ns]
+                        C[np.ix_(ib, ia)] += ff.compliance * (Wb @ blk @ Wa.T)
         return 0.5 * (C + C.T)
 
     def _frames(self, grid: ContactGrid):
