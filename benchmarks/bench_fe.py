@@ -14,7 +14,9 @@ memory: the factors' size and the process's peak resident memory.
 ``--extent`` also extrapolates the FE segment (loaded teeth, one neighbour each side,
 clamped cut faces) to the whole gear on a coarse mesh (``gearbox.fe.extent``; about
 8 coarse runs per case and flank) and prints the fast level's error against that, the
-reference the fast level is calibrated on (docs/fe.md).
+reference the fast level is calibrated on (docs/fe.md); its FE runs are of the segment.
+``--far-field none`` gives the segment's tables (the default, ``extrapolated``, adds the
+FE level's far-field correction: the whole gear).
 Timings on a shared machine vary: compare ratios measured in the same run.
 """
 
@@ -197,7 +199,9 @@ def main(argv=None) -> int:
     rows = []
     for case in a.cases:
         for side in a.flanks:
-            r = run_case(case, side, a.positions, a.refine, a.neighbours, a.cut_faces, a.far_field)
+            # --extent scales the segment itself: the far-field correction stays out
+            ff = "none" if a.extent else a.far_field
+            r = run_case(case, side, a.positions, a.refine, a.neighbours, a.cut_faces, ff)
             if a.extent:
                 t0 = time.perf_counter()
                 f, u = extent_factor(case, side)
