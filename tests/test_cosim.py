@@ -148,7 +148,7 @@ def test_libcosim_runs_the_monolithic_fmu_as_an_independent_importer(setup, tmp_
     model, table, out, _, ref = setup
     mono = build_fmu(drivetrain_fmu(model, table), tmp_path)
     path = tmp_path / "OspSystemStructure.xml"
-    init = {"drivetrain": {"solver.rtol": 1e-10}}
+    init = {"drivetrain": {"solver.method": 0.0, "solver.rtol": 1e-10}}
     path.write_text(
         system_structure({"drivetrain": mono.fmu}, 1e-4, initial_values=init, connections=())
     )

@@ -91,7 +91,7 @@ def test_cosimulation_reproduces_its_golden_master(builds, tmp_path):
         "gearbox": builds["BeveloidGearbox"].fmu,
         "propeller": builds["Propeller"].fmu,
     }
-    init = {k: {"solver.rtol": 1e-8, "solver.max_step": 1e-5} for k in fmus}
+    init = {k: {"solver.method": 0.0, "solver.rtol": 1e-8, "solver.max_step": 1e-5} for k in fmus}
     path = tmp_path / "OspSystemStructure.xml"
     path.write_text(system_structure(fmus, 1e-5, initial_values=init))
     stop = 0.02  # as gearbox.fmu.reference.STOP

@@ -1,8 +1,10 @@
 /* fmu_bench.c: wall time of a Co-Simulation run of an unzipped FMU, in C (no importer
  * overhead beyond one function call per communication step):
  *
- *   fmu_bench DIR IDENTIFIER GUID VR_RTOL RTOL STOP STEP REPEATS
+ *   fmu_bench DIR IDENTIFIER GUID SETTINGS STOP STEP REPEATS
  *
+ * SETTINGS: "VR=VALUE[,VR=VALUE...]", real parameters set in initialization mode (value
+ * references, e.g. the integrator's solver.method and solver.rtol).
  * Prints the median and the smallest wall time of the doStep calls over REPEATS runs of
  * STOP seconds with communication step STEP (STEP = STOP: one doStep), and the
  * real-time factor of the median (instantiation and initialization are not timed).
@@ -34,9 +36,10 @@ int main(int argc, char **argv) {
     char path[4096], uri[4200];
     void *lib;
     fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
-    fmi2ValueReference vr;
-    double rtol, stop, step, walls[101];
-    int repeats, r;
+    fmi2ValueReference vrs[16];
+    double vals[16], stop, step, walls[101];
+    int repeats, r, nset = 0;
+    const char *p;
     fmi2InstantiateTYPE *inst;
     fmi2FreeInstanceTYPE *fre;
     fmi2SetupExperimentTYPE *setup;
@@ -44,15 +47,21 @@ int main(int argc, char **argv) {
     fmi2ExitInitializationModeTYPE *exit_;
     fmi2DoStepTYPE *step_fn;
     fmi2SetRealTYPE *set;
-    if (argc != 9) {
-        fprintf(stderr, "usage: fmu_bench DIR IDENTIFIER GUID VR_RTOL RTOL STOP STEP REPEATS\n");
+    if (argc != 8) {
+        fprintf(stderr, "usage: fmu_bench DIR IDENTIFIER GUID SETTINGS STOP STEP REPEATS\n");
         return 2;
     }
-    vr = (fmi2ValueReference)atoi(argv[4]);
-    rtol = atof(argv[5]);
-    stop = atof(argv[6]);
-    step = atof(argv[7]);
-    repeats = atoi(argv[8]);
+    for (p = argv[4]; *p && nset < 16;) {
+        char *end;
+        vrs[nset] = (fmi2ValueReference)strtoul(p, &end, 10);
+        if (*end != '=') return 2;
+        vals[nset++] = strtod(end + 1, &end);
+        if (*end != ',' && *end != 0) return 2;
+        p = *end ? end + 1 : end;
+    }
+    stop = atof(argv[5]);
+    step = atof(argv[6]);
+    repeats = atoi(argv[7]);
     if (repeats < 1 || repeats > 101 || !(step > 0) || !(stop >= step)) return 2;
     snprintf(path, sizeof path, "%s/binaries/linux64/%s.so", argv[1], argv[2]);
     snprintf(uri, sizeof uri, "file://%s/resources", argv[1]);
@@ -75,8 +84,8 @@ int main(int argc, char **argv) {
         if (!c) return 1;
         setup(c, fmi2False, 0.0, 0.0, fmi2False, 0.0);
         enter(c);
-        set(c, &vr, 1, &rtol);
-        exit_(c);
+        if (nset && set(c, vrs, (size_t)nset, vals) != fmi2OK) return 1;
+        if (exit_(c) != fmi2OK) return 1;
         clock_gettime(CLOCK_MONOTONIC, &a);
         for (i = 0; i < n; i++)
             if (step_fn(c, i * step, step, fmi2True) != fmi2OK) return 1;

@@ -33,7 +33,8 @@ SOLVER_VARIABLES = (
         "solver.rtol",
         "parameter",
         "1",
-        "Relative tolerance of the internal DOPRI5 integrator (Co-Simulation); the "
+        "Relative tolerance of the internal DOPRI5 integrator (Co-Simulation, solver.method "
+        "= 0); the "
         "absolute tolerance of each state is rtol times its nominal value.",
         start=1e-8,
         min=1e-14,
@@ -48,6 +49,80 @@ SOLVER_VARIABLES = (
         min=0.0,
         max=1.0,
         min_open=True,
+    ),
+    Variable(
+        "solver.method",
+        "parameter",
+        "1",
+        "Co-Simulation integrator: 1 = fixed-step Tsit5 (step from the model, solver.fixed_step), "
+        "handing intervals that end out of the nominal mesh contact to adaptive DOPRI5 steps at "
+        "solver.contact_rtol; 0 = adaptive DOPRI5 at solver.rtol.",
+        start=1.0,
+        min=0.0,
+        max=1.0,
+    ),
+    Variable(
+        "solver.fixed_step",
+        "parameter",
+        "s",
+        "Step of the fixed-step integrator (s): 0 = automatic, 1 / (solver.steps_per_period "
+        "f_max) with f_max the larger of the highest eigenfrequency of the model linearised "
+        "with the mesh at its largest stiffness and the mesh frequency, at most 1 / "
+        "(solver.steps_per_mesh_period f_mesh) and 0.8 x the stability limit; > 0: this "
+        "step (at most the stability limit).",
+        start=0.0,
+        min=0.0,
+        max=1.0,
+    ),
+    Variable(
+        "solver.steps_per_period",
+        "parameter",
+        "1",
+        "Fixed steps per period of f_max for the automatic step (>= 2).",
+        start=12.0,
+        min=2.0,
+        max=1e4,
+    ),
+    Variable(
+        "solver.steps_per_mesh_period",
+        "parameter",
+        "1",
+        "The automatic fixed step is also at most 1 / (this x the mesh frequency) (the "
+        "forcing frequency of engine and propeller FMUs): the mesh laws' higher harmonics "
+        "(>= 2).",
+        start=32.0,
+        min=2.0,
+        max=1e4,
+    ),
+    Variable(
+        "solver.contact_rtol",
+        "parameter",
+        "1",
+        "Relative tolerance of the adaptive DOPRI5 steps that replace fixed steps out of the "
+        "nominal mesh contact.",
+        start=1e-9,
+        min=1e-14,
+        max=0.1,
+    ),
+    Variable(
+        "solver.step_size",
+        "output",
+        "s",
+        "Step of the fixed-step integrator in use (s; a communication step gets equal steps "
+        "no longer than this).",
+    ),
+    Variable(
+        "solver.stability_limit",
+        "output",
+        "s",
+        "Largest stable fixed Tsit5 step on the model linearised at peak mesh stiffness (s).",
+    ),
+    Variable(
+        "solver.handed_over",
+        "output",
+        "1",
+        "Fixed-step intervals integrated with adaptive steps after contact loss, since "
+        "instantiation.",
     ),
     Variable(
         "solver.steps",
@@ -150,6 +225,14 @@ def config_h(model: FmuModel) -> str:
         "#define GBX_VR_SOLVER_STEPS VR_solver_steps",
         "#define GBX_VR_SOLVER_REJECTED VR_solver_rejected",
         "#define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations",
+        "#define GBX_VR_SOLVER_METHOD VR_solver_method",
+        "#define GBX_VR_SOLVER_FIXED_STEP VR_solver_fixed_step",
+        "#define GBX_VR_SOLVER_STEPS_PER_PERIOD VR_solver_steps_per_period",
+        "#define GBX_VR_SOLVER_CONTACT_RTOL VR_solver_contact_rtol",
+        "#define GBX_VR_SOLVER_STEPS_PER_FORCING VR_solver_steps_per_mesh_period",
+        "#define GBX_VR_SOLVER_STEP_SIZE VR_solver_step_size",
+        "#define GBX_VR_SOLVER_STABILITY_LIMIT VR_solver_stability_limit",
+        "#define GBX_VR_SOLVER_HANDED_OVER VR_solver_handed_over",
         "",
         "typedef struct {",
         model.c_data.rstrip() or "    int unused;",

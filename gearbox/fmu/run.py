@@ -15,24 +15,28 @@ def simulate_fmu(
     interface: str = "CoSimulation",
     stop_time: float = 0.1,
     step: float = 1e-4,
-    rtol: float = 1e-8,
+    rtol: float | None = None,
     outputs: list[str] | None = None,
     start_values: dict[str, float] | None = None,
 ) -> tuple[np.ndarray, dict[str, np.ndarray], float]:
     """Simulate with fmpy; return (time (s), channel -> values, wall time (s)).
 
-    interface: 'CoSimulation' (the FMU's DOPRI5 with ``solver.rtol = rtol``, outputs
-    every ``step``) or 'ModelExchange' (fmpy's CVode with ``rtol``; absolute tolerance
-    rtol times each state's nominal value).
+    interface: 'CoSimulation' (outputs every ``step``; rtol None: the FMU's own
+    integrator settings, by default fixed-step Tsit5; a number: its adaptive DOPRI5 with
+    ``solver.method = 0``, ``solver.rtol = rtol``) or 'ModelExchange' (fmpy's CVode with
+    ``rtol``, 1e-8 when None; absolute tolerance rtol times each state's nominal value).
+    Values in ``start_values`` win over these.
     """
     from fmpy import simulate_fmu as _simulate
 
     start = dict(start_values or {})
     kw = {}
     if interface == "CoSimulation":
-        start.setdefault("solver.rtol", rtol)
+        if rtol is not None:
+            start.setdefault("solver.method", 0.0)
+            start.setdefault("solver.rtol", rtol)
     else:
-        kw["relative_tolerance"] = rtol
+        kw["relative_tolerance"] = 1e-8 if rtol is None else rtol
     t0 = _time.perf_counter()
     res = _simulate(
         fmu,

@@ -4,10 +4,17 @@
  * The model (model.c, config.h) supplies equations and tables; this file supplies the
  * FMI state machine, argument checks with a logged message on every error, memory
  * through the importer's callbacks, the resource folder, and the internal
- * Co-Simulation integrator: Dormand-Prince 5(4) with step-size control (Hairer,
+ * Co-Simulation integrators: Dormand-Prince 5(4) with step-size control (Hairer,
  * Norsett, Wanner, "Solving Ordinary Differential Equations I", 2nd ed., Sec. II.4
  * (error estimate and step control, eqs. (4.10)-(4.13)) and Sec. II.5, Table 5.2
- * (coefficients)).
+ * (coefficients)), and fixed-step Tsitouras 5(4) (Ch. Tsitouras, "Runge-Kutta pairs of
+ * order 5(4) satisfying only the first column simplifying assumption", Comput. Math.
+ * Appl. 62 (2011) 770-775) with the step of gearbox.drivetrain.fixed_step: 1 /
+ * (steps_per_period f_max), f_max the larger of the highest eigenfrequency of the
+ * model linearised with the mesh at its largest stiffness and the forcing frequency,
+ * at most 0.8 x the method's stability limit on that linear system. A fixed step that
+ * ends out of the nominal mesh contact is taken again with adaptive DOPRI5 steps, and
+ * the following intervals too until the contact is back.
  */
 #include <math.h>
 #include <stdarg.h>
@@ -26,6 +33,7 @@
 #endif
 
 #define GBX_MAX_SUBSTEPS 10000000L
+#define TWO_PI_RT 6.283185307179586
 
 /* ------------------------------------------------------------------ services */
 
@@ -193,10 +201,12 @@ static int bad_vr(ModelInstance *m, const char *fn, fmi2ValueReference vr) {
     return 1;
 }
 
+static int fixed_step_rule(ModelInstance *m, char *msg, size_t n);
+
 static int update(ModelInstance *m, const char *fn) {
     char msg[512];
     msg[0] = 0;
-    if (gbx_model_update(m, msg, sizeof msg) != 0) {
+    if (gbx_model_update(m, msg, sizeof msg) != 0 || fixed_step_rule(m, msg, sizeof msg) != 0) {
         gbx_log(m, fmi2Error, "logStatusError", "%s: invalid parameters: %s", fn, msg);
         return 1;
     }
@@ -222,6 +232,8 @@ static void reset_values(ModelInstance *m) {
     m->h = 0.0;
     m->fsal_valid = 0;
     m->n_steps = m->n_rejected = m->n_rhs = 0;
+    m->out_of_contact = 0;
+    m->n_handed_over = 0;
 }
 
 /* ----------------------------------------------------------- common functions */
@@ -358,6 +370,7 @@ fmi2Status GBX2(ExitInitializationMode)(fmi2Component c) {
     m->state = m->type == fmi2CoSimulation ? GBX_ST_STEP : GBX_ST_EVENT;
     m->h = 0.0;
     m->fsal_valid = 0;
+    m->out_of_contact = 0;
     return fmi2OK;
 }
 
@@ -414,6 +427,9 @@ fmi2Status GBX2(GetReal)(fmi2Component c, const fmi2ValueReference vr[], size_t 
                 m->r[GBX_VR_SOLVER_STEPS] = (double)m->n_steps;
                 m->r[GBX_VR_SOLVER_REJECTED] = (double)m->n_rejected;
                 m->r[GBX_VR_SOLVER_RHS] = (double)m->n_rhs;
+                m->r[GBX_VR_SOLVER_STEP_SIZE] = m->fs_step;
+                m->r[GBX_VR_SOLVER_STABILITY_LIMIT] = m->fs_limit;
+                m->r[GBX_VR_SOLVER_HANDED_OVER] = (double)m->n_handed_over;
                 outputs_done = 1;
             }
             value[i] = m->r[vr[i]];
@@ -463,6 +479,12 @@ fmi2Status GBX2(SetReal)(fmi2Component c, const fmi2ValueReference vr[], size_t 
         }
         ok = isfinite(x) && (v->min_open ? x > v->min : x >= v->min) &&
              (v->max_open ? x < v->max : x <= v->max);
+        if (ok && vr[i] == GBX_VR_SOLVER_METHOD && x != 0.0 && x != 1.0) {
+            gbx_log(m, fmi2Error, "logStatusError",
+                    "fmi2SetReal: %s = %g is invalid: must be 0 (adaptive DOPRI5) or 1 "
+                    "(fixed-step Tsit5)", v->name, x);
+            return fmi2Error;
+        }
         if (!ok) {
             gbx_log(m, fmi2Error, "logStatusError",
                     "fmi2SetReal: %s = %g is invalid: must be in %s%g, %g%s", v->name, x,
@@ -736,10 +758,10 @@ static void rhs(ModelInstance *m, double t, const double *x, double *dx) {
 static inline double min2(double a, double b) { return a < b ? a : b; }
 static inline double max2(double a, double b) { return a > b ? a : b; }
 
-/* Integrate m->x from m->time to t1; 0 on success. */
-static int integrate(ModelInstance *m, double t1) {
+/* Integrate m->x from m->time to t1 with adaptive DOPRI5 steps at tolerance rtol; 0 on
+ * success. */
+static int integrate(ModelInstance *m, double t1, double rtol) {
     const int n = GBX_NX;
-    double rtol = m->r[GBX_VR_SOLVER_RTOL];
     double hmax = m->r[GBX_VR_SOLVER_MAX_STEP];
     double atol[GBX_NX_ALLOC];
     double t = m->time, h = m->h;
@@ -839,6 +861,309 @@ static int integrate(ModelInstance *m, double t1) {
     return 0;
 }
 
+/* ---------------------------------------------- Co-Simulation: fixed-step Tsit5 */
+
+/* Tsitouras 5(4) coefficients (Tsitouras 2011, Table 1; the tableau of diffrax.Tsit5),
+ * without the last stage, which serves only the error estimate. */
+#define TS_S 6
+static const double TS_C[TS_S] = {0.0, 0.161, 0.327, 0.9, 0.9800255409045097, 1.0};
+static const double TS_A[TS_S][TS_S] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {0.161, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {-0.008480655492356989, 0.335480655492357, 0.0, 0.0, 0.0, 0.0},
+    {2.8971530571054935, -6.359448489975075, 4.3622954328695815, 0.0, 0.0, 0.0},
+    {5.325864828439257, -11.748883564062828, 7.4955393428898365, -0.09249506636175525, 0.0, 0.0},
+    {5.86145544294642, -12.92096931784711, 8.159367898576159, -0.071584973281401,
+     -0.028269050394068383, 0.0}};
+static const double TS_B[TS_S] = {0.09646076681806523, 0.01,
+                                  0.4798896504144996,  1.379008574103742,
+                                  -3.290069515436081,  2.324710524099774};
+/* accepted growth per step, gearbox.drivetrain.linear.STEP_GROWTH */
+#define TS_GROWTH 1e-8
+
+/* complex numbers without <complex.h> (not every C compiler of the importers has it) */
+typedef struct {
+    double re, im;
+} cplx;
+static cplx cx(double re, double im) {
+    cplx z;
+    z.re = re;
+    z.im = im;
+    return z;
+}
+static cplx cadd(cplx a, cplx b) { return cx(a.re + b.re, a.im + b.im); }
+static cplx csub(cplx a, cplx b) { return cx(a.re - b.re, a.im - b.im); }
+static cplx cmul(cplx a, cplx b) { return cx(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re); }
+static cplx cconj(cplx a) { return cx(a.re, -a.im); }
+static cplx cscale(cplx a, double s) { return cx(a.re * s, a.im * s); }
+static double cabs2(cplx a) { return hypot(a.re, a.im); }
+static cplx csqrt2(cplx a) {
+    double r = cabs2(a), re = sqrt(0.5 * (r + a.re)), im = sqrt(0.5 * fmax(r - a.re, 0.0));
+    return cx(re, a.im < 0.0 ? -im : im);
+}
+
+/* Eigenvalues of the real n x n matrix A (row-major, n <= GBX_NX; A is overwritten):
+ * Householder reduction to Hessenberg form, then shifted QR iterations in complex
+ * arithmetic (Wilkinson shift, Givens rotations, deflation at negligible subdiagonal
+ * entries; Golub and Van Loan, Matrix Computations, 4th ed., Sec. 7.4-7.5). Returns the
+ * number of eigenvalues found (n, or fewer when the iteration did not converge). */
+static int eigenvalues(int n, double *A, cplx *lam) {
+    cplx H[GBX_NX_ALLOC][GBX_NX_ALLOC];
+    double v[GBX_NX_ALLOC];
+    int i, j, k, hi, iter = 0;
+    for (k = 0; k + 2 < n; k++) {
+        double alpha = 0.0, vv = 0.0;
+        for (i = k + 1; i < n; i++) alpha += A[i * n + k] * A[i * n + k];
+        alpha = sqrt(alpha);
+        if (alpha == 0.0) continue;
+        if (A[(k + 1) * n + k] > 0.0) alpha = -alpha;
+        for (i = 0; i < n; i++) v[i] = i <= k ? 0.0 : A[i * n + k];
+        v[k + 1] -= alpha;
+        for (i = k + 1; i < n; i++) vv += v[i] * v[i];
+        if (vv == 0.0) continue;
+        for (j = 0; j < n; j++) { /* A = (I - 2 v v' / v'v) A */
+            double f = 0.0;
+            for (i = k + 1; i < n; i++) f += v[i] * A[i * n + j];
+            f *= 2.0 / vv;
+            for (i = k + 1; i < n; i++) A[i * n + j] -= f * v[i];
+        }
+        for (i = 0; i < n; i++) { /* A = A (I - 2 v v' / v'v) */
+            double f = 0.0;
+            for (j = k + 1; j < n; j++) f += A[i * n + j] * v[j];
+            f *= 2.0 / vv;
+            for (j = k + 1; j < n; j++) A[i * n + j] -= f * v[j];
+        }
+    }
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) H[i][j] = cx(j + 1 >= i ? A[i * n + j] : 0.0, 0.0);
+    hi = n - 1;
+    while (hi >= 0) {
+        int l;
+        cplx mu;
+        if (iter > 100 * n) return n - 1 - hi;
+        for (l = hi; l > 0; l--) {
+            if (cabs2(H[l][l - 1]) <= 1e-16 * (cabs2(H[l - 1][l - 1]) + cabs2(H[l][l]))) {
+                H[l][l - 1] = cx(0.0, 0.0);
+                break;
+            }
+        }
+        if (l == hi) {
+            lam[hi--] = H[l][l];
+            iter = 0;
+            continue;
+        }
+        { /* Wilkinson shift: the eigenvalue of the trailing 2 x 2 block nearer H[hi][hi] */
+            cplx a = H[hi - 1][hi - 1], b = H[hi - 1][hi], c = H[hi][hi - 1], d = H[hi][hi];
+            cplx half = cscale(csub(a, d), 0.5);
+            cplx disc = csqrt2(cadd(cmul(half, half), cmul(b, c)));
+            cplx m1 = cadd(cscale(cadd(a, d), 0.5), disc), m2 = csub(cscale(cadd(a, d), 0.5), disc);
+            mu = cabs2(csub(m1, d)) < cabs2(csub(m2, d)) ? m1 : m2;
+            if (iter % 10 == 9) mu = cadd(d, cx(cabs2(c), 0.0)); /* exceptional shift */
+        }
+        {
+            cplx g[GBX_NX_ALLOC][2];
+            for (k = l; k <= hi; k++) H[k][k] = csub(H[k][k], mu);
+            for (k = l; k < hi; k++) { /* H = G_k H: zero H[k+1][k] */
+                cplx x = H[k][k], y = H[k + 1][k];
+                double r = hypot(cabs2(x), cabs2(y));
+                if (r == 0.0) {
+                    g[k][0] = cx(1.0, 0.0);
+                    g[k][1] = cx(0.0, 0.0);
+                    continue;
+                }
+                g[k][0] = cscale(x, 1.0 / r);
+                g[k][1] = cscale(y, 1.0 / r);
+                for (j = k; j <= hi; j++) {
+                    cplx p = H[k][j], q = H[k + 1][j];
+                    H[k][j] = cadd(cmul(cconj(g[k][0]), p), cmul(cconj(g[k][1]), q));
+                    H[k + 1][j] = csub(cmul(g[k][0], q), cmul(g[k][1], p));
+                }
+            }
+            for (k = l; k < hi; k++) { /* H = H G_k^H */
+                int top = k + 2 < hi ? k + 2 : hi;
+                for (i = l; i <= top; i++) {
+                    cplx p = H[i][k], q = H[i][k + 1];
+                    H[i][k] = cadd(cmul(p, g[k][0]), cmul(q, g[k][1]));
+                    H[i][k + 1] = csub(cmul(q, cconj(g[k][0])), cmul(p, cconj(g[k][1])));
+                }
+            }
+            for (k = l; k <= hi; k++) H[k][k] = cadd(H[k][k], mu);
+        }
+        iter++;
+    }
+    return n;
+}
+
+/* |R(z)| of Tsit5's stability polynomial R(z) = sum_k r_k z^k, r_k = b' A^(k-1) 1 */
+static double stability_abs(const double *r, cplx z) {
+    cplx p = cx(r[TS_S], 0.0);
+    int k;
+    for (k = TS_S - 1; k >= 0; k--) p = cadd(cmul(p, z), cx(r[k], 0.0));
+    return cabs2(p);
+}
+
+static int stable_step(const double *r, int n, const cplx *lam, double h) {
+    int j;
+    for (j = 0; j < n; j++)
+        if (cabs2(lam[j]) > 0.0 && stability_abs(r, cscale(lam[j], h)) > 1.0 + TS_GROWTH) return 0;
+    return 1;
+}
+
+/* The step of the fixed-step integrator from the parameters (after gbx_model_update):
+ * gearbox.drivetrain.fixed_step.step_targets with gearbox.drivetrain.linear.
+ * largest_stable_step (a scan over (0, 6 / max|lambda|] in 240 steps, then 50
+ * bisections), and at most 1 / (solver.steps_per_mesh_period f_mesh) (f_mesh: the
+ * model's forcing frequency), the cap the Python default gets from its 32 samples per
+ * mesh period. 0 ok; 1 with a message when an explicit solver.fixed_step exceeds the
+ * stability limit in Co-Simulation with solver.method = 1. */
+static int fixed_step_rule(ModelInstance *m, char *msg, size_t nmsg) {
+    const int n = GBX_NX;
+    double A[GBX_NX_ALLOC * GBX_NX_ALLOC], r[TS_S + 1], v[TS_S], w[TS_S];
+    double top = 0.0, fforce, lo, up, hi, spp = m->r[GBX_VR_SOLVER_STEPS_PER_PERIOD];
+    double hset = m->r[GBX_VR_SOLVER_FIXED_STEP], spf = m->r[GBX_VR_SOLVER_STEPS_PER_FORCING];
+    cplx lam[GBX_NX_ALLOC];
+    int i, j, k, ne;
+    for (i = 0; i < TS_S; i++) v[i] = 1.0;
+    r[0] = 1.0;
+    for (k = 1; k <= TS_S; k++) { /* r_k = b' v, v = A v */
+        r[k] = 0.0;
+        for (i = 0; i < TS_S; i++) r[k] += TS_B[i] * v[i];
+        for (i = 0; i < TS_S; i++) {
+            w[i] = 0.0;
+            for (j = 0; j < i; j++) w[i] += TS_A[i][j] * v[j];
+        }
+        memcpy(v, w, sizeof v);
+    }
+    fforce = n > 0 ? gbx_model_linear(m, A) : 0.0;
+    ne = n > 0 ? eigenvalues(n, A, lam) : 0;
+    if (ne != n) {
+        snprintf(msg, nmsg, "the eigenvalues of the linearised model did not converge");
+        return 1;
+    }
+    for (j = 0; j < n; j++) top = fmax(top, cabs2(lam[j]));
+    m->fs_fmax = fmax(top / TWO_PI_RT, fforce);
+    if (top > 0.0) {
+        hi = 6.0 / top;
+        lo = 0.0;
+        up = hi;
+        for (k = 1; k <= 240; k++) {
+            double h = hi * k / 240.0;
+            if (!stable_step(r, n, lam, h)) {
+                up = h;
+                break;
+            }
+            lo = h;
+        }
+        if (k <= 240) {
+            for (k = 0; k < 50; k++) {
+                double mid = 0.5 * (lo + up);
+                if (stable_step(r, n, lam, mid))
+                    lo = mid;
+                else
+                    up = mid;
+            }
+            m->fs_limit = lo;
+        } else {
+            m->fs_limit = hi;
+        }
+    } else {
+        m->fs_limit = HUGE_VAL;
+    }
+    if (hset > 0.0) {
+        m->fs_step = hset;
+        if (m->type == fmi2CoSimulation && m->r[GBX_VR_SOLVER_METHOD] == 1.0 && hset > m->fs_limit) {
+            snprintf(msg, nmsg,
+                     "solver.fixed_step = %g s is invalid: must be <= %.4g s (stability limit of the "
+                     "fixed-step Tsit5 on the model linearised at peak mesh stiffness), or 0 for the "
+                     "automatic step",
+                     hset, m->fs_limit);
+            return 1;
+        }
+    } else {
+        m->fs_step = m->fs_fmax > 0.0 ? 1.0 / (spp * m->fs_fmax) : HUGE_VAL;
+        if (fforce > 0.0) m->fs_step = min2(m->fs_step, 1.0 / (spf * fforce));
+        if (m->fs_step > 0.8 * m->fs_limit) m->fs_step = 0.8 * m->fs_limit;
+    }
+    return 0;
+}
+
+/* One Tsit5 step of size h from (t, x) to xn (m->k as stage storage). */
+static void tsit5_step(ModelInstance *m, double t, double h, const double *x, double *xn) {
+    const int n = GBX_NX;
+    double (*k)[GBX_NX_ALLOC] = m->k;
+    double *xs = m->xs;
+    int i, s, j;
+    rhs(m, t, x, k[0]);
+    for (s = 1; s < TS_S; s++) {
+        for (i = 0; i < n; i++) {
+            double a = 0.0;
+            for (j = 0; j < s; j++) a += TS_A[s][j] * k[j][i];
+            xs[i] = x[i] + h * a;
+        }
+        rhs(m, t + TS_C[s] * h, xs, k[s]);
+    }
+    for (i = 0; i < n; i++) {
+        double a = 0.0;
+        for (j = 0; j < TS_S; j++) a += TS_B[j] * k[j][i];
+        xn[i] = x[i] + h * a;
+    }
+}
+
+/* Integrate m->x from m->time to t1 with ceil((t1 - t) / step) equal Tsit5 steps (step
+ * = m->fs_step, at most solver.max_step). A step that ends out of the nominal contact is
+ * discarded and its interval integrated with adaptive DOPRI5 steps at
+ * solver.contact_rtol, as are the following intervals until a step ends in contact
+ * again. 0 on success. */
+static int integrate_fixed(ModelInstance *m, double t1) {
+    const int n = GBX_NX;
+    const double t0 = m->time, span = t1 - t0;
+    double hmax = min2(m->fs_step, m->r[GBX_VR_SOLVER_MAX_STEP]), h, ns_d;
+    double *x = m->x, xn[GBX_NX_ALLOC];
+    long ns, j;
+    int i;
+    if (n == 0) {
+        m->time = t1;
+        return 0;
+    }
+    ns_d = ceil(span / hmax * (1.0 - 1e-12));
+    if (!(ns_d <= (double)GBX_MAX_SUBSTEPS)) {
+        gbx_log(m, fmi2Error, "logStatusError",
+                "fmi2DoStep: more than %ld internal steps between t = %g and %g s", GBX_MAX_SUBSTEPS,
+                t0, t1);
+        return 1;
+    }
+    ns = ns_d < 1.0 ? 1 : (long)ns_d;
+    h = span / ns;
+    for (j = 0; j < ns; j++) {
+        double ta = t0 + j * h, tb = j + 1 == ns ? t1 : t0 + (j + 1) * h;
+        if (!m->out_of_contact) {
+            tsit5_step(m, ta, tb - ta, x, xn);
+            if (gbx_model_in_contact(m, tb, xn)) {
+                for (i = 0; i < n; i++) x[i] = xn[i];
+                m->n_steps++;
+                continue;
+            }
+        }
+        /* contact lost (impact or separation): adaptive steps over [ta, tb] */
+        m->n_handed_over++;
+        m->time = ta;
+        m->fsal_valid = 0;
+        if (m->h > tb - ta || !(m->h > 0.0)) m->h = 0.25 * (tb - ta);
+        if (integrate(m, tb, m->r[GBX_VR_SOLVER_CONTACT_RTOL]) != 0) return 1;
+        m->out_of_contact = !gbx_model_in_contact(m, tb, x);
+    }
+    m->fsal_valid = 0;
+    for (i = 0; i < n; i++) {
+        if (!isfinite(x[i])) {
+            gbx_log(m, fmi2Error, "logStatusError", "fmi2DoStep: state %d is not finite at t = %g s", i,
+                    t1);
+            return 1;
+        }
+    }
+    m->time = t1;
+    return 0;
+}
+
 fmi2Status GBX2(SetRealInputDerivatives)(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                        const fmi2Integer order[], const fmi2Real value[]) {
     (void)vr;
@@ -876,7 +1201,8 @@ fmi2Status GBX2(DoStep)(fmi2Component c, fmi2Real currentCommunicationPoint,
     }
     m->time = currentCommunicationPoint;
     t1 = currentCommunicationPoint + communicationStepSize;
-    if (integrate(m, t1) != 0) {
+    if ((m->r[GBX_VR_SOLVER_METHOD] == 1.0 ? integrate_fixed(m, t1)
+                                           : integrate(m, t1, m->r[GBX_VR_SOLVER_RTOL])) != 0) {
         m->state = GBX_ST_ERROR;
         return fmi2Error;
     }

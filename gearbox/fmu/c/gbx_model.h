@@ -69,6 +69,13 @@ typedef struct ModelInstance {
     double xs[GBX_NX_ALLOC];
     double xn[GBX_NX_ALLOC];
     long n_steps, n_rejected, n_rhs;
+    /* fixed-step Tsit5 (solver.method = 1): step rule evaluated at every parameter
+     * update (fmi2_runtime.c, fixed_step_rule) */
+    double fs_step;  /* step in use (s): solver.fixed_step, or the automatic rule */
+    double fs_limit; /* stability limit of Tsit5 on the linearised model (s) */
+    double fs_fmax;  /* highest frequency the automatic step resolves (Hz) */
+    int out_of_contact; /* the last step ended out of the nominal contact */
+    long n_handed_over; /* fixed-step intervals integrated with adaptive steps */
 } ModelInstance;
 
 /* ---- implemented by the generated model.c ---- */
@@ -86,6 +93,14 @@ void gbx_model_initial_state(ModelInstance *m);
 void gbx_model_derivatives(const ModelInstance *m, double t, const double *x, double *dx);
 /* Fill the output variables of m->r at (t, x). */
 void gbx_model_outputs(ModelInstance *m, double t, const double *x);
+/* The state equations linearised at the operating point with every mesh at its largest
+ * stiffness: A (GBX_NX x GBX_NX, row-major) with d(dx)/dt = A dx; returns the highest
+ * forcing frequency (Hz) the fixed step must resolve besides the eigenfrequencies.
+ * Called after gbx_model_update succeeded. */
+double gbx_model_linear(const ModelInstance *m, double *A);
+/* 1 while (t, x) lies in the nominal contact (drive flank closed, coast flank open):
+ * a fixed step that ends elsewhere has crossed a kink of the right-hand side. */
+int gbx_model_in_contact(const ModelInstance *m, double t, const double *x);
 
 /* ---- services of the runtime ---- */
 void gbx_log(const ModelInstance *m, fmi2Status status, const char *category, const char *fmt, ...)
