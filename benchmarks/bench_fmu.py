@@ -3,7 +3,8 @@
 One second of the default scene (models/marine_drive.toml) at 2000 rpm and the scene's
 operating torque, from the static equilibrium. The FMU runs in Co-Simulation with a
 communication step of 1 ms (about one mesh period; the internal integrator takes its
-own steps in between), driven three ways: from C (fmus/harness/fmu_bench.c: the wall
+own steps in between: adaptive DOPRI5 at several tolerances, and the fixed-step Tsit5,
+the Co-Simulation default, with its default rule and with fewer steps), driven three ways: from C (fmus/harness/fmu_bench.c: the wall
 time of the doStep calls alone, no importer), from a Python loop over fmpy's FMU2Slave
 (wall time of the loop and, separately, of its doStep calls) and by fmpy's
 simulate_fmu. Prints the median wall time over repeats (21 runs for the C driver, whose
@@ -50,6 +51,20 @@ STOP = 1.0
 DT = 1e-4  # output step of the reference and of the Python solvers
 COMM = 1e-3  # communication step of the FMU rows
 RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
+#: Fixed-step Tsit5 rows (solver.method = 1): the default rule, and fewer steps per mesh
+#: period (at 2000 rpm the cap 1 / (n f_mesh) sets the step: n steps per mesh period).
+FIXED = {
+    "fixed Tsit5 (default)": {},
+    "fixed Tsit5, 28 / mesh period": {"solver.steps_per_mesh_period": 28.0},
+    "fixed Tsit5, 27 / mesh period": {"solver.steps_per_mesh_period": 27.0},
+}
+
+
+def adaptive(rtol: float) -> dict[str, float]:
+    """Settings of the FMU's adaptive DOPRI5 at ``rtol``."""
+    return {"solver.method": 0.0, "solver.rtol": rtol}
+
+
 C_REPEATS = 21  # runs of the C driver per row (each well under 0.1 s)
 
 
@@ -70,7 +85,7 @@ def common_points(t, t_ref) -> tuple[np.ndarray, np.ndarray]:
     return np.arange(len(t)), np.flatnonzero(k)
 
 
-def c_driver(fmu_path: str, tmp: Path) -> tuple[Path, Path, str, str, int]:
+def c_driver(fmu_path: str, tmp: Path) -> tuple[Path, Path, str, str, dict[str, int]]:
     """Compile fmus/harness/fmu_bench.c against the FMU's headers; unzip the FMU."""
     from fmpy import read_model_description
 
@@ -84,15 +99,16 @@ def c_driver(fmu_path: str, tmp: Path) -> tuple[Path, Path, str, str, int]:
         ["gcc", "-std=c11", "-O2", "-I", str(d / "sources"), str(src), "-ldl", "-o", str(exe)],
         check=True,
     )
-    return exe, d, md.coSimulation.modelIdentifier, md.guid, vr["solver.rtol"]
+    return exe, d, md.coSimulation.modelIdentifier, md.guid, vr
 
 
-def c_driver_wall(driver, rtol: float, step: float, repeats: int) -> tuple[float, float]:
-    """Median and smallest wall time (s) of the doStep calls of one run, from C."""
-    exe, d, ident, guid, vr_rtol = driver
+def c_driver_wall(driver, settings: dict, step: float, repeats: int) -> tuple[float, float]:
+    """Median and smallest wall time (s) of the doStep calls of one run, from C, with the
+    parameter ``settings`` (name -> value) set in initialization mode."""
+    exe, d, ident, guid, vr = driver
+    sets = ",".join(f"{vr[k]}={v!r}" for k, v in settings.items()) or f"{vr['solver.method']}=1.0"
     p = subprocess.run(
-        [str(exe), str(d), ident, guid, str(vr_rtol), repr(rtol), repr(STOP), repr(step)]
-        + [str(repeats)],
+        [str(exe), str(d), ident, guid, sets, repr(STOP), repr(step), str(repeats)],
         capture_output=True,
         text=True,
         check=True,
@@ -101,9 +117,10 @@ def c_driver_wall(driver, rtol: float, step: float, repeats: int) -> tuple[float
     return float(words[2]), float(words[-2])
 
 
-def python_loop(fmu_path: str, rtol: float, step: float):
-    """One Co-Simulation run from a Python loop over fmpy's FMU2Slave: (wall time of the
-    loop, wall time of its doStep calls, time, mesh force, (steps, rejected, rhs))."""
+def python_loop(fmu_path: str, settings: dict, step: float):
+    """One Co-Simulation run from a Python loop over fmpy's FMU2Slave with the parameter
+    ``settings``: (wall time of the loop, wall time of its doStep calls, time, mesh force,
+    (steps, rejected, rhs, fixed step (s)))."""
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
 
@@ -120,7 +137,8 @@ def python_loop(fmu_path: str, rtol: float, step: float):
         s.instantiate()
         s.setupExperiment(startTime=0.0)
         s.enterInitializationMode()
-        s.setReal([vr["solver.rtol"]], [rtol])
+        for k, v in settings.items():
+            s.setReal([vr[k]], [v])
         s.exitInitializationMode()
         n = int(round(STOP / step))
         force = [vr["mesh.force"]]
@@ -134,12 +152,14 @@ def python_loop(fmu_path: str, rtol: float, step: float):
             in_step += time.perf_counter() - a
             f[i + 1] = s.getReal(force)[0]
         wall = time.perf_counter() - t0
-        work = s.getReal([vr["solver.steps"], vr["solver.rejected"], vr["solver.rhs_evaluations"]])
+        work = s.getReal(
+            [vr[f"solver.{k}"] for k in ("steps", "rejected", "rhs_evaluations", "step_size")]
+        )
         s.terminate()
         s.freeInstance()
     finally:
         shutil.rmtree(d, ignore_errors=True)
-    return wall, in_step, np.arange(n + 1) * step, f, tuple(int(w) for w in work)
+    return wall, in_step, np.arange(n + 1) * step, f, tuple(work)
 
 
 def main():
@@ -182,41 +202,43 @@ def main():
         rows.append((name, setting, wall, err_of(t, f), note))
 
     driver = c_driver(fmu, tmp)
-    errs, works = {}, {}
-    for rtol in RTOLS:
-        loop = [python_loop(fmu, rtol, COMM) for _ in range(args.repeats)]
+    settings = {f"rtol {r:.0e}": adaptive(r) for r in RTOLS}
+    settings.update(FIXED)
+    for label, sets in settings.items():
+        loop = [python_loop(fmu, sets, COMM) for _ in range(args.repeats)]
         wall = statistics.median(r[0] for r in loop)
         in_step = statistics.median(r[1] for r in loop)
-        _, _, t, f, works[rtol] = loop[0]
-        errs[rtol] = err_of(t, f)
-        c_wall, c_min = c_driver_wall(driver, rtol, COMM, C_REPEATS)
-        steps, rejected, rhs = works[rtol]
+        _, _, t, f, (steps, rejected, rhs, h) = loop[0]
+        err = err_of(t, f)
+        c_wall, c_min = c_driver_wall(driver, sets, COMM, C_REPEATS)
         work = (
-            f"min {c_min:.4f} s ({STOP / c_min:.0f} x); {steps} steps, {rejected} rejected, "
-            f"{rhs} rhs ({c_min / rhs * 1e9:.0f} ns per rhs at the min)"
+            f"min {c_min:.4f} s ({STOP / c_min:.0f} x); {steps:.0f} steps, {rejected:.0f} "
+            f"rejected, {rhs:.0f} rhs ({c_min / rhs * 1e9:.0f} ns per rhs at the min)"
         )
-        rows.append(("FMU Co-Simulation, C driver", f"rtol {rtol:.0e}", c_wall, errs[rtol], work))
+        if label.startswith("fixed"):
+            work += f"; step {h * 1e6:.2f} us"
+        rows.append(("FMU Co-Simulation, C driver", label, c_wall, err, work))
         rows.append(
             (
                 "FMU Co-Simulation, Python loop",
-                f"rtol {rtol:.0e}",
+                label,
                 wall,
-                errs[rtol],
+                err,
                 f"doStep calls {in_step:.4f} s ({STOP / in_step:.0f} x real time)",
             )
         )
-    for rtol in (1e-6, 1e-8):
-        c_wall, c_min = c_driver_wall(driver, rtol, DT, C_REPEATS)
+    for label in ("rtol 1e-06", "rtol 1e-08", "fixed Tsit5 (default)"):
+        c_wall, c_min = c_driver_wall(driver, settings[label], DT, C_REPEATS)
         wall, (t, c, _) = median_time(
-            lambda r=rtol: simulate_fmu(
-                fmu, stop_time=STOP, step=DT, rtol=r, outputs=["mesh.force"]
+            lambda s=settings[label]: simulate_fmu(
+                fmu, stop_time=STOP, step=DT, start_values=s, outputs=["mesh.force"]
             ),
             3,
         )
         rows.append(
             (
                 "FMU Co-Simulation, C driver",
-                f"rtol {rtol:.0e}, step {DT:g} s",
+                f"{label}, step {DT:g} s",
                 c_wall,
                 err_of(t, c["mesh.force"]),
                 f"10^4 doStep calls; min {c_min:.4f} s ({STOP / c_min:.0f} x)",
@@ -224,7 +246,7 @@ def main():
         )
         row(
             "FMU Co-Simulation, fmpy simulate_fmu",
-            f"rtol {rtol:.0e}, step {DT:g} s",
+            f"{label}, step {DT:g} s",
             wall,
             t,
             c["mesh.force"],
@@ -284,6 +306,18 @@ def main():
                 outputs(model, t, y)["mesh_force_N"],
                 f"first call {wall0:.2f} s incl. compile",
             )
+            wall0, _ = median_time(lambda: integrate_diffrax(model, y0, t_eval, DiffraxSolver()), 1)
+            wall, (t, y, info) = median_time(
+                lambda: integrate_diffrax(model, y0, t_eval, DiffraxSolver()), 3
+            )
+            row(
+                "diffrax fixed Tsit5 (default, jit)",
+                "12 / period of f_max",
+                wall,
+                t,
+                outputs(model, t, y)["mesh_force_N"],
+                f"first call {wall0:.2f} s incl. compile; {info.get('steps')} steps",
+            )
         except Exception as exc:  # a backend missing on this machine is a row, not a crash
             rows.append(("diffrax Tsit5", "rtol 1e-6", float("nan"), float("nan"), repr(exc)[:60]))
         try:
@@ -334,13 +368,15 @@ def agreement(tmp: Path) -> None:
     )
     print("| interface | rtol | " + " | ".join(pairs) + " |")
     print("|---|---|" + "---|" * len(pairs))
-    for interface in ("CoSimulation", "ModelExchange"):
-        for rtol in (1e-6, 1e-8):
-            t1, ch, _ = simulate_fmu(
-                fmu, interface=interface, stop_time=stop, step=DT, rtol=rtol, outputs=list(pairs)
-            )
-            errs = [ac_relative_error(t1, ch[k], tt, ref[v]) for k, v in pairs.items()]
-            print(f"| {interface} | {rtol:.0e} | " + " | ".join(f"{e:.1e}" for e in errs) + " |")
+    runs = [("CoSimulation", None), ("CoSimulation", 1e-6), ("CoSimulation", 1e-8)]
+    runs += [("ModelExchange", 1e-6), ("ModelExchange", 1e-8)]
+    for interface, rtol in runs:
+        t1, ch, _ = simulate_fmu(
+            fmu, interface=interface, stop_time=stop, step=DT, rtol=rtol, outputs=list(pairs)
+        )
+        errs = [ac_relative_error(t1, ch[k], tt, ref[v]) for k, v in pairs.items()]
+        setting = "fixed Tsit5 (default)" if rtol is None else f"{rtol:.0e}"
+        print(f"| {interface} | {setting} | " + " | ".join(f"{e:.1e}" for e in errs) + " |")
 
 
 def coupling(tmp: Path) -> None:

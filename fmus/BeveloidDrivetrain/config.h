@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{72bd1e5b-72bb-3447-7158-e7a262a50dd3}"
+#define MODEL_GUID "{14d45802-6a42-ad2d-7367-30d768bca58f}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 59
+#define GBX_NR 67
 #define GBX_NX 8
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -71,9 +71,17 @@
 #define VR_der_v_propeller 53
 #define VR_solver_rtol 54
 #define VR_solver_max_step 55
-#define VR_solver_steps 56
-#define VR_solver_rejected 57
-#define VR_solver_rhs_evaluations 58
+#define VR_solver_method 56
+#define VR_solver_fixed_step 57
+#define VR_solver_steps_per_period 58
+#define VR_solver_steps_per_mesh_period 59
+#define VR_solver_contact_rtol 60
+#define VR_solver_step_size 61
+#define VR_solver_stability_limit 62
+#define VR_solver_handed_over 63
+#define VR_solver_steps 64
+#define VR_solver_rejected 65
+#define VR_solver_rhs_evaluations 66
 
 /* state indices */
 #define X_q_engine 0
@@ -90,6 +98,14 @@
 #define GBX_VR_SOLVER_STEPS VR_solver_steps
 #define GBX_VR_SOLVER_REJECTED VR_solver_rejected
 #define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations
+#define GBX_VR_SOLVER_METHOD VR_solver_method
+#define GBX_VR_SOLVER_FIXED_STEP VR_solver_fixed_step
+#define GBX_VR_SOLVER_STEPS_PER_PERIOD VR_solver_steps_per_period
+#define GBX_VR_SOLVER_CONTACT_RTOL VR_solver_contact_rtol
+#define GBX_VR_SOLVER_STEPS_PER_FORCING VR_solver_steps_per_mesh_period
+#define GBX_VR_SOLVER_STEP_SIZE VR_solver_step_size
+#define GBX_VR_SOLVER_STABILITY_LIMIT VR_solver_stability_limit
+#define GBX_VR_SOLVER_HANDED_OVER VR_solver_handed_over
 
 typedef struct {
     int n1, n2, nf, nt, np, h, has_coast;

@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{8ad38428-57ea-3a88-e2b1-cd142e817238}"
+#define MODEL_GUID "{b9700c69-2027-3b0d-091d-b20be89fc91e}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 42
+#define GBX_NR 50
 #define GBX_NX 4
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -54,9 +54,17 @@
 #define VR_der_v_gear 36
 #define VR_solver_rtol 37
 #define VR_solver_max_step 38
-#define VR_solver_steps 39
-#define VR_solver_rejected 40
-#define VR_solver_rhs_evaluations 41
+#define VR_solver_method 39
+#define VR_solver_fixed_step 40
+#define VR_solver_steps_per_period 41
+#define VR_solver_steps_per_mesh_period 42
+#define VR_solver_contact_rtol 43
+#define VR_solver_step_size 44
+#define VR_solver_stability_limit 45
+#define VR_solver_handed_over 46
+#define VR_solver_steps 47
+#define VR_solver_rejected 48
+#define VR_solver_rhs_evaluations 49
 
 /* state indices */
 #define X_q_pinion 0
@@ -69,6 +77,14 @@
 #define GBX_VR_SOLVER_STEPS VR_solver_steps
 #define GBX_VR_SOLVER_REJECTED VR_solver_rejected
 #define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations
+#define GBX_VR_SOLVER_METHOD VR_solver_method
+#define GBX_VR_SOLVER_FIXED_STEP VR_solver_fixed_step
+#define GBX_VR_SOLVER_STEPS_PER_PERIOD VR_solver_steps_per_period
+#define GBX_VR_SOLVER_CONTACT_RTOL VR_solver_contact_rtol
+#define GBX_VR_SOLVER_STEPS_PER_FORCING VR_solver_steps_per_mesh_period
+#define GBX_VR_SOLVER_STEP_SIZE VR_solver_step_size
+#define GBX_VR_SOLVER_STABILITY_LIMIT VR_solver_stability_limit
+#define GBX_VR_SOLVER_HANDED_OVER VR_solver_handed_over
 
 typedef struct {
     int n1, n2, nf, nt, np, h, has_coast;

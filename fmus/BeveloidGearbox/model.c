@@ -49,9 +49,17 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"der(v.gear)", 4, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 36 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 37 parameter */
     {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 38 parameter */
-    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 39 output */
-    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 40 output */
-    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 41 output */
+    {"solver.method", 0, -1, 1.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 39 parameter */
+    {"solver.fixed_step", 0, -1, 0.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 40 parameter */
+    {"solver.steps_per_period", 0, -1, 12.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 41 parameter */
+    {"solver.steps_per_mesh_period", 0, -1, 32.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 42 parameter */
+    {"solver.contact_rtol", 0, -1, 1e-09, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 43 parameter */
+    {"solver.step_size", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 44 output */
+    {"solver.stability_limit", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 45 output */
+    {"solver.handed_over", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 46 output */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 47 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 48 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 49 output */
 };
 
 #define GBX_WITH_ENGINE 0
@@ -759,4 +767,71 @@ void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
 #endif
     (void)te;
     (void)tp;
+}
+
+/* Linearised state equations with the drive mesh at its largest stiffness a_0 + sum_k
+ * |c_k| (gearbox.drivetrain.fixed_step._eigenvalues_at_peak_stiffness with
+ * gearbox.drivetrain.linear.linear_matrices): shafts, bearings, mesh stiffness and
+ * damping on the drive line of action, the propeller's speed damping 2 kappa Omega_2
+ * and the governor; only the rows and columns of this FMU's states (flanges held).
+ * Returns the mesh frequency (Hz). */
+double gbx_model_linear(const ModelInstance *m, double *A) {
+    const GbxModelData *d = &m->data;
+    const int nx = GBX_NX, half = GBX_NX / 2;
+    double K[6][6], C[6][6], kmax = d->coef[0];
+    int i, j, k;
+    for (k = 1; k <= d->h; k++) kmax += hypot(d->coef[k], d->coef[d->h + k]);
+    for (i = 0; i < 6; i++)
+        for (j = 0; j < 6; j++) {
+            K[i][j] = kmax * d->G[0][i] * d->G[0][j];
+            C[i][j] = d->cm[0] * d->G[0][i] * d->G[0][j];
+        }
+    K[0][0] += d->k_in, K[1][1] += d->k_in, K[0][1] -= d->k_in, K[1][0] -= d->k_in;
+    K[2][2] += d->k_out, K[3][3] += d->k_out, K[2][3] -= d->k_out, K[3][2] -= d->k_out;
+    C[0][0] += d->c_in, C[1][1] += d->c_in, C[0][1] -= d->c_in, C[1][0] -= d->c_in;
+    C[2][2] += d->c_out, C[3][3] += d->c_out, C[2][3] -= d->c_out, C[3][2] -= d->c_out;
+#if GBX_BEARINGS
+    K[4][4] += d->kb[0];
+    K[5][5] += d->kb[1];
+    C[4][4] += d->cb[0];
+    C[5][5] += d->cb[1];
+#endif
+#if GBX_WITH_ENGINE
+    C[0][0] += P(engine_governor_kp);
+    K[0][0] += P(engine_governor_ki);
+#endif
+#if GBX_WITH_PROPELLER
+    C[3][3] += 2.0 * d->kappa * d->Omega2;
+#endif
+    for (i = 0; i < nx * nx; i++) A[i] = 0.0;
+    for (i = 0; i < NDOF; i++) {
+        int ki = GBX_STATE_OF_DOF[i];
+        if (ki < 0) continue;
+        A[ki * nx + ki + half] = 1.0;
+        for (j = 0; j < NDOF; j++) {
+            int kj = GBX_STATE_OF_DOF[j];
+            if (kj < 0) continue;
+            A[(ki + half) * nx + kj] = -K[i][j] * d->minv[i];
+            A[(ki + half) * nx + kj + half] = -C[i][j] * d->minv[i];
+        }
+    }
+    return d->fmesh;
+}
+
+/* Drive flank closed and coast flank open at (t, x), from the grid's e (the right-hand
+ * side's laws): gearbox.drivetrain.fixed_step's contact test. */
+int gbx_model_in_contact(const ModelInstance *m, double t, const double *s) {
+    const GbxModelData *d = &m->data;
+    double x[6], v[6], kf[2], ef[2], de[2], delta[2] = {0.0, 0.0};
+    int f, i, want[2] = {0, 0};
+    coordinates(m, t, s, x, v);
+    for (f = 0; f < d->nf; f++) {
+        delta[f] = d->G[f][1] * x[1] + d->G[f][2] * x[2];
+        for (i = 4; i < NDOF; i++) delta[f] += d->G[f][i] * x[i];
+        want[f] = delta[f] + d->ebound[f] - d->bl[f] > 0.0;
+    }
+    if (!want[0]) return 0; /* drive flank surely open */
+    mesh_laws(d, t, x[1], want, 0, kf, ef, de, NULL);
+    if (!(delta[0] - ef[0] - d->bl[0] > 0.0)) return 0;
+    return !(want[1] && delta[1] - ef[1] - d->bl[1] > 0.0);
 }

@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER MarineEngine
-#define MODEL_GUID "{eab6e4cb-287c-93e5-0743-e0d3d0c99408}"
+#define MODEL_GUID "{5302d706-e690-5f10-dcff-32addeb39cac}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 24
+#define GBX_NR 32
 #define GBX_NX 2
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -36,9 +36,17 @@
 #define VR_der_v_engine 18
 #define VR_solver_rtol 19
 #define VR_solver_max_step 20
-#define VR_solver_steps 21
-#define VR_solver_rejected 22
-#define VR_solver_rhs_evaluations 23
+#define VR_solver_method 21
+#define VR_solver_fixed_step 22
+#define VR_solver_steps_per_period 23
+#define VR_solver_steps_per_mesh_period 24
+#define VR_solver_contact_rtol 25
+#define VR_solver_step_size 26
+#define VR_solver_stability_limit 27
+#define VR_solver_handed_over 28
+#define VR_solver_steps 29
+#define VR_solver_rejected 30
+#define VR_solver_rhs_evaluations 31
 
 /* state indices */
 #define X_q_engine 0
@@ -49,6 +57,14 @@
 #define GBX_VR_SOLVER_STEPS VR_solver_steps
 #define GBX_VR_SOLVER_REJECTED VR_solver_rejected
 #define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations
+#define GBX_VR_SOLVER_METHOD VR_solver_method
+#define GBX_VR_SOLVER_FIXED_STEP VR_solver_fixed_step
+#define GBX_VR_SOLVER_STEPS_PER_PERIOD VR_solver_steps_per_period
+#define GBX_VR_SOLVER_CONTACT_RTOL VR_solver_contact_rtol
+#define GBX_VR_SOLVER_STEPS_PER_FORCING VR_solver_steps_per_mesh_period
+#define GBX_VR_SOLVER_STEP_SIZE VR_solver_step_size
+#define GBX_VR_SOLVER_STABILITY_LIMIT VR_solver_stability_limit
+#define GBX_VR_SOLVER_HANDED_OVER VR_solver_handed_over
 
 typedef struct {
     int unused;

@@ -31,9 +31,17 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"der(v.engine)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 18 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 19 parameter */
     {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 20 parameter */
-    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 21 output */
-    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 22 output */
-    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 23 output */
+    {"solver.method", 0, -1, 1.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 21 parameter */
+    {"solver.fixed_step", 0, -1, 0.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 22 parameter */
+    {"solver.steps_per_period", 0, -1, 12.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 23 parameter */
+    {"solver.steps_per_mesh_period", 0, -1, 32.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 24 parameter */
+    {"solver.contact_rtol", 0, -1, 1e-09, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 25 parameter */
+    {"solver.step_size", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 26 output */
+    {"solver.stability_limit", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 27 output */
+    {"solver.handed_over", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 28 output */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 29 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 30 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 31 output */
 };
 
 #define GBX_ENGINE_HARMONICS 3
@@ -103,4 +111,24 @@ void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
     m->r[VR_engine_w] = P(engine_nominal_speed) + s[1];
     m->r[VR_engine_torque] = torque(m, t, s);
     m->r[VR_engine_a] = (torque(m, t, s) - gbx_input(m, VR_input_shaft_torque, t)) / P(engine_inertia);
+}
+
+/* No mesh: always in contact for the fixed-step integrator. */
+int gbx_model_in_contact(const ModelInstance *m, double t, const double *s) {
+    (void)m;
+    (void)t;
+    (void)s;
+    return 1;
+}
+
+/* Linearised: d v_e / dt = -(K_i q_e + K_p v_e) / J_e; forcing: the highest engine order
+ * (GBX_ENGINE_HARMONICS x z / 2 of the speed), in Hz. */
+double gbx_model_linear(const ModelInstance *m, double *A) {
+    double J = P(engine_inertia);
+    A[0] = 0.0;
+    A[1] = 1.0;
+    A[2] = -P(engine_governor_ki) / J;
+    A[3] = -P(engine_governor_kp) / J;
+    return fmax(GBX_ENGINE_HARMONICS * 0.5 * P(engine_cylinders), 1.5) * P(engine_nominal_speed) /
+           6.283185307179586;
 }

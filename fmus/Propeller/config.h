@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER Propeller
-#define MODEL_GUID "{744d7ca8-ec17-8046-db3d-c19704fcd6ef}"
+#define MODEL_GUID "{f92c1c44-021b-52a8-c51c-ffb391a54f0c}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 20
+#define GBX_NR 28
 #define GBX_NX 2
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -32,9 +32,17 @@
 #define VR_der_v_propeller 14
 #define VR_solver_rtol 15
 #define VR_solver_max_step 16
-#define VR_solver_steps 17
-#define VR_solver_rejected 18
-#define VR_solver_rhs_evaluations 19
+#define VR_solver_method 17
+#define VR_solver_fixed_step 18
+#define VR_solver_steps_per_period 19
+#define VR_solver_steps_per_mesh_period 20
+#define VR_solver_contact_rtol 21
+#define VR_solver_step_size 22
+#define VR_solver_stability_limit 23
+#define VR_solver_handed_over 24
+#define VR_solver_steps 25
+#define VR_solver_rejected 26
+#define VR_solver_rhs_evaluations 27
 
 /* state indices */
 #define X_q_propeller 0
@@ -45,6 +53,14 @@
 #define GBX_VR_SOLVER_STEPS VR_solver_steps
 #define GBX_VR_SOLVER_REJECTED VR_solver_rejected
 #define GBX_VR_SOLVER_RHS VR_solver_rhs_evaluations
+#define GBX_VR_SOLVER_METHOD VR_solver_method
+#define GBX_VR_SOLVER_FIXED_STEP VR_solver_fixed_step
+#define GBX_VR_SOLVER_STEPS_PER_PERIOD VR_solver_steps_per_period
+#define GBX_VR_SOLVER_CONTACT_RTOL VR_solver_contact_rtol
+#define GBX_VR_SOLVER_STEPS_PER_FORCING VR_solver_steps_per_mesh_period
+#define GBX_VR_SOLVER_STEP_SIZE VR_solver_step_size
+#define GBX_VR_SOLVER_STABILITY_LIMIT VR_solver_stability_limit
+#define GBX_VR_SOLVER_HANDED_OVER VR_solver_handed_over
 
 typedef struct {
     int unused;

@@ -27,9 +27,17 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"der(v.propeller)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 14 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 15 parameter */
     {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 16 parameter */
-    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 17 output */
-    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 18 output */
-    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 19 output */
+    {"solver.method", 0, -1, 1.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 17 parameter */
+    {"solver.fixed_step", 0, -1, 0.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 18 parameter */
+    {"solver.steps_per_period", 0, -1, 12.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 19 parameter */
+    {"solver.steps_per_mesh_period", 0, -1, 32.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 20 parameter */
+    {"solver.contact_rtol", 0, -1, 1e-09, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 21 parameter */
+    {"solver.step_size", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 22 output */
+    {"solver.stability_limit", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 23 output */
+    {"solver.handed_over", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 24 output */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 25 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 26 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 27 output */
 };
 
 #define GBX_ENGINE_HARMONICS 1
@@ -98,4 +106,23 @@ void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
     m->r[VR_propeller_w] = P(propeller_nominal_speed) + s[1];
     m->r[VR_propeller_torque] = torque(m, t, s);
     m->r[VR_propeller_a] = (gbx_input(m, VR_output_shaft_torque, t) - torque(m, t, s)) / P(propeller_inertia);
+}
+
+/* No mesh: always in contact for the fixed-step integrator. */
+int gbx_model_in_contact(const ModelInstance *m, double t, const double *s) {
+    (void)m;
+    (void)t;
+    (void)s;
+    return 1;
+}
+
+/* Linearised: d v_p / dt = -2 kappa Omega_2 v_p / J_p; forcing: the highest blade-pass
+ * harmonic (GBX_BLADE_HARMONICS x Z of the speed), in Hz. */
+double gbx_model_linear(const ModelInstance *m, double *A) {
+    double W = P(propeller_nominal_speed);
+    A[0] = 0.0;
+    A[1] = 1.0;
+    A[2] = 0.0;
+    A[3] = -2.0 * P(propeller_nominal_torque) / W / P(propeller_inertia);
+    return GBX_BLADE_HARMONICS * P(propeller_blades) * W / 6.283185307179586;
 }
