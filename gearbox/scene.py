@@ -316,7 +316,17 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "Dynamics solver: 'diffrax', 'exudyn' or 'scipy'.",
             ("diffrax", "exudyn", "scipy"),
         ),
-        "rtol": _f(1e-6, "Relative tolerance of adaptive solvers.", 0, 1, True, True),
+        "rtol": _f(
+            1e-6,
+            "Relative tolerance of the adaptive 'scipy' and 'exudyn' solvers. 'diffrax' takes"
+            " fixed steps from the model's frequencies and does not read it (a run that loses"
+            " contact is repeated with adaptive steps at rtol 1e-9; gearbox simulate --rtol"
+            " asks for adaptive steps).",
+            0,
+            1,
+            True,
+            True,
+        ),
         "settle_time_s": _f(
             None,
             "Simulated time before recording (s); default from the slowest mode's decay.",

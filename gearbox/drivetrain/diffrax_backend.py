@@ -10,6 +10,7 @@ deflection is micrometres on top of millimetre shaft twists.
 
 from __future__ import annotations
 
+import threading
 import time as _time
 from dataclasses import dataclass
 from functools import lru_cache
@@ -256,11 +257,8 @@ def integrate_diffrax(
     z0 = jnp.asarray(np.asarray(y0, float) / p["scale"])
     tsj = jnp.asarray(ts)
     key = (model.n_dof, ts.size, tuple((k, np.shape(v)) for k, v in p.items()))
-    compiled = _COMPILED.get((solver, key))
     start = _time.perf_counter()
-    if compiled is None:
-        compiled = fn.lower(pj, z0, tsj).compile()
-        _COMPILED[(solver, key)] = compiled
+    compiled = _compiled((solver, key), fn, (pj, z0, tsj))
     compile_time = _time.perf_counter() - start
     start = _time.perf_counter()
     zs, code, steps, rej = compiled(pj, z0, tsj)
@@ -282,6 +280,32 @@ def integrate_diffrax(
 
 
 _COMPILED: dict = {}
+_COMPILING: dict = {}
+_LOCK = threading.Lock()
+
+#: Compiled executables kept between processes, or None (default): an object whose
+#: ``get(key, compile)`` returns the executable stored for ``key`` (this module's tuples)
+#: or calls ``compile()`` and stores what it returns. ``gearbox run`` sets one in its
+#: cache folder for a run (:mod:`gearbox.pipeline.jaxcache`): a new process then
+#: neither traces nor compiles.
+executable_store = None
+
+
+def _compiled(key, fn, args):
+    """``fn`` compiled for ``args``, once per ``key`` in this process: runs on threads (a
+    pipeline's speed sweep) that need the same executable wait for one compilation."""
+    with _LOCK:
+        lock = _COMPILING.setdefault(key, threading.Lock())
+    with lock:
+        compiled = _COMPILED.get(key)
+        if compiled is None:
+            store = executable_store
+            if store is not None:
+                compiled = store.get(key, lambda: fn.lower(*args).compile())
+            else:
+                compiled = fn.lower(*args).compile()
+            _COMPILED[key] = compiled
+    return compiled
 
 
 def _fixed_plan(model: DrivetrainModel, ts: np.ndarray, solver: DiffraxSolver, targets=None):
@@ -324,11 +348,8 @@ def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.
     key = ("fixed", solver.solver, solver.table_cells, plan.n_steps, plan.out.size)
     key += excitation_terms(p)
     key += tuple((k, np.shape(v)) for k, v in p.items())
-    compiled = _COMPILED.get(key)
     start = _time.perf_counter()
-    if compiled is None:
-        compiled = fn.lower(*args).compile()
-        _COMPILED[key] = compiled
+    compiled = _compiled(key, fn, args)
     compile_time = _time.perf_counter() - start
     start = _time.perf_counter()
     zs, lost = jax.block_until_ready(compiled(*args))

@@ -59,18 +59,46 @@ __all__ = [
 STEPS_PER_PERIOD = {"Tsit5": 12.0, "Dopri8": 6.0}
 
 
-def explicit_tableau(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(A, b, c) of diffrax's explicit Runge-Kutta ``name``, trailing stages with b = 0
-    dropped (the FSAL stage only serves the error estimate). Shapes (s, s), (s,), (s,)."""
+#: diffrax's ``Tsit5.tableau`` (b_sol, c, a_lower), written out: importing diffrax costs a
+#: new process 0.6-1.9 s that the default fixed-step path needs for nothing else
+#: (tests/test_pipeline_jaxcache.py compares it with diffrax's).
+TSIT5 = (
+    (0.09646076681806523, 0.01, 0.4798896504144996, 1.379008574103742, -3.290069515436081)
+    + (2.324710524099774, 0.0),
+    (0.161, 0.327, 0.9, 0.9800255409045097, 1.0, 1.0),
+    (
+        (0.161,),
+        (-0.008480655492356989, 0.335480655492357),
+        (2.8971530571054935, -6.359448489975075, 4.3622954328695815),
+        (5.325864828439257, -11.748883564062828, 7.4955393428898365, -0.09249506636175525),
+        (5.86145544294642, -12.92096931784711, 8.159367898576159, -0.071584973281401)
+        + (-0.028269050394068383,),
+        (0.09646076681806523, 0.01, 0.4798896504144996, 1.379008574103742, -3.290069515436081)
+        + (2.324710524099774,),
+    ),
+)
+
+
+def _diffrax_tableau(name: str) -> tuple:
+    """(b_sol, c, a_lower) of diffrax's ``name`` (:data:`TSIT5` without importing it)."""
+    if name == "Tsit5":
+        return TSIT5
     import diffrax
 
     t = getattr(diffrax, name).tableau
-    b = np.asarray(t.b_sol, dtype=float)
+    return t.b_sol, t.c, t.a_lower
+
+
+def explicit_tableau(name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A, b, c) of diffrax's explicit Runge-Kutta ``name``, trailing stages with b = 0
+    dropped (the FSAL stage only serves the error estimate). Shapes (s, s), (s,), (s,)."""
+    b_sol, c_, a_lower = _diffrax_tableau(name)
+    b = np.asarray(b_sol, dtype=float)
     s = len(b)
     A = np.zeros((s, s))
-    for i, row in enumerate(t.a_lower):
+    for i, row in enumerate(a_lower):
         A[i + 1, : len(row)] = row
-    c = np.concatenate([[0.0], np.asarray(t.c, dtype=float)])
+    c = np.concatenate([[0.0], np.asarray(c_, dtype=float)])
     while s > 1 and b[s - 1] == 0.0:
         s -= 1
     return A[:s, :s], b[:s], c[:s]

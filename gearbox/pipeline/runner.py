@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import logging
 import sys
@@ -17,6 +18,7 @@ from typing import Any
 from ..errors import InputError, Problem
 from ..scene import Scene
 from .cache import Cache, CacheMiss, stage_key
+from .jaxcache import jax_cache
 from .stage import Stage, StageContext, StageUnavailable, read_values, restricted_scene
 from .summary import RunSummary, StageRecord
 from .sweep import map_items
@@ -223,60 +225,70 @@ def run_pipeline(
         if on_stage is not None:
             on_stage(rec)
 
-    for name in bar:
-        st = stages[name]
-        bar.set_postfix_str(name)
-        req, opt = st.upstream(scene)
-        used = (*req, *(d for d in opt if d in results))
-        upstream = {d: keys[d] for d in used} | {d: "absent" for d in opt if d not in results}
-        keys[name] = stage_key(name, read_values(scene, st.reads), upstream, _code(st))
-        missing = [d for d in req if d not in results]
-        if missing:
-            record(
-                StageRecord(name, "skipped", key=keys[name], detail=f"needs {', '.join(missing)}")
-            )
-            continue
-        t0 = time.perf_counter()
-        detail = ""
-        if store is not None and st.cacheable:
-            try:
-                results[name], meta = store.load(name, keys[name])
-            except CacheMiss as miss:
-                if miss.corrupt:
-                    detail = miss.reason
-            else:
-                dt = time.perf_counter() - t0
-                record(StageRecord(name, "cached", dt, keys[name], "", meta.get("seconds", 0.0)))
+    jit_cache = contextlib.ExitStack()
+    if store is not None:  # jax's compiled executables too, under <cache>/jax
+        jit_cache.enter_context(jax_cache(store.root))
+    with jit_cache:
+        for name in bar:
+            st = stages[name]
+            bar.set_postfix_str(name)
+            req, opt = st.upstream(scene)
+            used = (*req, *(d for d in opt if d in results))
+            upstream = {d: keys[d] for d in used} | {d: "absent" for d in opt if d not in results}
+            keys[name] = stage_key(name, read_values(scene, st.reads), upstream, _code(st))
+            missing = [d for d in req if d not in results]
+            if missing:
+                record(
+                    StageRecord(
+                        name, "skipped", key=keys[name], detail=f"needs {', '.join(missing)}"
+                    )
+                )
                 continue
-        ctx = StageContext(
-            name=name,
-            scene=restricted_scene(scene, st.reads),
-            inputs=MappingProxyType({d: results[d] for d in used}),
-            map=functools.partial(
-                map_items, executor=executor, jobs=jobs, progress=progress, desc=name
-            ),
-            progress=progress,
-        )
-        try:
-            result = st.compute(ctx)
-        except StageUnavailable as exc:
-            record(StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc)))
-            continue
-        except Exception as exc:  # InputError found mid-run too: recorded, run goes on
-            msg = f"{type(exc).__name__}: {exc}"
-            _log.error("stage %s failed", name, exc_info=True)  # the traceback, on stderr
-            record(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
-            continue
-        dt = time.perf_counter() - t0
-        results[name] = result
-        if store is not None and st.cacheable:
+            t0 = time.perf_counter()
+            detail = ""
+            if store is not None and st.cacheable:
+                try:
+                    results[name], meta = store.load(name, keys[name])
+                except CacheMiss as miss:
+                    if miss.corrupt:
+                        detail = miss.reason
+                else:
+                    dt = time.perf_counter() - t0
+                    record(
+                        StageRecord(name, "cached", dt, keys[name], "", meta.get("seconds", 0.0))
+                    )
+                    continue
+            ctx = StageContext(
+                name=name,
+                scene=restricted_scene(scene, st.reads),
+                inputs=MappingProxyType({d: results[d] for d in used}),
+                map=functools.partial(
+                    map_items, executor=executor, jobs=jobs, progress=progress, desc=name
+                ),
+                progress=progress,
+            )
             try:
-                store.store(name, keys[name], result, dt)
-            except Exception as exc:  # a full disk or an unpicklable result: run on
-                detail = (
-                    detail + "; " if detail else ""
-                ) + f"not cached ({type(exc).__name__}: {exc})"
-        record(StageRecord(name, "computed", time.perf_counter() - t0, keys[name], detail))
+                result = st.compute(ctx)
+            except StageUnavailable as exc:
+                record(
+                    StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc))
+                )
+                continue
+            except Exception as exc:  # InputError found mid-run too: recorded, run goes on
+                msg = f"{type(exc).__name__}: {exc}"
+                _log.error("stage %s failed", name, exc_info=True)  # the traceback, on stderr
+                record(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
+                continue
+            dt = time.perf_counter() - t0
+            results[name] = result
+            if store is not None and st.cacheable:
+                try:
+                    store.store(name, keys[name], result, dt)
+                except Exception as exc:  # a full disk or an unpicklable result: run on
+                    detail = (
+                        detail + "; " if detail else ""
+                    ) + f"not cached ({type(exc).__name__}: {exc})"
+            record(StageRecord(name, "computed", time.perf_counter() - t0, keys[name], detail))
     bar.close()
     summary = RunSummary(
         records=tuple(records),

@@ -21,6 +21,7 @@ import numpy as np
 
 from ...errors import InputError, Problem
 from ...scene import Scene
+from .. import jaxcache
 from ..stage import StageContext
 from ._require import require
 
@@ -121,10 +122,13 @@ def model_at(scene: Scene, table, speed_rpm: float | None = None):
 
 
 def solver_of(scene: Scene):
-    """The solver object named by ``simulation.solver`` with ``simulation.rtol``."""
+    """The solver object named by ``simulation.solver``: scipy and exudyn with
+    ``simulation.rtol``; diffrax with fixed steps (``DiffraxSolver()``, as ``gearbox
+    simulate`` without ``--rtol``), whose runs that lose contact are repeated with
+    adaptive steps (``DiffraxSolver.contact_rtol``)."""
     sim = require("gearbox.drivetrain.simulate", "default_solver")
     s = scene["simulation"]
-    return sim.default_solver(s["solver"], s["rtol"])
+    return sim.default_solver(s["solver"], None if s["solver"] == "diffrax" else s["rtol"])
 
 
 def contact_metrics(series) -> dict[str, float]:
@@ -158,6 +162,8 @@ class OperatingPoint:
 
 def _simulate(model, solver, sim: Mapping[str, Any]):
     simulate = require("gearbox.drivetrain.simulate", "simulate", "mesh_force_metrics")
+    if getattr(solver, "name", "") == "diffrax":
+        jaxcache.attach()  # the run's compiled executables (a new process skips tracing)
     ts = simulate.simulate(
         model,
         solver,
