@@ -23,6 +23,8 @@ difference over the FE maximum. Times of the fast and FE levels.
     python benchmarks/bench_root_stress.py --kernel
     python benchmarks/bench_root_stress.py --iso
 
+``--against FILE.json ...`` re-evaluates the current fast level (seconds) against the
+FE maxima stored by an earlier ``--json`` run (minutes), for the runs it holds.
 ``--iso`` runs the fast level alone on parallel spur and helical pairs (48 positions)
 against ISO 6336-3 with Y_beta, with and without the spread along the face.
 
@@ -207,6 +209,24 @@ def run_pair(name: str, mesh: MeshOptions, positions: int) -> dict:
     return r
 
 
+def _case_grids(case: str, side: str, positions: int):
+    """The scene's contact grids of one flank over a cycle, and its torques."""
+    scene = load_scene(ROOT / "models" / f"case{case}.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    lt = scene["ltca"]
+    field = separation_field(
+        design,
+        scene,
+        side,
+        n_profile=lt["grid_profile"],
+        n_face=lt["grid_face"],
+        positions=positions,
+        relief=tip_relief_from_scene(design, scene),
+    )
+    grids, _ = beveloid_grids(design, scene, field, positions)
+    return grids, scene["load"]["torques_Nm"]
+
+
 def run_case(case: str, side: str, mesh: MeshOptions, positions: int) -> dict:
     scene = load_scene(ROOT / "models" / f"case{case}.toml")
     design = design_pair(PairSpec.from_scene(scene))
@@ -303,6 +323,48 @@ def _print_kernel(r: dict) -> None:
     print(f"least squares: c = {a:.3f} h_F + {b:.3f} m_n")
 
 
+def _fast_maxima(grids, torques) -> tuple[np.ndarray, np.ndarray]:
+    """Largest fast-level root stress over the cycle, (T, 2) spread and slices."""
+    out = np.zeros((len(torques), 2)), np.zeros((len(torques), 2))
+    for g in grids:
+        for t, tq in enumerate(torques):
+            load = solve_contact(g, FastCompliance(), tq).load
+            for k, model in enumerate((None, NO_SPREAD)):
+                s = grid_root_stress(g, load, model)
+                out[k][t] = np.maximum(out[k][t], (s[0].max(), s[1].max()))
+    return out
+
+
+def run_against(path: Path, positions: int) -> None:
+    """The current fast level against the FE maxima stored by an earlier ``--json``."""
+    stored = json.loads(path.read_text())
+    print(
+        f"\ncurrent fast level against the FE numbers of {path.name} ({stored['meta']['command']})"
+    )
+    print(
+        f"{'run':>30} {'torque':>7} {'FE MPa pinion/gear':>19} {'fast/FE-1':>17} {'slices/FE-1':>17}"
+    )
+    for r in stored["runs"]:
+        if "fe" not in r:
+            continue
+        name = r["name"]
+        if name in PAIRS:
+            pair, torques, n_face = PAIRS[name]
+            grids = [parallel_grid(pair, j / positions, n_face=n_face) for j in range(positions)]
+        else:
+            _, case, flank = name.split()
+            side = "R" if flank == "drive" else "L"
+            grids, torques = _case_grids(case, side, positions)
+        fast, slices = _fast_maxima(grids, torques)
+        fe = np.asarray(r["fe"])
+        for t, tq in enumerate(torques):
+            e, e0 = fast[t] / fe[t] - 1, slices[t] / fe[t] - 1
+            print(
+                f"{name:>30} {tq:7.0f} {fe[t, 0] / 1e6:9.1f} / {fe[t, 1] / 1e6:7.1f} "
+                f"{e[0]:+8.1%}/{e[1]:+8.1%} {e0[0]:+8.0%}/{e0[1]:+8.0%}"
+            )
+
+
 def _print(r: dict) -> None:
     print(f"\n{r['name']}  (fast {r['t_fast_s']:.2f} s, FE {r['t_fe_s']:.1f} s)")
     head = (
@@ -344,6 +406,9 @@ def main(argv=None) -> int:
     ap.add_argument("--pairs", action="store_true", help="the parallel-axis reference pairs")
     ap.add_argument("--kernel", action="store_true", help="fit the moment image on FE unit loads")
     ap.add_argument("--iso", action="store_true", help="fast level against ISO 6336-3 only")
+    ap.add_argument(
+        "--against", type=Path, nargs="+", help="fast level against stored --json FE numbers"
+    )
     ap.add_argument("--cases", nargs="*", default=[])
     ap.add_argument("--flanks", nargs="+", default=["R", "L"])
     ap.add_argument("--mesh", choices=sorted(MESHES), default="default")
@@ -358,6 +423,8 @@ def main(argv=None) -> int:
     runs = []
     if a.iso:
         run_iso(48 if a.positions == 24 else a.positions)
+    for path in a.against or []:
+        run_against(path, a.positions)
     if a.kernel:
         runs.append(run_kernel())
         _print_kernel(runs[-1])
