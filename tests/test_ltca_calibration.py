@@ -110,12 +110,12 @@ def test_fast_level_within_5_percent_of_the_whole_gear_fe_level(case, flank):
     k_fe, _ = whole_gear_stiffness(case, flank)
     k_fast = _fast_mean_stiffness(case, flank, FastCompliance())
     err = k_fast / k_fe - 1
-    # measured with BODY_COMPLIANCE = 0.92: -4.9 % .. +4.8 % over the 24 numbers
+    # measured with BODY_COMPLIANCE = 0.41: -4.7 % .. +4.6 % over the 24 numbers
     assert np.all(np.abs(err) <= 0.05), err
-    # without the body term the slice model is 2 to 21 % too stiff on these cases
+    # without the body term the slice model is up to 11 % too stiff on these cases
     if (case, flank) == ("01", "drive"):
         k0 = _fast_mean_stiffness(case, flank, FastCompliance(body_compliance=0.0))
-        assert np.all(k0 / k_fe - 1 > 0.15)
+        assert np.all(k0 / k_fe - 1 > 0.08)
 
 
 def test_body_term_is_rank_one_per_gear_and_scales_with_the_face_width():
@@ -157,7 +157,9 @@ def test_fe_reference_is_reproduced_by_the_fe_level():
     )
     grids, _ = beveloid_grids(design, scene, field, P)
     fe = FECompliance(
-        FEOptions(mesh=MeshOptions().refined(0.5), neighbours=1, cut_faces="clamped"),
+        FEOptions(
+            mesh=MeshOptions().refined(0.5), neighbours=1, cut_faces="clamped", far_field="none"
+        ),
         blanks=blanks_from_design(design),
     )
     fe.reserve(grids)

@@ -105,15 +105,15 @@ def _iso_ratio(pair, torque):
 
 def test_mean_mesh_stiffness_against_iso_6336_1_spur():
     ratio, r = _iso_ratio(SPUR, 400.0)
-    # measured: 0.691 with the body term calibrated on the beveloid cases (0.795
-    # without it): the fast level is 31 % softer than ISO's c_gamma_alpha for this
-    # spur pair, which the whole-gear FE level matches (docs/fe.md, docs/ltca.md).
-    # The band guards that statement.
-    assert 0.66 < ratio < 0.72, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
+    # measured: 0.745 with the body term calibrated on the beveloid cases (0.795
+    # without it): the fast level is 25 % softer than ISO's c_gamma_alpha for this
+    # spur pair, the whole-gear FE level 9 % (docs/fe.md, docs/ltca.md). The band
+    # guards that statement.
+    assert 0.72 < ratio < 0.77, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
     # shape: ISO's c_gamma_alpha = c' (0.75 eps_alpha + 0.25) relates the cycle mean
     # to the single-pair maximum c'; the slice model's own ratio agrees within 3 %
     # (the body term, a compliance in series common to all pairs, flattens it:
-    # 1.431 with it against ISO's 1.521)
+    # 1.468 with it against ISO's 1.521)
     r0 = _cycle(SPUR, compliance=FastCompliance(body_compliance=0.0), n_face=20)
     npairs = (r0.pair_share[0] > 0).sum(axis=1)
     single_max = r0.stiffness[0][npairs == 1].max()
@@ -126,9 +126,9 @@ def test_mean_mesh_stiffness_against_iso_6336_1_spur():
 
 def test_mean_mesh_stiffness_against_iso_6336_1_helical():
     ratio, _ = _iso_ratio(HELICAL, 400.0)
-    # measured: 0.787 for this helical pair with the calibrated body term (0.92
-    # without it; docs/ltca.md)
-    assert 0.75 < ratio < 0.82, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
+    # measured: 0.807 for this helical pair (normal-section slices and the calibrated
+    # body term; 0.864 without the body term, 0.920 with transverse slices; docs/ltca.md)
+    assert 0.78 < ratio < 0.84, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
 
 
 def test_integer_overlap_ratio_flattens_the_stiffness():

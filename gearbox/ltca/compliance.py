@@ -35,7 +35,7 @@ import numpy as np
 
 from ..errors import Problems
 from .grid import ContactGrid
-from .slice_model import slice_compliance, weber_approach
+from .slice_model import normal_section, slice_compliance, weber_approach
 
 __all__ = ["BODY_COMPLIANCE", "Compliance", "FastCompliance", "compliance_for"]
 
@@ -43,7 +43,7 @@ __all__ = ["BODY_COMPLIANCE", "Compliance", "FastCompliance", "compliance_for"]
 #: (docs/fe.md, "Calibration of the fast level"): the minimax fit of the mean mesh
 #: stiffness of the paper's cases 01-04, both flanks, 150/300/450 N m, against the FE
 #: level at its default mesh with the segment-extent correction.
-BODY_COMPLIANCE = 0.92
+BODY_COMPLIANCE = 0.41
 
 
 @runtime_checkable
@@ -97,7 +97,11 @@ class FastCompliance:
     """Semi-analytical compliance: thin slices, shear-layer coupling, Weber contact.
 
     coupling_length: slice-coupling decay length over the tooth's whole depth (-);
-    0 turns the coupling off (independent slices). tooth_factor: factor on the slice
+    0 turns the coupling off (independent slices). section: where the slices are cut,
+    ``"normal"`` (the virtual spur tooth of the normal section per unit tooth length,
+    as ISO 6336-1 takes a helical tooth; :func:`~gearbox.ltca.slice_model.normal_section`)
+    or ``"transverse"`` (the transverse section per unit face width with the load's
+    transverse component, the first version). tooth_factor: factor on the slice
     compliance (bending, shear, compression, foundation; not the contact flattening).
     body_compliance: compliance of each gear's body common to all its loaded points,
     over ``1 / (E b)`` (b the face width): a rank-one term ``body_compliance / (E b)``
@@ -108,6 +112,7 @@ class FastCompliance:
     coupling_length: float = 1.0
     tooth_factor: float = 1.0
     body_compliance: float = BODY_COMPLIANCE
+    section: str = "normal"
     name: str = "fast"
     load_dependent: bool = True
 
@@ -116,16 +121,29 @@ class FastCompliance:
         p.in_range("coupling_length", self.coupling_length, 0.0, 20.0)
         p.in_range("tooth_factor", self.tooth_factor, 0.1, 10.0)
         p.in_range("body_compliance", self.body_compliance, 0.0, 100.0)
+        p.check(
+            self.section in ("normal", "transverse"),
+            "section",
+            self.section,
+            "must be 'normal' or 'transverse'",
+        )
         p.raise_if_any("invalid fast compliance")
 
     def slice_parts(self, grid: ContactGrid):
         """Normal compliance per unit face width of pinion and gear slices (m per N/m)."""
         E, nu = grid.youngs_modulus, grid.poisson_ratio
-        p1 = grid.transverse_projection**2
-        p2 = grid.transverse_projection2**2
-        c1 = slice_compliance(grid.tooth1, E, nu).total * p1 * self.tooth_factor
-        c2 = slice_compliance(grid.tooth2, E, nu).total * p2 * self.tooth_factor
-        return c1, c2
+        out = []
+        for teeth, proj in (
+            (grid.tooth1, grid.transverse_projection),
+            (grid.tooth2, grid.transverse_projection2),
+        ):
+            if self.section == "normal":
+                virtual, factor = normal_section(teeth)
+                c = slice_compliance(virtual, E, nu).total * factor
+            else:
+                c = slice_compliance(teeth, E, nu).total * proj**2
+            out.append(c * self.tooth_factor)
+        return tuple(out)
 
     def tooth_matrix(self, grid: ContactGrid) -> np.ndarray:
         n = grid.size

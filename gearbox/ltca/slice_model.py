@@ -32,7 +32,13 @@ import numpy as np
 
 from ..geometry.involute import inv
 
-__all__ = ["SliceCompliance", "slice_compliance", "weber_approach", "hertz_half_width"]
+__all__ = [
+    "SliceCompliance",
+    "hertz_half_width",
+    "normal_section",
+    "slice_compliance",
+    "weber_approach",
+]
 
 # Sainsot et al. (2004) Table 1: X* = A/theta_f^2 + B h_f^2 + C h_f/theta_f + D/theta_f + E h_f + F
 _SAINSOT = {
@@ -130,6 +136,47 @@ def slice_compliance(sections, youngs_modulus: float, poisson_ratio: float) -> S
     L, M, P, Q = (_sainsot(k, hf, psi_f) for k in "LMPQ")
     cf = cos1**2 / E * (L * (uf / sf) ** 2 + M * (uf / sf) + P * (1.0 + Q * np.tan(a1) ** 2))
     return SliceCompliance((cb1 + cb2, cs1 + cs2, ca1 + ca2, cf))
+
+
+def normal_section(sections):
+    """The virtual spur sections in the normal section of helical (or beveloid) slices.
+
+    ISO 6336-1 (and Weber's and Schmidt's theory behind its c'_th) take a helical tooth
+    as the spur tooth of its normal section, the virtual gear with
+    ``z_n = z / (cos^2 beta_b cos beta)``, module m_n, pressure angle alpha_n and the
+    normal profile-shift coefficient, loaded per unit length of the tooth. Heights above
+    the reference circle are kept (load point, root and tip circles); the bore keeps its
+    ratio to the root radius. Returns ``(sections, factor)``: the virtual sections
+    (:class:`~gearbox.ltca.grid.ToothSections`) and ``cos beta``, the factor that
+    turns the virtual slice's compliance per unit tooth length into the compliance
+    along the flank normal per unit face width (a face width w holds w / cos beta of
+    tooth length). For beta = 0 the sections are returned unchanged and the factor is 1.
+    """
+    from dataclasses import replace
+
+    beta = np.abs(sections.helix_angle)
+    an = sections.normal_pressure_angle
+    mn = sections.normal_module
+    beta_b = np.arcsin(np.sin(beta) * np.cos(an))
+    zv = sections.teeth / (np.cos(beta_b) ** 2 * np.cos(beta))
+    rp = sections.teeth * mn / (2.0 * np.cos(beta))
+    rv = 0.5 * zv * mn
+    rbv = rv * np.cos(an)
+    psi_b = (0.5 * np.pi + 2.0 * sections.profile_shift * np.tan(an)) / zv + inv(an)
+    d = rv - rp
+    r_load = np.maximum(sections.radius + d, rbv * (1.0 + 1e-9))
+    rf = sections.root_radius + d
+    virtual = replace(
+        sections,
+        radius=r_load,
+        base_radius=rbv,
+        root_radius=rf,
+        tip_radius=np.maximum(sections.tip_radius + d, r_load),
+        bore_radius=rf * sections.bore_radius / sections.root_radius,
+        base_half_angle=psi_b,
+        teeth=zv,
+    )
+    return virtual, np.cos(beta)
 
 
 def hertz_half_width(line_load, curvature_radius, youngs_modulus, poisson_ratio):
