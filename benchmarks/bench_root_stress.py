@@ -230,20 +230,10 @@ def _case_grids(case: str, side: str, positions: int):
 def run_case(case: str, side: str, mesh: MeshOptions, positions: int) -> dict:
     scene = load_scene(ROOT / "models" / f"case{case}.toml")
     design = design_pair(PairSpec.from_scene(scene))
-    lt = scene["ltca"]
-    field = separation_field(
-        design,
-        scene,
-        side,
-        n_profile=lt["grid_profile"],
-        n_face=lt["grid_face"],
-        positions=positions,
-        relief=tip_relief_from_scene(design, scene),
-    )
-    grids, _ = beveloid_grids(design, scene, field, positions)
+    grids, torques = _case_grids(case, side, positions)
     fe = FECompliance(FEOptions(mesh=mesh), blanks=blanks_from_design(design))
     fe.reserve(grids)
-    r = _cycle(grids, scene["load"]["torques_Nm"], fe)
+    r = _cycle(grids, torques, fe)
     r["name"] = f"case {case} {'drive' if side == 'R' else 'coast'}"
     return r
 
