@@ -374,7 +374,7 @@ class _GearModel:
     bore: float = 0.0
     lattices: dict = field(default_factory=dict)  # (side) -> lattice geometry
     # (side, loaded tooth) -> _Solved; ("depth", side, tooth) -> depth operator;
-    # ("fillet", side, tooth) -> fillet points
+    # ("fillet", side, tooth) -> fillet points; ("far", side) -> FarField
     responses: dict = field(default_factory=dict)
 
 
