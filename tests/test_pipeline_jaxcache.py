@@ -156,3 +156,37 @@ def test_in_process_run_matches_without_store(model, tmp_path):
         ts = simulate(model, default_solver("diffrax"), mesh_cycles=10, samples_per_cycle=8)
     np.testing.assert_array_equal(ts["mesh_force_N"], ref["mesh_force_N"])
     assert len(list((tmp_path / "executables").glob("*.exe"))) == 1
+
+
+def test_an_executable_from_jaxs_cache_is_not_copied(tmp_path):
+    """One that jax loaded from its persistent cache is not kept (re-serialised, such a
+    copy lacked code: it failed when run)."""
+    from jax._src import monitoring
+
+    f = jax.jit(lambda x: x * 2.0)
+    x = jax.numpy.arange(3.0)
+
+    def from_jax_cache():
+        monitoring.record_event(jaxcache.HIT_EVENT)  # what jax records on a hit
+        return f.lower(x).compile()
+
+    store = jaxcache.ExecutableStore(tmp_path)
+    got = store.get(("k",), from_jax_cache)
+    np.testing.assert_array_equal(np.asarray(got(x)), [0.0, 2.0, 4.0])
+    assert not list(tmp_path.glob("*.exe"))
+    store.get(("k",), lambda: f.lower(x).compile())
+    assert len(list(tmp_path.glob("*.exe"))) == 1
+
+
+def test_jax_cache_hits_are_seen(tmp_path, monkeypatch):
+    monkeypatch.delenv(jaxcache.DIR_ENV, raising=False)
+    f = jax.jit(lambda x: jax.numpy.cos(x) + 3.5)
+    x = jax.numpy.arange(5.0)
+    with jaxcache.jax_cache(tmp_path):
+        with jaxcache._jax_cache_hits() as hits:
+            f.lower(x).compile()
+        assert hits == []
+        jax.clear_caches()
+        with jaxcache._jax_cache_hits() as hits:
+            f.lower(x).compile()
+        assert hits == [jaxcache.HIT_EVENT]

@@ -25,7 +25,6 @@ and the executables' files are pickles.
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import logging
 import os
@@ -151,15 +150,16 @@ class ExecutableStore:
         return self.folder / f"{digest}.exe"
 
     def get(self, key, compile):
-        """The executable stored for ``key``; else ``compile()``'s, stored. It is compiled
-        with jax's persistent cache off: an executable that jax loaded from its cache
-        serialises without all of its code (seen with jax 0.10.2 on the CPU: the copy
-        failed with ``Function multiply_sine_fusion not found`` when run)."""
+        """The executable stored for ``key``; else ``compile()``'s, stored unless jax took
+        it from its persistent cache: an executable that jax loaded serialises without
+        all of its code (jax 0.10.2 on the CPU: the copy failed with ``Function
+        multiply_sine_fusion not found`` when run), so it is not copied here."""
         compiled = self.load(key)
         if compiled is None:
-            with _fresh():
+            with _jax_cache_hits() as hits:
                 compiled = compile()
-            self.save(key, compiled)
+            if not hits:
+                self.save(key, compiled)
         return compiled
 
     def load(self, key):
@@ -193,10 +193,29 @@ class ExecutableStore:
             _log.warning("jax executable not stored (%s: %s)", type(exc).__name__, exc)
 
 
-def _fresh():
-    """A context in which jax compiles without its persistent cache (this thread only)."""
+HIT_EVENT = "/jax/compilation_cache/cache_hits"
+
+
+@contextmanager
+def _jax_cache_hits() -> Iterator[list]:
+    """A list that gets an entry for every executable jax loads from its persistent cache
+    while the block runs (in any thread: a hit elsewhere only keeps one executable out of
+    the store). When jax's events cannot be observed and its cache is on, one entry."""
+    hits: list = []
     try:
-        from jax._src.config import enable_compilation_cache
-    except ImportError:  # another jax: its cache stays on
-        return contextlib.nullcontext()
-    return enable_compilation_cache(False)
+        from jax._src import monitoring
+    except ImportError:  # another jax: store nothing that may have come from its cache
+        if os.environ.get(DIR_ENV) or _configured_elsewhere():
+            hits.append("unknown")
+        yield hits
+        return
+
+    def listen(event: str, **kwargs) -> None:
+        if event == HIT_EVENT:
+            hits.append(event)
+
+    monitoring.register_event_listener(listen)
+    try:
+        yield hits
+    finally:
+        monitoring.unregister_event_listener(listen)
