@@ -57,11 +57,7 @@ from gearbox.fe import FECompliance, FEOptions, MeshOptions  # noqa: E402
 from gearbox.fe.stress import fillet_stress  # noqa: E402
 from gearbox.geometry import PairSpec, design_pair  # noqa: E402
 from gearbox.ltca import FastCompliance, ParallelPair, parallel_grid, solve_contact  # noqa: E402
-from gearbox.ltca.beveloid import (  # noqa: E402
-    beveloid_grids,
-    separation_field,
-    tip_relief_from_scene,
-)
+from gearbox.ltca.beveloid import scene_grids  # noqa: E402
 from gearbox.ltca.stress import (  # noqa: E402
     RootStressModel,
     grid_root_stress,
@@ -213,17 +209,7 @@ def _case_grids(case: str, side: str, positions: int):
     """The scene's contact grids of one flank over a cycle, and its torques."""
     scene = load_scene(ROOT / "models" / f"case{case}.toml")
     design = design_pair(PairSpec.from_scene(scene))
-    lt = scene["ltca"]
-    field = separation_field(
-        design,
-        scene,
-        side,
-        n_profile=lt["grid_profile"],
-        n_face=lt["grid_face"],
-        positions=positions,
-        relief=tip_relief_from_scene(design, scene),
-    )
-    grids, _ = beveloid_grids(design, scene, field, positions)
+    grids, _, _ = scene_grids(design, scene, side, positions)
     return grids, scene["load"]["torques_Nm"]
 
 

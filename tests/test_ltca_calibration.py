@@ -24,7 +24,7 @@ from gearbox.errors import InputError
 from gearbox.fe.extent import aitken_limit, extent_limit
 from gearbox.geometry import PairSpec, design_pair
 from gearbox.ltca import BODY_COMPLIANCE, FastCompliance, LTCAOptions, ltca_cycle
-from gearbox.ltca.beveloid import beveloid_grids, separation_field
+from gearbox.ltca.beveloid import scene_grids
 from gearbox.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -84,17 +84,8 @@ def test_clamped_and_free_segments_bracket_the_whole_gear(case, flank):
 def _fast_mean_stiffness(case, flank, compliance):
     scene = load_scene(ROOT / "models" / f"case{case}.toml")
     design = design_pair(PairSpec.from_scene(scene))
-    lt = scene["ltca"]
     P = 24
-    field = separation_field(
-        design,
-        scene,
-        SIDE[flank],
-        n_profile=lt["grid_profile"],
-        n_face=lt["grid_face"],
-        positions=P,
-    )
-    grids, _ = beveloid_grids(design, scene, field, P)
+    grids, _, _ = scene_grids(design, scene, SIDE[flank], P)
     res = ltca_cycle(
         lambda f: grids[int(round(f * P)) % P],
         scene["load"]["torques_Nm"],
@@ -150,12 +141,8 @@ def test_fe_reference_is_reproduced_by_the_fe_level():
     ]
     scene = load_scene(ROOT / "models" / "case03.toml")
     design = design_pair(PairSpec.from_scene(scene))
-    lt = scene["ltca"]
     P = ref["positions"]
-    field = separation_field(
-        design, scene, "R", n_profile=lt["grid_profile"], n_face=lt["grid_face"], positions=P
-    )
-    grids, _ = beveloid_grids(design, scene, field, P)
+    grids, _, _ = scene_grids(design, scene, "R", P)
     fe = FECompliance(
         FEOptions(
             mesh=MeshOptions().refined(0.5), neighbours=1, cut_faces="clamped", far_field="none"

@@ -735,6 +735,26 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
     return grids, sense
 
 
+def scene_grids(design, scene, side: str, positions: int, *, relief=None):
+    """Contact grids of one flank (``"R"`` drive, ``"L"`` coast) over a mesh cycle with
+    the scene's grid counts and tip relief (``relief`` overrides it). Returns
+    ``(grids, sense, field)``: :func:`beveloid_grids`'s two and the separation field."""
+    lt = scene["ltca"]
+    if relief is None:
+        relief = tip_relief_from_scene(design, scene)
+    field = separation_field(
+        design,
+        scene,
+        side,
+        n_profile=lt["grid_profile"],
+        n_face=lt["grid_face"],
+        positions=positions,
+        relief=relief,
+    )
+    grids, sense = beveloid_grids(design, scene, field, positions)
+    return grids, sense, field
+
+
 def beveloid_ltca(
     design,
     scene,
@@ -763,16 +783,7 @@ def beveloid_ltca(
     results, senses, fields = {}, {}, {}
     for flank in lt["flanks"]:
         side = _FLANK_SIDE[flank]
-        field = separation_field(
-            design,
-            scene,
-            side,
-            n_profile=lt["grid_profile"],
-            n_face=lt["grid_face"],
-            positions=P,
-            relief=relief,
-        )
-        grids, sense = beveloid_grids(design, scene, field, P)
+        grids, sense, field = scene_grids(design, scene, side, P, relief=relief)
         res = ltca_cycle(
             lambda f, g=grids: g[int(round(f * P)) % P],
             torques,
