@@ -189,7 +189,8 @@ def run_pipeline(
         The stage graph; default :data:`gearbox.pipeline.STAGES`.
     cache : Cache, path, bool or None
         ``True``: the default cache directory; a path or :class:`Cache`: that one;
-        ``False`` / ``None``: no cache.
+        ``False`` / ``None``: no cache. While the run lasts, jax's compiled programs
+        are kept there too (:mod:`gearbox.pipeline.jaxcache`).
     executor : concurrent.futures.Executor, optional
         Runs the sweeps (see :mod:`gearbox.pipeline.sweep`); not shut down here.
     jobs : int, optional
