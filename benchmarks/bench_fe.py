@@ -256,7 +256,8 @@ def main(argv=None) -> int:
     kerr = np.concatenate([r["k_vs_whole" if a.extent else "k"] for r in rows])
     print(
         f"\nmean-stiffness error of the fast level against the "
-        f"{'whole-gear' if a.extent else 'segment'} FE level: median {np.median(kerr):+.1%}, "
+        f"{'segment' if a.far_field == 'none' and not a.extent else 'whole-gear'} FE level: "
+        f"median {np.median(kerr):+.1%}, "
         f"range {kerr.min():+.1%} .. {kerr.max():+.1%} (target |error| <= 5 %)"
     )
     tfe = [r["t_fe"] for r in rows]
