@@ -8,7 +8,6 @@ RMS difference over the AC RMS of the reference at the communication points.
 from __future__ import annotations
 
 import json
-import shutil
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -21,6 +20,7 @@ pytest.importorskip("libcosimpy")
 from gearbox import load_scene  # noqa: E402
 from gearbox.cli import main  # noqa: E402
 from gearbox.fmu import build_fmu, drivetrain_fmu  # noqa: E402
+from gearbox.fmu.build import find_c_compiler  # noqa: E402
 from gearbox.fmu.cosim import (  # noqa: E402
     CONNECTIONS,
     RATE_CONNECTIONS,
@@ -35,7 +35,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "models" / "marine_drive.toml"
 STOP = 0.01  # s: 17 mesh cycles at 3500 rpm
 
-pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+pytestmark = pytest.mark.skipif(find_c_compiler() is None, reason="needs a C compiler (gcc or $CC)")
 
 
 @pytest.fixture(scope="module")

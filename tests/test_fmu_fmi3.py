@@ -16,6 +16,7 @@ from gearbox import load_scene  # noqa: E402
 from gearbox.drivetrain.model import outputs  # noqa: E402
 from gearbox.drivetrain.scipy_backend import ScipySolver, integrate_scipy  # noqa: E402
 from gearbox.fmu import build_fmu, drivetrain_fmu, engine_fmu, gearbox_fmu, propeller_fmu  # noqa: E402
+from gearbox.fmu.build import find_c_compiler  # noqa: E402
 from gearbox.fmu.models import model_from_scene  # noqa: E402
 from gearbox.fmu.run import ac_relative_error, simulate_fmu  # noqa: E402
 
@@ -23,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "models" / "marine_drive.toml"
 STOP = 0.01  # s
 
-pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+pytestmark = pytest.mark.skipif(find_c_compiler() is None, reason="needs a C compiler (gcc or $CC)")
 
 
 @pytest.fixture(scope="module")

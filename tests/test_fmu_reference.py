@@ -8,7 +8,6 @@ the other three come from the libcosim co-simulation (golden masters).
 
 from __future__ import annotations
 
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -16,13 +15,16 @@ import pytest
 
 pytest.importorskip("fmpy")
 
-from gearbox.fmu.build import build_folder  # noqa: E402
+from gearbox.fmu.build import (
+    build_folder,  # noqa: E402
+    find_c_compiler,  # noqa: E402
+)
 from gearbox.fmu.run import ac_relative_error, simulate_fmu  # noqa: E402
 
 FMUS = Path(__file__).resolve().parents[1] / "fmus"
 FOLDERS = sorted(p.parent.name for p in FMUS.glob("*/FMI2.xml"))
 
-pytestmark = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
+pytestmark = pytest.mark.skipif(find_c_compiler() is None, reason="needs a C compiler (gcc or $CC)")
 
 
 def _ref(name: str) -> dict[str, np.ndarray]:

@@ -78,6 +78,12 @@ CFLAGS = (
 )
 
 
+def find_c_compiler(cc: str | None = None) -> str | None:
+    """The C compiler the FMU build uses: ``cc``, else ``$CC``, else ``gcc``, as found on
+    PATH (full path), or ``None`` where it is missing."""
+    return shutil.which(cc or os.environ.get("CC") or "gcc")
+
+
 @dataclass(frozen=True)
 class FmuBuild:
     """Result of :func:`build_fmu`.
@@ -197,9 +203,11 @@ def build_folder(
         derivatives = root.find("ModelStructure").find("Derivatives")
         n_states = 0 if derivatives is None else len(derivatives)
     resources = sorted((src / "resources").iterdir()) if (src / "resources").is_dir() else []
-    cc = cc or os.environ.get("CC") or "gcc"
-    if shutil.which(cc) is None:
+    found = find_c_compiler(cc)
+    if found is None:
+        cc = cc or os.environ.get("CC") or "gcc"
         raise InputError(Problem("cc", cc, "a C compiler on PATH (set CC or install gcc)"))
+    cc = found
     plat = _platform(fmi_version)
     suffix = {"Linux": ".so", "Darwin": ".dylib", "Windows": ".dll"}[platform.system()]
     files = RUNTIME_FILES + (RUNTIME_FILES_FMI3 if fmi_version == 3 else ())
