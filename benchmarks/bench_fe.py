@@ -38,7 +38,7 @@ from gearbox.fe.extent import extent_limit  # noqa: E402
 from gearbox.fe.stress import fillet_stress  # noqa: E402
 from gearbox.geometry import PairSpec, design_pair  # noqa: E402
 from gearbox.ltca import LTCAOptions, ltca_cycle, solve_contact  # noqa: E402
-from gearbox.ltca.beveloid import beveloid_grids, separation_field  # noqa: E402
+from gearbox.ltca.beveloid import scene_grids  # noqa: E402
 from gearbox.scene import load_scene  # noqa: E402
 from gearbox.surface import blanks_from_design  # noqa: E402
 
@@ -60,16 +60,7 @@ def run_case(
 ) -> dict:
     scene = load_scene(ROOT / "models" / f"case{case}.toml")
     design = design_pair(PairSpec.from_scene(scene))
-    lt = scene["ltca"]
-    field = separation_field(
-        design,
-        scene,
-        side,
-        n_profile=lt["grid_profile"],
-        n_face=lt["grid_face"],
-        positions=positions,
-    )
-    grids, _ = beveloid_grids(design, scene, field, positions)
+    grids, _, _ = scene_grids(design, scene, side, positions)
     torques = scene["load"]["torques_Nm"]
     opts = LTCAOptions(positions=positions)
 

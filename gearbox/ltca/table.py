@@ -208,7 +208,6 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
     if parallel:
         from .beveloid import tip_relief_from_scene
 
-        relief = tip_relief_from_scene(design, scene)
         return parallel_ltca(
             parallel_pair_from_design(design, scene),
             scene["load"]["torques_Nm"],
@@ -217,7 +216,7 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
             fidelity=lt["fidelity"],
             n_face=lt["grid_face"],
             scene_name=scene.name,
-            relief=relief if any(r.active for r in relief) else None,
+            relief=tip_relief_from_scene(design, scene),
         )
     from .beveloid import beveloid_ltca
 
