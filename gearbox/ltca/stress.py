@@ -24,7 +24,8 @@ Seireg, A., "Bending strength of gear teeth by cantilever-plate theory", ASME J.
 Ind. 82 (1960) 213-222: the root moment per unit face width of a concentrated load F
 at height h is ``M(y) = F h K(y - y0)`` with a bell-shaped image K of unit integral
 (statics: the root moments add up to F h), and a free face end is accounted for by
-mirror images of the load about it. Here the image is ``K(s) = sech(s / c) / (pi c)``
+mirror images of the load about it. The image used here, ``K(s) = sech(s / c) / (pi c)``,
+is a bell shape of this package's choice (not the paper's published image function),
 and the mirror images form the Neumann series of both ends (no root moment is lost
 beyond them); the decay length c grows with the load height, and its rule
 (:class:`RootStressModel`) is fitted on the finite-element level's fillet stresses
@@ -230,7 +231,8 @@ def moment_image(y, source, width, decay, face_range, *, free_ends: bool = True)
     ``A[i, j] = integral over cell j of K(y_i, y') dy'``: the root moment per unit
     face width at y[i] (m) per unit root moment per unit width of a load uniform over
     the cell ``source[j] +- width[j]/2`` (m) whose image decays over ``decay[j]`` (m):
-    ``K(s) = sech(s / c) / (pi c)`` (Wellauer & Seireg 1960), with mirror images
+    ``K(s) = sech(s / c) / (pi c)`` (the moment-image method of Wellauer & Seireg
+    1960, with a bell shape of this package's choice), with mirror images
     about the face ends ``face_range`` (m) when ``free_ends`` (the Neumann image
     series of a free plate edge, carried until the images are below 1e-12).
     Properties (tested): the weights of cells tiling the face add up to 1 at every y
