@@ -11,13 +11,13 @@ def plot_study(study: Study, axes=None):
     """FPD angles (left panel) and xi_n (right panel) of a study; returns the axes."""
     import matplotlib
 
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
     if axes is None:
+        matplotlib.use("Agg", force=False)
+        import matplotlib.pyplot as plt
+
         _, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     ax_f, ax_x = axes
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
     for i, c in enumerate(study.curves):
         col = colors[i % len(colors)]
         lab = f"{VARIABLES[study.curve_name][0].split()[-1]} = {c:g} {study.curve_unit}"

@@ -84,7 +84,7 @@ def _traces(ts, model):
     t = ts.time
     tm = 1.0 / model.mesh_frequency
     rev = 2 * math.pi / model.speed
-    fig, ax = new_figure(3, 1, size=(9, 7.5))
+    fig, ax = new_figure(3, 1, size=(9, 7.5), right=0.8)  # the twin y axis
     last = t >= t[-1] - 2 * rev
     zoom = t >= t[-1] - 4 * tm
     a = ax[0, 0]

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .html import Section, figure
+from .html import Section, figure, new_figure
 
 __all__ = ["render"]
 
@@ -16,7 +16,8 @@ def render(studies, run) -> Section:
         "curves, holding the rest of the scene's pair fixed (paper section 3.1).</p>"
     ]
     for st in studies.studies:
-        axes = plot_study(st)
+        fig, axes = new_figure(1, 2, size=(10, 4))
+        plot_study(st, axes[0])
         n_ok = int(st.ok.sum())
-        parts.append(figure(axes[0].figure, f"{st.name}: {n_ok}/{st.ok.size} designs solved"))
+        parts.append(figure(fig, f"{st.name}: {n_ok}/{st.ok.size} designs solved"))
     return Section("Parameter studies (paper Figs. 6-9)", "".join(parts), anchor="sweep")
