@@ -517,16 +517,22 @@ def _split(c, xp):
 def mesh_laws(theta1, p, xp=np):
     """k_f, dk_f, e_f, de_f at pinion angle theta1 (rad, any shape S); each shape S + (2,)
     [drive, coast]."""
-    # One set of harmonics cos/sin(k N1 theta1) serves both fields and both flanks.
+    # One set of harmonics cos/sin(k N1 theta1) serves both fields and both flanks: the
+    # sums over harmonics are one matrix product, (..., h) @ (h, 4 series).
     coef = xp.stack([p["kc"], p["ec"]])  # (2 fields, 2 flanks, 1 + 2 h)
     a0, a, b = _split(coef, xp)
     h = a.shape[-1]
     kk = xp.arange(1, h + 1) * p["N1"]
     arg = xp.asarray(theta1)[..., None] * kk  # (..., h)
-    c = xp.cos(arg)[..., None, None, :]
-    s = xp.sin(arg)[..., None, None, :]
-    f = a0 + xp.sum(a * c + b * s, axis=-1)
-    df = xp.sum(kk * (b * c - a * s), axis=-1)
+    c = xp.cos(arg)
+    s = xp.sin(arg)
+    A = a.reshape(4, h)
+    B = b.reshape(4, h)
+    f = a0.reshape(4) + c @ A.T + s @ B.T
+    df = c @ (kk * B).T - s @ (kk * A).T
+    shape = f.shape[:-1] + (2, 2)
+    f = f.reshape(shape)
+    df = df.reshape(shape)
     return f[..., 0, :], df[..., 0, :], f[..., 1, :], df[..., 1, :]
 
 
