@@ -17,6 +17,14 @@ foundation:
   of gear body to tooth deflections - a new bidimensional analytical formula",
   J. Mech. Des. 126 (2004) 748-752, eq. (8) with the coefficients of its Table 1.
 
+The fillet-foundation term holds the torsion of the gear body between the bore and
+the root circle: its dependence on the bore (through ``r_f / r_int``) is that of an
+annulus twisted by the tooth force's moment, :func:`body_torsion` (case 03's teeth,
+bore ratio 2 to 6: Sainsot's term grows by 6.82 / E and the annulus torsion by
+6.70 / E per unit width, ``tests/test_ltca_lte_ripple.py``). That torsion is a rigid
+rotation of the rim shared by every tooth in mesh, so the fast level takes it out of
+the slices and adds it once per gear (:class:`~gearbox.ltca.compliance.FastCompliance`).
+
 Contact flattening (local, per unit length of contact line): Weber's line-load
 formula for each body, ``w_i = 2 q (1 - nu^2) / (pi E) [ln(2 h_i / a) - nu / (2 (1 - nu))]``
 with the Hertz half-width ``a = sqrt(8 q R (1 - nu^2) / (pi E))`` (equal materials),
@@ -34,6 +42,7 @@ from ..geometry.involute import inv
 
 __all__ = [
     "SliceCompliance",
+    "body_torsion",
     "hertz_half_width",
     "normal_section",
     "slice_compliance",
@@ -136,6 +145,25 @@ def slice_compliance(sections, youngs_modulus: float, poisson_ratio: float) -> S
     L, M, P, Q = (_sainsot(k, hf, psi_f) for k in "LMPQ")
     cf = cos1**2 / E * (L * (uf / sf) ** 2 + M * (uf / sf) + P * (1.0 + Q * np.tan(a1) ** 2))
     return SliceCompliance((cb1 + cb2, cs1 + cs2, ca1 + ca2, cf))
+
+
+def body_torsion(sections, shear_modulus: float) -> np.ndarray:
+    """Torsion of the gear body (an annulus from the bore to the root circle, clamped
+    at the bore) per unit face width, along the transverse line of action (m per N/m),
+    shape (n,).
+
+    A line load q on the line of action at the base radius r_b twists the annulus by
+    the moment ``q r_b``: its shear stress ``tau = q r_b / (2 pi r^2)`` rotates the
+    root circle by ``q r_b (1/r_i^2 - 1/r_f^2) / (4 pi G)`` (plane torsion of a
+    disc, the same in plane stress and plane strain), so the load point moves
+    ``r_b^2 (1/r_i^2 - 1/r_f^2) / (4 pi G)`` per unit line load along the line of action.
+    """
+    rb = sections.base_radius
+    return (
+        rb**2
+        * (1.0 / sections.bore_radius**2 - 1.0 / sections.root_radius**2)
+        / (4.0 * np.pi * shear_modulus)
+    )
 
 
 def normal_section(sections):
