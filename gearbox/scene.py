@@ -378,6 +378,76 @@ SCHEMA: dict[str, dict[str, Field]] = {
 }
 
 
+def _modification_fields(name: str) -> dict[str, Field]:
+    """Flank-modification keys of one gear (``pinion`` or ``gear``) besides tip relief
+    (gearbox.ltca.modification; all zero by default: the paper's flanks)."""
+    the = f"the {name}'s"
+    shape = "'linear' or 'parabolic'"
+    return {
+        f"{name}_root_relief_um": _f(
+            0.0,
+            f"Root relief C_f of {the} flanks (um): removed normal to the flank at the form "
+            "circle (where the involute starts), falling to 0 at the relief's start.",
+            0,
+            100,
+        ),
+        f"{name}_root_relief_length_mm": _f(
+            0.0,
+            f"Length of {the} root relief (mm), radially up from the form circle at each "
+            "face position; must be > 0 when the relief is, and end below the tip circle.",
+            0,
+            50,
+        ),
+        f"{name}_root_relief_shape": _s(
+            "linear",
+            f"Shape of {the} root relief over the roll length: {shape}.",
+            ("linear", "parabolic"),
+        ),
+        f"{name}_profile_crowning_um": _f(
+            0.0,
+            f"Profile crowning C_alpha of {the} flanks (um): a parabola over the roll length, "
+            "0 in the middle of the form-to-tip range and C_alpha at both its ends.",
+            0,
+            100,
+        ),
+        f"{name}_lead_crowning_um": _f(
+            0.0,
+            f"Lead crowning C_beta of {the} flanks (um): C_beta (2 w / b)^2, w the axial "
+            "distance from the face middle, b the face width (C_beta at both face ends).",
+            0,
+            100,
+        ),
+        f"{name}_end_relief_um": _f(
+            0.0,
+            f"End relief of {the} flanks at both face ends (um).",
+            0,
+            100,
+        ),
+        f"{name}_end_relief_length_mm": _f(
+            0.0,
+            f"Length of {the} end relief from each face end along the axis (mm); must be "
+            "> 0 when the relief is, and at most half the face width.",
+            0,
+            500,
+        ),
+        f"{name}_end_relief_shape": _s(
+            "linear", f"Shape of {the} end relief along the face: {shape}.", ("linear", "parabolic")
+        ),
+        f"{name}_helix_slope_um": _f(
+            0.0,
+            f"Helix slope modification f_H of {the} flanks (um): removal f_H w / b across the "
+            "face (either sign; tilts the flank against a known misalignment).",
+            -100,
+            100,
+        ),
+    }
+
+
+for _gear in ("pinion", "gear"):
+    SCHEMA["ltca"].update(_modification_fields(_gear))
+del _gear
+
+
 def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
     """Check one value against its field; return it normalised (int -> float etc.)."""
     kind = f.kind
@@ -469,19 +539,20 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
     """Checks that involve more than one key (after the per-key checks)."""
     lt = data.get("ltca", {})
     for name in ("pinion", "gear"):
-        amount = lt.get(f"{name}_tip_relief_um")
-        length = lt.get(f"{name}_tip_relief_length_mm")
-        if (
-            isinstance(amount, float)
-            and isinstance(length, float)
-            and amount > 0
-            and not length > 0
-        ):
-            probs.add(
-                f"ltca.{name}_tip_relief_length_mm",
-                length,
-                f"must be in (0, 50] when ltca.{name}_tip_relief_um is > 0 ({amount:g})",
-            )
+        for kind, unit in (("tip_relief", "um"), ("root_relief", "um"), ("end_relief", "um")):
+            amount = lt.get(f"{name}_{kind}_{unit}")
+            length = lt.get(f"{name}_{kind}_length_mm")
+            if (
+                isinstance(amount, float)
+                and isinstance(length, float)
+                and amount > 0
+                and not length > 0
+            ):
+                probs.add(
+                    f"ltca.{name}_{kind}_length_mm",
+                    length,
+                    f"must be > 0 when ltca.{name}_{kind}_{unit} is > 0 ({amount:g})",
+                )
 
 
 def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:
@@ -540,13 +611,16 @@ def load_scene(path: str | Path) -> Scene:
 #: Notes printed under a section's heading in the generated reference.
 _SECTION_NOTES = {
     "ltca": (
-        "Tip relief (`*_tip_relief_*`): the material removed normal to both flanks of a "
-        "gear near its tip enters the separation field of crossed beveloid pairs and the "
+        "Flank modifications (`*_tip_relief_*`, `*_root_relief_*`, `*_profile_crowning_um`, "
+        "`*_lead_crowning_um`, `*_end_relief_*`, `*_helix_slope_um`; "
+        "`gearbox.ltca.modification`): the material removed normal to both flanks of a "
+        "gear enters the separation field of crossed beveloid pairs and the "
         "closed-form grid of parallel-axis pairs "
-        "(unloaded TE, loaded contact and edge detection see the modified flanks); its "
-        "length is radial from the tip circle at each face position and its shape runs "
-        "over the roll length. All zero by default: the paper's unmodified flanks. "
-        'Measured effect on case 03 in docs/ltca.md, section "Tip relief".'
+        "(unloaded TE, loaded contact and edge detection see the modified flanks). Profile "
+        "terms act over the roll length sqrt(r^2 - r_b^2) of each transverse section, "
+        "lead terms along the gear's own axis across its face width. All zero by default: "
+        "the paper's unmodified flanks. "
+        'Measured effects in docs/ltca.md, sections "Tip relief" and "Flank modifications".'
     ),
 }
 

@@ -8,7 +8,9 @@ levels, mesh-cycle tables.
 - :func:`ltca_cycle`: a mesh cycle x torque levels -> :class:`CycleResult`;
 - :class:`ParallelPair`, :func:`parallel_grid`: spur/helical reference pairs;
 - :func:`iso_mesh_stiffness`: ISO 6336-1 method B c' and c_gamma;
-- :func:`iso_root_section`: ISO 6336-3 method B critical root section.
+- :func:`iso_root_section`: ISO 6336-3 method B critical root section;
+- :class:`FlankModification`: tip and root relief, profile and lead crowning, end
+  relief and helix slope of one gear.
 """
 
 from .analysis import CycleResult as CycleResult
@@ -23,6 +25,8 @@ from .grid import ContactGrid as ContactGrid
 from .grid import ToothSections as ToothSections
 from .iso6336 import IsoStiffness as IsoStiffness
 from .iso6336 import iso_mesh_stiffness as iso_mesh_stiffness
+from .modification import FlankModification as FlankModification
+from .modification import TipRelief as TipRelief
 from .parallel import ParallelPair as ParallelPair
 from .parallel import parallel_grid as parallel_grid
 from .solver import ContactSolution as ContactSolution
@@ -39,9 +43,11 @@ __all__ = [
     "CycleResult",
     "BODY_COMPLIANCE",
     "FastCompliance",
+    "FlankModification",
     "IsoStiffness",
     "LTCAOptions",
     "ParallelPair",
+    "TipRelief",
     "RootSection",
     "ToothSections",
     "compliance_for",

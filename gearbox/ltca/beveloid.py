@@ -23,8 +23,9 @@ along the profile (parabolic refinement); a minimum on the border of the valid
 profile range means the contact would lie beyond the flank edge (tip or form
 circle): such points are marked ``edge`` and loads on them are flagged.
 
-Tip relief (:class:`TipRelief`, scene keys ``ltca.pinion_tip_relief_*`` and
-``ltca.gear_tip_relief_*``): the material removed normal to each flank near its tip is
+Flank modifications (:class:`~gearbox.ltca.modification.FlankModification`: tip and
+root relief, profile and lead crowning, end relief, helix slope; scene keys
+``ltca.pinion_*`` and ``ltca.gear_*``): the material removed normal to each flank is
 added to the separation, on the pinion at the pinion point's radius and on the gear at
 the gear partner's radius, in the field, on its continuation and in the three exact
 evaluations of the contact-line refinement; the unloaded TE, the loaded contact and the
@@ -44,10 +45,13 @@ from ..geometry.involute import inv
 from .analysis import LTCAOptions, ltca_cycle
 from .compliance import compliance_for
 from .grid import ContactGrid, ToothSections
+from .modification import FlankModification, TipRelief, as_modification
 
 __all__ = [
     "SeparationField",
+    "FlankModification",
     "TipRelief",
+    "modifications_from_scene",
     "beveloid_ltca",
     "separation_field",
     "tip_relief_from_scene",
@@ -57,71 +61,12 @@ _SIDE_INDEX = {"R": 0, "L": 1}
 _FLANK_SIDE = {"drive": "R", "coast": "L"}
 
 
-_RELIEF_SHAPES = {"linear": 1, "parabolic": 2}
+def modifications_from_scene(design, scene) -> tuple[FlankModification, FlankModification]:
+    """(pinion, gear) flank modifications of the scene's ``[ltca]`` keys (um, mm -> m).
 
-
-@dataclass(frozen=True)
-class TipRelief:
-    """Tip relief (profile modification) of one gear's flanks, SI.
-
-    amount: C_a (m), the material removed normal to the flank at the tip circle
-    (0 = the paper's unmodified flanks); length: L_a (m), measured radially down from
-    the tip circle r_a(z) at each face position, so the relief starts at
-    ``r_s = r_a - L_a`` (the diameter d_Ca = d_a - 2 L_a of ISO 21771 profile
-    modifications); shape: ``linear`` or ``parabolic`` in the roll length
-    ``xi = sqrt(r^2 - r_b^2)``: ``C(r) = C_a t^e``, ``t = (xi - xi_s) / (xi_a - xi_s)``,
-    e = 1 or 2, zero below r_s. Beyond the tip (the flank's continuation, used only to
-    tell an interior minimum from an edge one) the same law is continued.
-    """
-
-    amount: float = 0.0
-    length: float = 0.0
-    shape: str = "linear"
-
-    def __post_init__(self):
-        p = Problems()
-        p.in_range("amount", self.amount, 0.0, None)
-        p.in_range("length", self.length, 0.0, None)
-        if self.shape not in _RELIEF_SHAPES:
-            p.add("shape", self.shape, f"must be one of {', '.join(_RELIEF_SHAPES)}")
-        if self.amount > 0 and not self.length > 0:
-            p.add("length", self.length, "must be > 0 when the relief amount is > 0")
-        p.raise_if_any("invalid tip relief")
-
-    @property
-    def active(self) -> bool:
-        return self.amount > 0
-
-    def removal(self, radius, tip_radius, base_radius: float) -> np.ndarray:
-        """Material removed normal to the flank (m) at ``radius`` (m) of a transverse
-        section whose tip radius is ``tip_radius`` (m); involute base radius r_b (m).
-        The relief must start above the base circle (``r_a - L_a > r_b``)."""
-        r = np.asarray(radius, dtype=float)
-        if not self.active:
-            return np.zeros_like(r)
-        ra = np.asarray(tip_radius, dtype=float)
-        rs = ra - self.length
-        if np.any(rs <= base_radius):
-            raise InputError(
-                Problem(
-                    "length",
-                    self.length,
-                    f"the relief would start at {float(np.min(rs)) * 1e3:.3f} mm radius, "
-                    f"not above the base circle ({base_radius * 1e3:.3f} mm)",
-                )
-            )
-        xs = np.sqrt(rs**2 - base_radius**2)
-        xa = np.sqrt(ra**2 - base_radius**2)
-        xi = np.sqrt(np.maximum(r**2 - base_radius**2, 0.0))
-        t = np.maximum(xi - xs, 0.0) / (xa - xs)
-        return self.amount * t ** _RELIEF_SHAPES[self.shape]
-
-
-def tip_relief_from_scene(design, scene) -> tuple[TipRelief, TipRelief]:
-    """(pinion, gear) tip reliefs of the scene's ``[ltca]`` keys (um, mm -> m).
-
-    The relief must start above the base circle over the whole face width on both
-    flanks; otherwise the error names the length key, its value and the valid range.
+    Tip relief must start above the base circle and root relief end below the tip
+    circle over the whole face width, end relief be at most half the face width;
+    otherwise the error names the length key, its value and the valid range.
     """
     from ..surface import blanks_from_design
 
@@ -132,23 +77,80 @@ def tip_relief_from_scene(design, scene) -> tuple[TipRelief, TipRelief]:
     for name, gd, blank in zip(
         ("pinion", "gear"), (design.pinion, design.gear), blanks, strict=True
     ):
-        amount = float(lt.get(f"{name}_tip_relief_um", 0.0)) * 1e-6
-        length_mm = float(lt.get(f"{name}_tip_relief_length_mm", 0.0))
-        relief = TipRelief(amount, length_mm * 1e-3, lt.get(f"{name}_tip_relief_shape", "linear"))
-        if relief.active:
-            ra = blank.tip_radius(np.array([blank.z_toe, blank.z_heel]))
+
+        def um(key, name=name):
+            return float(lt.get(f"{name}_{key}_um", 0.0)) * 1e-6
+
+        def mm(key, name=name):
+            return float(lt.get(f"{name}_{key}_length_mm", 0.0)) * 1e-3
+
+        def shape(key, name=name):
+            return lt.get(f"{name}_{key}_shape", "linear")
+
+        mod = FlankModification(
+            tip_relief=um("tip_relief"),
+            tip_relief_length=mm("tip_relief"),
+            tip_relief_shape=shape("tip_relief"),
+            root_relief=um("root_relief"),
+            root_relief_length=mm("root_relief"),
+            root_relief_shape=shape("root_relief"),
+            profile_crowning=um("profile_crowning"),
+            lead_crowning=um("lead_crowning"),
+            end_relief=um("end_relief"),
+            end_relief_length=mm("end_relief"),
+            end_relief_shape=shape("end_relief"),
+            helix_slope=um("helix_slope"),
+        )
+        ends = np.array([blank.z_toe, blank.z_heel])
+        ra = blank.tip_radius(ends)
+        if mod.tip_relief > 0:
             depth = float(np.min(ra) - max(gd.base_radius))
             probs.in_range(
                 f"ltca.{name}_tip_relief_length_mm",
-                length_mm,
+                mod.tip_relief_length * 1e3,
                 0.0,
                 depth * 1e3,
                 lo_open=True,
                 hi_open=True,
             )
-        out.append(relief)
-    probs.raise_if_any("invalid tip relief (the relief must start above the base circle)")
+        if mod.root_relief > 0:
+            depth = float(np.min(ra - np.max(_form_radius(blank, gd, ends), axis=0)))
+            probs.in_range(
+                f"ltca.{name}_root_relief_length_mm",
+                mod.root_relief_length * 1e3,
+                0.0,
+                depth * 1e3,
+                lo_open=True,
+                hi_open=True,
+            )
+        if mod.end_relief > 0:
+            probs.in_range(
+                f"ltca.{name}_end_relief_length_mm",
+                mod.end_relief_length * 1e3,
+                0.0,
+                0.5 * blank.face_width * 1e3,
+                lo_open=True,
+            )
+        out.append(mod)
+    probs.raise_if_any("invalid flank modification")
     return out[0], out[1]
+
+
+def tip_relief_from_scene(design, scene) -> tuple[FlankModification, FlankModification]:
+    """The scene's flank modifications (:func:`modifications_from_scene`; the name of
+    the first version, when tip relief was the only one)."""
+    return modifications_from_scene(design, scene)
+
+
+def _form_radius(blank, gd, z) -> np.ndarray:
+    """Form-circle radius (where the involute starts, rack parameter u = 0) of both
+    flanks at axial positions ``z``, shape (2, len(z)): rows R, L."""
+    z = np.asarray(z, dtype=float)
+    rows = []
+    for side in ("R", "L"):
+        p, _, _, _ = _jets(blank, side, z, np.zeros_like(z))
+        rows.append(np.hypot(p[:, 0], p[:, 1]))
+    return np.stack(rows)
 
 
 @dataclass(frozen=True)
@@ -343,18 +345,19 @@ def separation_field(
     n_face: int,
     positions: int,
     pitches: tuple[int, int] = (-3, 3),
-    relief: tuple[TipRelief, TipRelief] | None = None,
+    relief: tuple[FlankModification | TipRelief, FlankModification | TipRelief] | None = None,
 ) -> SeparationField:
     """Separation field of the reference tooth pair on flank ``side`` ("R" or "L")
     at ``positions`` per mesh cycle over ``pitches`` mesh cycles around phi_1 = 0.
 
-    relief: (pinion, gear) :class:`TipRelief`; ``None`` takes the scene's
-    (:func:`tip_relief_from_scene`). Its removal is added to every separation."""
+    relief: (pinion, gear) :class:`FlankModification` (or :class:`TipRelief`); ``None``
+    takes the scene's (:func:`modifications_from_scene`). Its removal is added to every
+    separation."""
     from ..surface import blanks_from_design, tip_parameter
 
     pinion, gear = blanks_from_design(design)
     if relief is None:
-        relief = tip_relief_from_scene(design, scene)
+        relief = modifications_from_scene(design, scene)
     mods = _Modification(design, pinion, gear, side, relief)
     asm = _assembly(design, scene)
     N1, N2 = design.pinion.teeth, design.gear.teeth
@@ -451,25 +454,37 @@ def separation_field(
 class _Modification:
     """Flank modifications of a pair on one flank side: material removed (m) at
     pinion and gear flank points given in their own frames (radius = hypot(x, y),
-    tip radius r_a at the point's axial position z)."""
+    axial position z; tip and form radii of the transverse section at z)."""
 
     def __init__(self, design, pinion, gear, side, relief):
-        self.parts = [
-            (rel, blank, gd.base_radius[_SIDE_INDEX[side]])
-            for rel, blank, gd in zip(
-                relief, (pinion, gear), (design.pinion, design.gear), strict=True
-            )
-        ]
-        self.active = any(rel.active for rel, _, _ in self.parts)
+        k = _SIDE_INDEX[side]
+        self.parts = []
+        for rel, blank, gd in zip(
+            relief, (pinion, gear), (design.pinion, design.gear), strict=True
+        ):
+            mod = as_modification(rel)
+            form = None
+            if mod.profile_active:  # the form radius is smooth in z: tabulate it once
+                zt = np.linspace(blank.z_toe, blank.z_heel, 41)
+                form = (zt, _form_radius(blank, gd, zt)[k])
+            self.parts.append((mod, blank, gd.base_radius[k], form))
+        self.active = any(mod.active for mod, _, _, _ in self.parts)
 
     def _removal(self, k, points):
-        rel, blank, rb = self.parts[k]
-        if not rel.active:
+        mod, blank, rb, form = self.parts[k]
+        if not mod.active:
             return np.zeros(points.shape[0])
         radius = np.hypot(points[:, 0], points[:, 1])
-        # the flank's continuation beyond the face keeps the end section's tip radius
+        # the flank's continuation beyond the face keeps the end section's radii
         z = np.clip(points[:, 2], blank.z_toe, blank.z_heel)
-        return rel.removal(radius, blank.tip_radius(z), rb)
+        return mod.removal(
+            radius,
+            points[:, 2] - 0.5 * (blank.z_toe + blank.z_heel),
+            tip_radius=blank.tip_radius(z),
+            base_radius=rb,
+            face_width=blank.face_width,
+            form_radius=None if form is None else np.interp(z, *form),
+        )
 
     def pinion(self, points):
         return self._removal(0, points)
@@ -741,7 +756,7 @@ def scene_grids(design, scene, side: str, positions: int, *, relief=None):
     ``(grids, sense, field)``: :func:`beveloid_grids`'s two and the separation field."""
     lt = scene["ltca"]
     if relief is None:
-        relief = tip_relief_from_scene(design, scene)
+        relief = modifications_from_scene(design, scene)
     field = separation_field(
         design,
         scene,
@@ -760,7 +775,7 @@ def beveloid_ltca(
     scene,
     *,
     options: LTCAOptions | None = None,
-    relief: tuple[TipRelief, TipRelief] | None = None,
+    relief: tuple[FlankModification | TipRelief, FlankModification | TipRelief] | None = None,
 ):
     """Loaded TCA and mesh table of a crossed beveloid pair for the scene's torques and
     flanks (``drive`` = R, ``coast`` = L). Returns :class:`~gearbox.ltca.table.LTCAResult`.
@@ -779,7 +794,7 @@ def beveloid_ltca(
         compliance = compliance_for(lt["fidelity"])
     torques = scene["load"]["torques_Nm"]
     if relief is None:
-        relief = tip_relief_from_scene(design, scene)
+        relief = modifications_from_scene(design, scene)
     results, senses, fields = {}, {}, {}
     for flank in lt["flanks"]:
         side = _FLANK_SIDE[flank]

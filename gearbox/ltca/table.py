@@ -136,15 +136,21 @@ def parallel_pair_from_design(design, scene) -> ParallelPair:
 
 
 def _mirror(res: CycleResult) -> CycleResult:
-    """The coast flank of a symmetric parallel pair: the drive contact mirrored in the
-    plane through both axes (transverse y -> -y; the normal's axial part flips with
-    its tangential part, rack flank normals n_L of the surfaces convention)."""
+    """The coast flank of a symmetric parallel pair: the drive contact turned half a
+    turn about the centre line (the x axis through both axes: y -> -y, z -> -z), which
+    maps the pair onto itself and its drive flanks onto its coast flanks; the normal
+    turns with it (rack flank normals n_L of the surfaces convention)."""
     P = res.mesh_point.copy()
     P[..., 1] *= -1
+    P[..., 2] *= -1
     n = res.line_of_action.copy()
     n[..., 1] *= -1
     n[..., 2] *= -1
     return replace(res, mesh_point=P, line_of_action=n)
+
+
+def _sloped(mods) -> bool:
+    return mods is not None and any(m.helix_slope != 0 for m in mods)
 
 
 def parallel_ltca(
@@ -162,22 +168,36 @@ def parallel_ltca(
 
     Frame: pinion axis along z through the origin, gear axis through (a, 0, 0); the
     drive contact lies at y < 0 near the pitch point (r_w1, 0, 0). Symmetric tooth
-    profiles (tip reliefs ``relief`` = (pinion, gear) :class:`~gearbox.ltca.beveloid.
-    TipRelief` act on both flanks alike): the coast flank is the drive flank mirrored.
+    profiles (the flank modifications ``relief`` = (pinion, gear)
+    :class:`~gearbox.ltca.modification.FlankModification` act on both flanks alike): the
+    coast flank is the drive flank turned half a turn about the centre line (axial
+    position w -> -w), so it is the drive flank's analysis with the modifications
+    reflected in w (only a helix slope changes) and then turned.
     """
+    from .modification import as_modification
+
     options = options or LTCAOptions()
     compliance = compliance_for(fidelity)
-    drive = ltca_cycle(
-        lambda f: parallel_grid(pair, f, n_face, relief=relief),
-        torques,
-        options=options,
-        compliance=compliance,
-    )
+
+    def cycle(mods):
+        return ltca_cycle(
+            lambda f: parallel_grid(pair, f, n_face, relief=mods),
+            torques,
+            options=options,
+            compliance=compliance,
+        )
+
+    mods = None if relief is None else tuple(as_modification(r) for r in relief)
     res = {}
+    drive = cycle(mods) if "drive" in flanks or not _sloped(mods) else None
     if "drive" in flanks:
         res["drive"] = drive
     if "coast" in flanks:
-        res["coast"] = _mirror(drive)
+        if _sloped(mods):
+            turned = tuple(replace(m, helix_slope=-m.helix_slope) for m in mods)
+            res["coast"] = _mirror(cycle(turned))
+        else:
+            res["coast"] = _mirror(drive)
     a = pair.working_center_distance
     attrs = {
         "scene": scene_name,
@@ -206,7 +226,7 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
         abs(g.cone_angle) < 1e-12 for g in (design.pinion, design.gear)
     )
     if parallel:
-        from .beveloid import tip_relief_from_scene
+        from .beveloid import modifications_from_scene
 
         return parallel_ltca(
             parallel_pair_from_design(design, scene),
@@ -216,7 +236,7 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
             fidelity=lt["fidelity"],
             n_face=lt["grid_face"],
             scene_name=scene.name,
-            relief=tip_relief_from_scene(design, scene),
+            relief=modifications_from_scene(design, scene),
         )
     from .beveloid import beveloid_ltca
 
