@@ -13,7 +13,6 @@ import pytest
 from gearbox import load_scene
 from gearbox.errors import InputError
 from gearbox.ltca import FastCompliance, FlankModification, LTCAOptions, ParallelPair, TipRelief
-from gearbox.ltca.analysis import ltca_cycle
 from gearbox.ltca.modification import as_modification
 from gearbox.ltca.parallel import parallel_grid
 from gearbox.ltca.solver import solve_contact
@@ -192,6 +191,23 @@ def test_helix_slope_moves_both_flanks_load_the_same_way():
         assert np.allclose(plain.flanks[flank].mesh_point[..., 2], 0.0, atol=1e-9)
 
 
+def crowned_attrs(design, scene) -> str:
+    from gearbox.ltca.beveloid import beveloid_ltca
+
+    s = scene.replaced(ltca={"flanks": ["drive"], "positions": 4}, load={"torques_Nm": [300.0]})
+    return beveloid_ltca(design, s).attrs["flank_modifications"]
+
+
+def test_modifications_are_described():
+    mod = FlankModification(lead_crowning=10e-6, end_relief=5e-6, end_relief_length=4e-3)
+    assert mod.describe() == "end relief 5 um over 4 mm (linear), lead crowning 10 um"
+    assert FlankModification().describe() == "none"
+    res = parallel_ltca(
+        SPUR, [300.0], options=LTCAOptions(positions=4), relief=(mod, None), n_face=10
+    )
+    assert res.attrs["flank_modifications"] == f"pinion: {mod.describe()}; gear: none"
+
+
 @pytest.mark.slow
 def test_lead_crowning_on_the_beveloid_pair():
     """Case 03: the pinion's crowning adds its removal to every separation (exact),
@@ -225,5 +241,6 @@ def test_lead_crowning_on_the_beveloid_pair():
         s = s.replaced(ltca={"flanks": ["drive"], "positions": 8}, load={"torques_Nm": [300.0]})
         rows.append(beveloid_ltca(design, s).summary()["flanks"]["drive"]["300"])
     plain, crown = rows
+    assert "lead crowning 15 um" in crowned_attrs(design, crowned)
     assert crown["contact_pattern_area_fraction"] < plain["contact_pattern_area_fraction"] - 0.08
     assert crown["mean_mesh_stiffness_N_per_m"] < 0.95 * plain["mean_mesh_stiffness_N_per_m"]

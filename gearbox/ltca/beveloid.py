@@ -45,7 +45,7 @@ from ..geometry.involute import inv
 from .analysis import LTCAOptions, ltca_cycle
 from .compliance import compliance_for
 from .grid import ContactGrid, ToothSections
-from .modification import FlankModification, TipRelief, as_modification
+from .modification import FlankModification, TipRelief, as_modification, describe_pair
 
 __all__ = [
     "SeparationField",
@@ -837,6 +837,7 @@ def beveloid_ltca(
         "gearbox_version": __version__,
         "frame": "Sf of gearbox.tca.assembly (paper Fig. 11); drive = R flank, coast = L flank",
         "field_newton_iterations": int(sum(fields.values())),
+        "flank_modifications": describe_pair(relief),
     }
     table = mesh_table(
         results,

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..errors import InputError, Problem, Problems
 
-__all__ = ["SHAPES", "FlankModification", "TipRelief", "as_modification"]
+__all__ = ["SHAPES", "FlankModification", "TipRelief", "as_modification", "describe_pair"]
 
 #: exponent of the relief laws in the relief coordinate t (0 at the start, 1 at the end)
 SHAPES = {"linear": 1, "parabolic": 2}
@@ -160,6 +160,23 @@ class FlankModification:
             )
         )
 
+    def describe(self) -> str:
+        """The terms that are set, in um and mm (``"none"`` without any)."""
+        parts = []
+        for name in ("tip_relief", "root_relief", "end_relief"):
+            amount = getattr(self, name)
+            if amount > 0:
+                length = getattr(self, f"{name}_length") * 1e3
+                shape = getattr(self, f"{name}_shape")
+                parts.append(
+                    f"{name.replace('_', ' ')} {amount * 1e6:g} um over {length:g} mm ({shape})"
+                )
+        for name in ("profile_crowning", "lead_crowning", "helix_slope"):
+            amount = getattr(self, name)
+            if amount != 0:
+                parts.append(f"{name.replace('_', ' ')} {amount * 1e6:g} um")
+        return ", ".join(parts) or "none"
+
     @property
     def profile_active(self) -> bool:
         """Whether any term needs the form radius (root relief, profile crowning)."""
@@ -237,3 +254,10 @@ def as_modification(x) -> FlankModification:
             tip_relief=x.amount, tip_relief_length=x.length, tip_relief_shape=x.shape
         )
     raise TypeError(f"expected a FlankModification or TipRelief, got {type(x).__name__}")
+
+
+def describe_pair(mods) -> str:
+    """``"pinion: ...; gear: ..."`` for (pinion, gear) modifications (None: none)."""
+    mods = (None, None) if mods is None else mods
+    p, g = (as_modification(m) for m in mods)
+    return f"pinion: {p.describe()}; gear: {g.describe()}"

@@ -174,7 +174,7 @@ def parallel_ltca(
     position w -> -w), so it is the drive flank's analysis with the modifications
     reflected in w (only a helix slope changes) and then turned.
     """
-    from .modification import as_modification
+    from .modification import as_modification, describe_pair
 
     options = options or LTCAOptions()
     compliance = compliance_for(fidelity)
@@ -205,6 +205,7 @@ def parallel_ltca(
         "fidelity": fidelity,
         "gearbox_version": __version__,
         "frame": "pinion axis z through origin, gear axis through (a, 0, 0); drive = R flank",
+        "flank_modifications": describe_pair(mods),
     }
     table = mesh_table(
         res,

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .html import ReportWarning, Section, figure, new_figure, table
+from .html import ReportWarning, Section, esc, figure, new_figure, table
 
 __all__ = ["render_ltca"]
 
@@ -80,8 +80,9 @@ def render_ltca(lt, run) -> Section:
     t = _operating_index(first, run)
     parts = [
         f'<p class="muted">{lt.attrs.get("method", "")}; fidelity '
-        f"{lt.attrs.get('fidelity', '')}. Figures at {first.torque[t]:g} N m, the torque "
-        "level nearest to the operating torque.</p>",
+        f"{lt.attrs.get('fidelity', '')}. Flank modifications: "
+        f"{esc(lt.attrs.get('flank_modifications', 'none'))}. Figures at "
+        f"{first.torque[t]:g} N m, the torque level nearest to the operating torque.</p>",
         table(head, rows),
     ]
     fig, ax = new_figure(1, len(flanks), size=(5.5 * len(flanks), 3.6))
