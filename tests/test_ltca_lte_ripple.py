@@ -1,0 +1,158 @@
+"""The fast level's loaded TE ripple against the FE level, and the shared body torsion.
+
+FE references (made by this package's FE level, never run here):
+
+- ``tests/data/fe_lte_ripple.json``: case 03 drive at the FE level's default mesh, 24
+  positions, 150 / 300 / 450 N m (``python benchmarks/ltca_ripple.py --cases 03
+  --flanks drive --fe 1.0 --far-field-matrix --json FILE``), with the split of both
+  levels' compliance into parts and the far field as a matrix;
+- ``tests/data/fe_reference_paper_cases.json``: the eight cases and flanks at the same
+  mesh (the calibration runs; the LTE of the segment, whose peak-to-peak the FE level's
+  constant far field does not change).
+
+docs/ltca.md, "LTE peak-to-peak against the FE level", holds the diagnosis.
+"""
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearbox.geometry import PairSpec, design_pair
+from gearbox.ltca import FastCompliance, LTCAOptions, ParallelPair, ltca_cycle, parallel_grid
+from gearbox.ltca.beveloid import scene_grids
+from gearbox.ltca.slice_model import body_torsion, normal_section, slice_compliance
+from gearbox.scene import load_scene
+
+ROOT = Path(__file__).resolve().parents[1]
+RIPPLE = json.loads((ROOT / "tests" / "data" / "fe_lte_ripple.json").read_text())
+CASES = json.loads((ROOT / "tests" / "data" / "fe_reference_paper_cases.json").read_text())
+SIDE = {"drive": "R", "coast": "L"}
+P = 24
+
+
+def _grids(case, flank):
+    scene = load_scene(ROOT / "models" / f"case{case}.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    grids, _, _ = scene_grids(design, scene, SIDE[flank], P)
+    return scene, grids
+
+
+def _cycle(grids, torques, compliance):
+    return ltca_cycle(
+        lambda f: grids[int(round(f * P)) % P],
+        torques,
+        options=LTCAOptions(positions=P),
+        compliance=compliance,
+    )
+
+
+def _fe_pp(case, flank):
+    (run,) = [r for r in CASES["default_mesh"]["runs"] if r["case"] == case and r["flank"] == flank]
+    return np.ptp(np.asarray(run["lte_m"]), axis=1)
+
+
+def test_sainsot_bore_dependence_is_the_annulus_torsion():
+    # Sainsot et al. (2004) fitted their foundation term on ring computations with the
+    # bore ratio h_f = r_f / r_int as a variable; how it grows with h_f (2 -> 6) is the
+    # plane torsion of the annulus (closed form, body_torsion). Measured on case 03's
+    # grid, both gears, normal and transverse sections: ratio 0.967 .. 1.070; the
+    # bound, 8 %, is that spread plus a point (the fit's residual, not a model choice)
+    _, grids = _grids("03", "drive")
+    g = grids[20]
+    E, nu = g.youngs_modulus, g.poisson_ratio
+    G = E / (2 * (1 + nu))
+    ratios = []
+    for teeth in (g.tooth1, g.tooth2):
+        for sec in (normal_section(teeth)[0], teeth):
+
+            def found(hf, sec=sec):
+                return slice_compliance(replace(sec, bore_radius=sec.root_radius / hf), E, nu)[3]
+
+            def tors(hf, sec=sec):
+                return body_torsion(replace(sec, bore_radius=sec.root_radius / hf), G)
+
+            ratios.append((found(6.0) - found(2.0)) / (tors(6.0) - tors(2.0)))
+    ratios = np.concatenate(ratios)
+    assert np.all(np.abs(ratios - 1) < 0.08), (ratios.min(), ratios.max())
+
+
+def test_torsion_leaves_the_slices_and_is_one_rotation_per_gear():
+    pair = ParallelPair(
+        normal_module=4e-3,
+        normal_pressure_angle=np.radians(20),
+        helix_angle=np.radians(15),
+        teeth=(30, 45),
+        face_width=30e-3,
+    )
+    g = parallel_grid(pair, 0.3, n_face=12)
+    E, nu = g.youngs_modulus, g.poisson_ratio
+    G = E / (2 * (1 + nu))
+    shared, own = FastCompliance(), FastCompliance(shared_torsion=False)
+    # the slices lose exactly the torsion of their section (times the factor to the normal)
+    for gear, teeth in ((0, g.tooth1), (1, g.tooth2)):
+        virtual, factor = normal_section(teeth)
+        d = own.slice_parts(g)[gear] - shared.slice_parts(g)[gear]
+        assert d == pytest.approx(body_torsion(virtual, G) * factor, rel=1e-12)
+    # and the gear bodies get a rigid rotation each: rho_i rho_j / K_t, rank one per gear
+    T = shared.torsion_matrix(g)
+    assert np.linalg.matrix_rank(T, tol=1e-6 * np.abs(T).max()) <= 2
+    rho1 = g.tooth1.base_radius * g.transverse_projection
+    kt1 = (
+        4
+        * np.pi
+        * G
+        * pair.face_width
+        / (g.tooth1.bore_radius[0] ** -2 - g.tooth1.root_radius[0] ** -2)
+    )
+    rho2 = g.tooth2.base_radius * g.transverse_projection2
+    kt2 = (
+        4
+        * np.pi
+        * G
+        * pair.face_width
+        / (g.tooth2.bore_radius[0] ** -2 - g.tooth2.root_radius[0] ** -2)
+    )
+    assert T == pytest.approx(np.outer(rho1, rho1) / kt1 + np.outer(rho2, rho2) / kt2, rel=1e-9)
+    assert not own.torsion_matrix(g).any()
+
+
+def test_stored_fe_ripple_run_agrees_with_the_calibration_runs():
+    # the two stored FE files come from the same level and mesh: case 03 drive must agree
+    (run,) = RIPPLE["runs"]
+    assert (run["case"], run["flank"], run["refine"]) == ("03", "drive", 1.0)
+    assert np.asarray(run["fe_lte_pp_m"]) == pytest.approx(_fe_pp("03", "drive"), rel=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case,flank", [(c, f) for c in ("01", "02", "03", "04") for f in SIDE])
+def test_lte_peak_to_peak_against_the_fe_level(case, flank):
+    scene, grids = _grids(case, flank)
+    torques = scene["load"]["torques_Nm"]
+    fe = _fe_pp(case, flank)
+    err = np.ptp(_cycle(grids, torques, FastCompliance()).lte, axis=1) / fe - 1
+    # measured over the eight cases and flanks, 150 / 300 / 450 N m: +7.0 .. +38.9 %
+    # (torsion in the slices: +9.6 .. +47.7 %). The fast level is deterministic; the
+    # bound is the largest measured error plus a point, so that a change that widens
+    # the ripple again fails here. The rest of the excess is open (docs/ltca.md)
+    assert np.all(err < 0.40), err
+    assert np.all(err > 0.0), err
+    # the shared torsion narrows the ripple at every torque (by 2.6 to 9.8 points)
+    old = FastCompliance(shared_torsion=False, body_compliance=0.41)
+    err_old = np.ptp(_cycle(grids, torques, old).lte, axis=1) / fe - 1
+    assert np.all(err < err_old - 0.02), (err, err_old)
+
+
+def test_ripple_is_the_fe_curve_scaled():
+    # per position (case 03 drive, 300 N m): the fast LTE about its mean follows the FE
+    # level's at every position, one-pair and two-pair zones and the positions with
+    # tip-edge load alike (measured correlation 0.9995, slope 1.22): the excess is a
+    # scale, not a position-specific error; the bound 0.995 allows ten times the
+    # unexplained variance measured (1 - r^2 = 0.001)
+    scene, grids = _grids("03", "drive")
+    (run,) = RIPPLE["runs"]
+    fe = np.asarray(run["fe_lte_m"])[1]
+    fast = _cycle(grids, [300.0], FastCompliance()).lte[0]
+    assert np.corrcoef(fe, fast)[0, 1] > 0.995
