@@ -282,19 +282,25 @@ class MeshTable:
             lte=self.lte * lte,
         )
 
-    def summary(self) -> dict[str, Any]:
-        """Mean and peak-to-peak stiffness and LTE per flank and torque (SI, JSON-ready)."""
+    def summary(self, harmonics: int = 3) -> dict[str, Any]:
+        """Mean and peak-to-peak stiffness and LTE per flank and torque, and the peak
+        amplitudes of the LTE's first ``harmonics`` mesh-order harmonics (the orders
+        N_1, 2 N_1, ... of the pinion; what excites gear whine) (SI, JSON-ready)."""
         out: dict[str, Any] = {}
         for i, f in enumerate(self.flanks):
             rows = {}
             for j, t in enumerate(self.torque):
                 k = self.stiffness[i, j]
                 e = self.lte[i, j]
+                _, a, b = fourier_fit(e, harmonics)
+                amp = np.zeros(harmonics)
+                amp[: a.size] = np.hypot(a, b)
                 rows[f"{t:g}"] = {
                     "mean_mesh_stiffness_N_per_m": float(k.mean()),
                     "mesh_stiffness_peak_to_peak_N_per_m": float(k.max() - k.min()),
                     "lte_mean_m": float(e.mean()),
                     "lte_peak_to_peak_m": float(e.max() - e.min()),
+                    "lte_harmonics_m": amp.tolist(),
                     "mesh_point_m": self.mesh_point[i, j].mean(axis=0).tolist(),
                     "line_of_action": self.line_of_action[i, j].mean(axis=0).tolist(),
                 }

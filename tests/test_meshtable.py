@@ -234,3 +234,15 @@ def test_coast_line_of_action_reverses_tangential_force_and_axial_thrust():
     s = nd + nc
     assert np.allclose(s - (s @ radial) * radial, 0.0, atol=1e-15)
     assert nd[2] != 0.0 and np.sign(nc[2]) == -np.sign(nd[2])
+
+
+def test_summary_gives_the_lte_mesh_harmonics():
+    # LTE = 2 um + 0.3 um cos(N1 theta + 0.4) + 0.1 um sin(3 N1 theta): harmonic peak
+    # amplitudes 0.3, 0, 0.1 um (1e-15 m: round-off of the 24-point Fourier fit)
+    t = make_table()
+    th = t.angle
+    lte = 2e-6 + 0.3e-6 * np.cos(N1 * th + 0.4) + 0.1e-6 * np.sin(3 * N1 * th)
+    t = MeshTable(**{**t.__dict__, "lte": np.broadcast_to(lte, t.lte.shape).copy()})
+    row = t.summary()["drive"]["300"]
+    assert row["lte_harmonics_m"] == pytest.approx([0.3e-6, 0.0, 0.1e-6], abs=1e-15)
+    assert len(t.summary(harmonics=5)["coast"]["100"]["lte_harmonics_m"]) == 5

@@ -34,6 +34,7 @@ def render(tab, run) -> Section:
                     v["mesh_stiffness_peak_to_peak_N_per_m"] / 1e6,
                     v["lte_mean_m"] * 1e6,
                     v["lte_peak_to_peak_m"] * 1e6,
+                    *(1e9 * a for a in v["lte_harmonics_m"][:3]),
                 )
             )
     head = [
@@ -43,6 +44,9 @@ def render(tab, run) -> Section:
         "stiffness p-p (N/um)",
         "mean LTE (um)",
         "LTE p-p (um)",
+        "LTE 1st mesh harmonic (nm)",
+        "2nd (nm)",
+        "3rd (nm)",
     ]
     fig, ax = new_figure(1, 2, size=(10, 3.6))
     deg = np.degrees(tab.angle)
@@ -61,7 +65,8 @@ def render(tab, run) -> Section:
     body = (
         f"<p>Method: {fmt(method)}. One mesh cycle = {period:.4g} deg of pinion rotation "
         f"(2 pi / N_1, N_1 = {tab.pinion_teeth}), {tab.n_positions} positions; drive = R flank, "
-        "coast = L flank.</p>"
+        "coast = L flank. LTE harmonics: peak amplitudes at 1, 2 and 3 times the mesh "
+        "order, from the Fourier series of the table over one mesh cycle.</p>"
         + table(head, rows)
         + figure(fig, "Mesh stiffness and loaded transmission error over one mesh cycle")
     )
