@@ -230,6 +230,33 @@ def far_field_matrix(fe, grids, g0, g1, loc, torques) -> dict:
     }
 
 
+def weber_check(case: str, flank: str, position: int = 20, torque: float = 300.0) -> None:
+    """Weber's flattening to the tooth centre line and to the FE level's matching depth,
+    against the FE level's half-space part above that depth (no FE model needed)."""
+    from gearbox.fe import FECompliance
+    from gearbox.ltca.compliance import _half_thickness
+    from gearbox.ltca.slice_model import weber_approach
+
+    _, _, grids = case_grids(case, flank)
+    g = grids[position]
+    F = solve_contact(g, FastCompliance(), torque).load
+    on, q = F > 0, F / g.line_length
+    E, nu = g.youngs_modulus, g.poisson_ratio
+    fe = FECompliance()
+    d = fe.options.matching_depth * float(g.tooth1.normal_module[0])
+    h1, h2 = _half_thickness(g.tooth1), _half_thickness(g.tooth2)
+    w_h = weber_approach(q, g.curvature_radius, h1, h2, E, nu)
+    w_d = weber_approach(q, g.curvature_radius, np.full_like(h1, d), np.full_like(h2, d), E, nu)
+    C = fe.local_matrix(g)
+    C[np.diag_indices_from(C)] += fe.contact_diagonal(g, q)
+    print(
+        f"\ncase {case} {flank}, position {position}, {torque:.0f} N m, fast loads, median over "
+        f"the loaded points (um): Weber to the centre line {1e6 * np.median(w_h[on]):.3f}, "
+        f"to the matching depth {1e6 * np.median(w_d[on]):.3f}; FE half-space above it "
+        f"{1e6 * np.median((C @ F)[on]):.3f}"
+    )
+
+
 def detail(case: str, flank: str, t: int = 1) -> None:
     _, _, grids = case_grids(case, flank)
     run = stored_fe(case, flank)
@@ -285,6 +312,7 @@ def main(argv=None) -> int:
             )
             if a.detail:
                 detail(case, flank)
+                weber_check(case, flank)
     if a.fe is None:
         return 0
     out = {"command": "python benchmarks/ltca_ripple.py " + " ".join(argv or sys.argv[1:])}
