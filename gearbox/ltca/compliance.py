@@ -183,12 +183,13 @@ class FastCompliance:
             C += np.outer(rho, rho) * (1.0 / ri**2 - 1.0 / rf**2) / (4.0 * np.pi * G * face)
         return C
 
-    def slice_matrix(self, grid: ContactGrid, gear: int) -> np.ndarray:
+    def slice_matrix(self, grid: ContactGrid, gear: int, parts=None) -> np.ndarray:
         """The slices of one gear (0 pinion, 1 gear), coupled along each tooth (m/N),
-        shape (n, n): block diagonal over the tooth pairs."""
+        shape (n, n): block diagonal over the tooth pairs. parts: ``slice_parts(grid)``
+        if already computed."""
         n = grid.size
         C = np.zeros((n, n))
-        c = self.slice_parts(grid)[gear]
+        c = (self.slice_parts(grid) if parts is None else parts)[gear]
         teeth, widths = (grid.tooth1, grid.width) if gear == 0 else (grid.tooth2, grid.width2)
         depth = teeth.tip_radius - teeth.root_radius
         for k in grid.pairs():
@@ -221,7 +222,8 @@ class FastCompliance:
         return np.full((grid.size, grid.size), c)
 
     def tooth_matrix(self, grid: ContactGrid) -> np.ndarray:
-        C = self.slice_matrix(grid, 0) + self.slice_matrix(grid, 1)
+        parts = self.slice_parts(grid)
+        C = self.slice_matrix(grid, 0, parts) + self.slice_matrix(grid, 1, parts)
         return C + self.torsion_matrix(grid) + self.body_matrix(grid)
 
     def contact_diagonal(self, grid: ContactGrid, line_load: np.ndarray) -> np.ndarray:
