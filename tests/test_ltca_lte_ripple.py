@@ -80,13 +80,8 @@ def test_sainsot_bore_dependence_is_the_annulus_torsion():
 
 
 def test_torsion_leaves_the_slices_and_is_one_rotation_per_gear():
-    pair = ParallelPair(
-        normal_module=4e-3,
-        normal_pressure_angle=np.radians(20),
-        helix_angle=np.radians(15),
-        teeth=(30, 45),
-        face_width=30e-3,
-    )
+    # the parallel helical pair with case 03's teeth (z 29/45, m_n 6 mm, 20 deg, b 40 mm)
+    pair = ParallelPair(6e-3, np.radians(20), np.radians(20), (29, 45), face_width=40e-3)
     g = parallel_grid(pair, 0.3, n_face=12)
     E, nu = g.youngs_modulus, g.poisson_ratio
     G = E / (2 * (1 + nu))
