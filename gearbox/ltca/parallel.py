@@ -44,7 +44,11 @@ class ParallelPair:
     h_aP/m_n; dedendum_coefficient h_fP/m_n; root_radius_coefficient rho_fP/m_n
     of the basic rack (ISO 53 profile A: 1.25 and 0.38); bore_ratio: bore radius over root
     radius (the rim for the fillet-foundation term); youngs_modulus (Pa);
-    poisson_ratio.
+    poisson_ratio; misalignment: error of the (zero) shaft angle (rad): the gear axis
+    turned about the centre line to the direction (0, sin g, cos g), as a shaft-angle
+    error of :class:`gearbox.tca.assembly.AssemblyErrors` (|g| <= 0.035 rad); it enters
+    the separations to first order in g (the rigid displacement of the gear flank along
+    the contact normal), which suits the small errors of real assemblies.
     """
 
     normal_module: float
@@ -60,6 +64,7 @@ class ParallelPair:
     bore_ratio: float = 0.5
     youngs_modulus: float = 206.0e9
     poisson_ratio: float = 0.3
+    misalignment: float = 0.0
 
     def __post_init__(self):
         p = Problems()
@@ -72,6 +77,7 @@ class ParallelPair:
         p.in_range("bore_ratio", self.bore_ratio, 0.0, 0.95, lo_open=True)
         p.in_range("youngs_modulus", self.youngs_modulus, 0.0, None, lo_open=True)
         p.in_range("poisson_ratio", self.poisson_ratio, 0.0, 0.5, hi_open=True)
+        p.in_range("misalignment", self.misalignment, -0.035, 0.035)
         p.raise_if_any("invalid parallel gear pair")
         object.__setattr__(self, "teeth", tuple(int(z) for z in self.teeth))
         object.__setattr__(self, "profile_shift", tuple(float(x) for x in self.profile_shift))
@@ -272,13 +278,24 @@ def parallel_grid(
     u = -u if np.dot(u, np.array([1.0, 0.0, 0.0])) < 0 else u
     pos = t1[None, :] + xi[:, None] * u[None, :] + face[:, None] * np.array([0.0, 0.0, 1.0])
     nrm = np.tile(cb * u + math.sin(pair.base_helix_angle) * np.array([0.0, 0.0, 1.0]), (n, 1))
+    sep = _relief_separation(pair, relief, r1, r2, face)
+    if pair.misalignment != 0.0:
+        # the gear axis turned to (0, sin g, cos g) about the centre line moves a gear
+        # flank point p by g (0, p_z, -p_y) (first order); the gap grows by that
+        # displacement's component along the flank normal. The contact lines here run as
+        # xi = xi_0 + y tan(beta_b), normal to (cos beta_b u - sin beta_b z); ``nrm``
+        # carries +sin(beta_b) (the line of action of the table), hence the sign of its
+        # axial part below. Checked against the generated flanks of the surface path with
+        # the same shaft-angle error, both hands (tests/test_ltca_modifications.py).
+        g = pair.misalignment
+        sep = sep + g * (nrm[:, 1] * pos[:, 2] + nrm[:, 2] * pos[:, 1])
     return ContactGrid(
         pair=pair_idx.astype(int),
         slot=slot.astype(int),
         face=face,
         width=np.full(n, dy),
         line_length=np.full(n, dy / cb),
-        separation=_relief_separation(pair, relief, r1, r2, face),
+        separation=sep,
         arm=np.full(n, rb1 * cb),
         transverse_projection=np.full(n, cb),
         curvature_radius=rho,

@@ -101,7 +101,9 @@ def mesh_table(
 
 
 def parallel_pair_from_design(design, scene) -> ParallelPair:
-    """The :class:`ParallelPair` of a design with shaft angle 0 and cone angles 0."""
+    """The :class:`ParallelPair` of a design with shaft angle 0 and cone angles 0, with
+    the scene's assembly errors: the offset error changes the centre distance, the
+    shaft-angle error is the pair's ``misalignment``; axial shifts must be 0."""
     p = Problems()
     p.check(
         abs(design.shaft_angle) < 1e-12,
@@ -119,6 +121,16 @@ def parallel_pair_from_design(design, scene) -> ParallelPair:
     p.raise_if_any("not a parallel-axis pair")
     tool = scene["tool"]
     mat = scene["material"]
+    asm = scene["assembly"]
+    for key in ("pinion_axial_error_mm", "gear_axial_error_mm"):
+        p.check(
+            asm[key] == 0.0,
+            f"assembly.{key}",
+            asm[key],
+            "must be 0 for a parallel-axis pair (the parallel path does not model the "
+            "face overlap an axial shift changes)",
+        )
+    p.raise_if_any("assembly errors of a parallel-axis pair")
     return ParallelPair(
         normal_module=design.normal_module,
         normal_pressure_angle=design.normal_pressure_angle,
@@ -126,7 +138,8 @@ def parallel_pair_from_design(design, scene) -> ParallelPair:
         teeth=(design.pinion.teeth, design.gear.teeth),
         profile_shift=(design.pinion.normal_profile_shift, design.gear.normal_profile_shift),
         face_width=min(design.pinion.face_width, design.gear.face_width),
-        center_distance=design.offset,
+        center_distance=design.offset + asm["offset_error_mm"] * 1e-3,
+        misalignment=math.radians(asm["shaft_angle_error_deg"]),
         addendum_coefficient=tool["gear_addendum_coefficient"],
         dedendum_coefficient=tool["addendum_coefficient"],
         root_radius_coefficient=tool["tip_radius_coefficient"],
