@@ -11,6 +11,14 @@ against the FE's, and for ``--detail`` the per-position curves at the middle tor
     python benchmarks/ltca_ripple.py                          # all cases, both flanks
     python benchmarks/ltca_ripple.py --cases 03 --flanks drive --detail
     python benchmarks/ltca_ripple.py --cases 03 --flanks drive --fe 1.0 --json out.json
+    python benchmarks/ltca_ripple.py --contact matching_depth --fit-body --parallel
+
+``--contact`` picks the fast level's contact term (``FastCompliance(contact=...)``, with
+its calibrated body coefficient). ``--fit-body`` fits the body coefficient for it (the
+minimax rule of ``tests/test_ltca_calibration.py`` over the stored whole-gear FE mean
+stiffness, cases 01-04, both flanks, three torques) and prints the errors at the fit
+rounded to two decimals. ``--parallel`` compares the mean stiffness of three parallel
+pairs with the whole-gear FE level (``tests/data/fe_parallel_whole_gear.json``).
 
 ``--fe REFINE`` runs the FE level itself (mesh ``MeshOptions().refined(REFINE)``, the
 segment, 24 positions) and splits each level's compliance under the FE's own contact
@@ -42,6 +50,7 @@ from gearbox.scene import load_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 STORED = ROOT / "tests" / "data" / "fe_reference_paper_cases.json"
+PARALLEL = ROOT / "tests" / "data" / "fe_parallel_whole_gear.json"
 SIDE = {"drive": "R", "coast": "L"}
 P = 24
 
@@ -112,7 +121,9 @@ def fast_parts(grid, compliance: FastCompliance) -> dict:
     }
 
 
-def decompose(case: str, flank: str, refine: float, torque: float, far_matrix: bool):
+def decompose(
+    case: str, flank: str, refine: float, torque: float, far_matrix: bool, fast: FastCompliance
+):
     from gearbox.fe import FECompliance, FEOptions, MeshOptions
     from gearbox.surface import blanks_from_design
 
@@ -130,7 +141,6 @@ def decompose(case: str, flank: str, refine: float, torque: float, far_matrix: b
     )
     torques = scene["load"]["torques_Nm"]
     res_fe = cycle(grids, torques, seg)
-    fast = FastCompliance()
     res_fast = cycle(grids, torques, fast)
     rows = []
     for p, g in enumerate(grids):
@@ -257,10 +267,10 @@ def weber_check(case: str, flank: str, position: int = 20, torque: float = 300.0
     )
 
 
-def detail(case: str, flank: str, t: int = 1) -> None:
+def detail(case: str, flank: str, fast: FastCompliance, t: int = 1) -> None:
     _, _, grids = case_grids(case, flank)
     run = stored_fe(case, flank)
-    res = cycle(grids, run["torques_Nm"], FastCompliance())
+    res = cycle(grids, run["torques_Nm"], fast)
     lf = np.asarray(run["lte_m"])[t]
     kf = np.asarray(run["stiffness_N_per_m"])[t]
     la, ka = res.lte[t], res.stiffness[t]
@@ -275,6 +285,86 @@ def detail(case: str, flank: str, t: int = 1) -> None:
         )
 
 
+def whole_gear_stiffness(case: str, flank: str) -> np.ndarray:
+    """The FE level's whole-gear mean mesh stiffness per torque (N/m): the stored
+    default-mesh segment times the coarse extent study's whole / segment ratio."""
+    from gearbox.fe.extent import extent_limit
+
+    data = json.loads(STORED.read_text())
+    run = stored_fe(case, flank)
+
+    def seq(bc):
+        rs = [
+            r
+            for r in data["extent"]["runs"]
+            if r["case"] == case and r["flank"] == SIDE[flank] and r["cut_faces"] == bc
+        ]
+        return [r["k_fe"] for r in sorted(rs, key=lambda r: r["neighbours"])]
+
+    cl = seq("clamped")
+    lim, _ = extent_limit(cl, seq("free"))
+    return np.asarray(run["mean_stiffness_N_per_m"]) * lim / np.asarray(cl[0])
+
+
+def calibration_errors(cases, flanks, compliance) -> np.ndarray:
+    """Fast / whole-gear FE - 1 of the mean mesh stiffness, shape (cases x flanks, 3)."""
+    out = []
+    for case in cases:
+        for flank in flanks:
+            _, _, grids = case_grids(case, flank)
+            run = stored_fe(case, flank)
+            k = cycle(grids, run["torques_Nm"], compliance).stiffness.mean(axis=1)
+            out.append(k / whole_gear_stiffness(case, flank) - 1)
+    return np.asarray(out)
+
+
+def fit_body(cases, flanks, contact: str) -> float:
+    """Minimax body coefficient: the mean stiffness with the body term is the one
+    without it in series with ``c s`` (s from a second run at c = 0.3, exact for a
+    parallel pair and within rounding here); the fit is checked by a full run."""
+    k0, k1, kfe = [], [], []
+    for case in cases:
+        for flank in flanks:
+            _, _, grids = case_grids(case, flank)
+            run = stored_fe(case, flank)
+            for c, out in ((0.0, k0), (0.3, k1)):
+                comp = FastCompliance(contact=contact, body_compliance=c)
+                out.append(cycle(grids, run["torques_Nm"], comp).stiffness.mean(axis=1))
+            kfe.append(whole_gear_stiffness(case, flank))
+    k0, k1, kfe = (np.asarray(v) for v in (k0, k1, kfe))
+    s = (1 / k1 - 1 / k0) / 0.3
+    cs = np.linspace(0.0, 3.0, 3001)
+    worst = [np.max(np.abs(1 / (1 / k0 + s * c) / kfe - 1)) for c in cs]
+    return float(cs[int(np.argmin(worst))])
+
+
+def parallel_errors(compliance) -> dict:
+    """Fast / whole-gear FE - 1 of the mean mesh stiffness of the stored parallel pairs."""
+    import math
+
+    from gearbox.ltca import ParallelPair, parallel_grid
+
+    data = json.loads(PARALLEL.read_text())
+    out = {}
+    for p in data["pairs"]:
+        pair = ParallelPair(
+            p["normal_module_mm"] * 1e-3,
+            math.radians(p["normal_pressure_angle_deg"]),
+            math.radians(p["helix_angle_deg"]),
+            tuple(p["teeth"]),
+            face_width=p["face_width_mm"] * 1e-3,
+        )
+        res = ltca_cycle(
+            lambda f, pair=pair: parallel_grid(pair, f, data["n_face"]),
+            [data["torque_Nm"]],
+            options=LTCAOptions(positions=data["positions"]),
+            compliance=compliance,
+        )
+        k = res.stiffness[0].mean() * math.cos(pair.base_helix_angle) ** 2 / pair.face_width
+        out[p["name"]] = k / (p["fe_whole_gear"] * 1e9) - 1
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", nargs="+", default=["01", "02", "03", "04"])
@@ -282,11 +372,23 @@ def main(argv=None) -> int:
     ap.add_argument("--detail", action="store_true", help="per-position curves")
     ap.add_argument("--fe", type=float, help="run the FE level at this mesh refinement")
     ap.add_argument("--far-field-matrix", action="store_true")
+    ap.add_argument("--contact", default="centre_line", choices=("centre_line", "matching_depth"))
+    ap.add_argument("--fit-body", action="store_true", help="fit the body coefficient")
+    ap.add_argument("--parallel", action="store_true", help="parallel pairs against the FE")
     ap.add_argument("--json", type=Path)
     a = ap.parse_args(argv)
+    fast = FastCompliance(contact=a.contact)
+    # the column to compare with: the first version (torsion in the slices) for the
+    # default contact term, the default contact term for the other
+    other, other_name = (
+        (FastCompliance(shared_torsion=False, body_compliance=0.41), "torsion in slices")
+        if a.contact == "centre_line"
+        else (FastCompliance(), "contact to the centre line")
+    )
+    print(f"contact {a.contact}, body coefficient {fast.body_compliance}")
     print("LTE peak-to-peak (um) at 150 / 300 / 450 N m; fast / FE - 1")
     print(
-        f"{'case':>4} {'flank':>5}  {'FE (stored)':>20}  {'fast':>20}  {'error':>20}  torsion in slices"
+        f"{'case':>4} {'flank':>5}  {'FE (stored)':>20}  {'fast':>20}  {'error':>20}  {other_name}"
     )
     for case in a.cases:
         for flank in a.flanks:
@@ -294,12 +396,8 @@ def main(argv=None) -> int:
             _, _, grids = case_grids(case, flank)
             fe_pp = np.ptp(np.asarray(run["lte_m"]), axis=1)
             pp = {}
-            for shared in (True, False):
-                from gearbox.ltca.compliance import BODY_COMPLIANCE
-
-                body = BODY_COMPLIANCE if shared else 0.41
-                c = FastCompliance(shared_torsion=shared, body_compliance=body)
-                pp[shared] = np.ptp(cycle(grids, run["torques_Nm"], c).lte, axis=1)
+            for key, c in ((True, fast), (False, other)):
+                pp[key] = np.ptp(cycle(grids, run["torques_Nm"], c).lte, axis=1)
 
             def fmt(x, f="{:6.3f}"):
                 return " / ".join(f.format(v) for v in x)
@@ -311,8 +409,25 @@ def main(argv=None) -> int:
                 flush=True,
             )
             if a.detail:
-                detail(case, flank)
+                detail(case, flank, fast)
                 weber_check(case, flank)
+    err = calibration_errors(a.cases, a.flanks, fast)
+    print(
+        f"mean stiffness against the whole-gear FE level: {100 * err.min():+.1f} .. "
+        f"{100 * err.max():+.1f} %"
+    )
+    if a.fit_body:
+        c = round(fit_body(a.cases, a.flanks, a.contact), 2)
+        fitted = FastCompliance(contact=a.contact, body_compliance=c)
+        err = calibration_errors(a.cases, a.flanks, fitted)
+        print(
+            f"fitted body coefficient {c:.2f}: mean stiffness {100 * err.min():+.1f} .. "
+            f"{100 * err.max():+.1f} %"
+        )
+    if a.parallel:
+        print("parallel pairs, mean stiffness against the whole-gear FE level:")
+        for name, e in parallel_errors(fast).items():
+            print(f"  {name}: {100 * e:+.1f} %")
     if a.fe is None:
         return 0
     out = {"command": "python benchmarks/ltca_ripple.py " + " ".join(argv or sys.argv[1:])}
@@ -321,7 +436,7 @@ def main(argv=None) -> int:
         for flank in a.flanks:
             scene = load_scene(ROOT / "models" / f"case{case}.toml")
             torques = scene["load"]["torques_Nm"]
-            r = decompose(case, flank, a.fe, torques[len(torques) // 2], a.far_field_matrix)
+            r = decompose(case, flank, a.fe, torques[len(torques) // 2], a.far_field_matrix, fast)
             out["runs"].append(r)
             print(f"\nFE level, MeshOptions().refined({a.fe}), case {case} {flank}:")
             print("  LTE p-p FE  (um): " + " / ".join(f"{v * 1e6:.3f}" for v in r["fe_lte_pp_m"]))

@@ -34,7 +34,12 @@ level (``fidelity = "fe"``) plugs in by implementing :class:`Compliance`.
   TE ripple too large (docs/ltca.md, "LTE peak-to-peak against the FE level");
 - one body compliance per gear, common to all its loaded points (``BODY_COMPLIANCE``,
   calibrated on the FE level);
-- the local contact flattening of each slice is Weber's (diagonal, load dependent).
+- the local contact flattening of each slice is Weber's line-load approach (diagonal,
+  load dependent) down to a reference depth in each tooth: the tooth's centre line
+  (``contact="centre_line"``, Weber & Banaschek's own choice and the default) or the
+  FE level's matching depth (``contact="matching_depth"``), the split of
+  :mod:`gearbox.fe.compliance`, whose half-space part above that depth is the same
+  quantity in three dimensions (docs/ltca.md, "The contact term").
 """
 
 from __future__ import annotations
@@ -48,7 +53,14 @@ from ..errors import Problems
 from .grid import ContactGrid
 from .slice_model import body_torsion, normal_section, slice_compliance, weber_approach
 
-__all__ = ["BODY_COMPLIANCE", "Compliance", "FastCompliance", "compliance_for"]
+__all__ = [
+    "BODY_COMPLIANCE",
+    "BODY_COMPLIANCE_MATCHING_DEPTH",
+    "CONTACT_DEPTH",
+    "Compliance",
+    "FastCompliance",
+    "compliance_for",
+]
 
 #: Body compliance of :class:`FastCompliance` over 1/(E b), fitted on the FE level
 #: (docs/fe.md, "Calibration of the fast level"): the minimax fit of the mean mesh
@@ -57,6 +69,18 @@ __all__ = ["BODY_COMPLIANCE", "Compliance", "FastCompliance", "compliance_for"]
 #: shared (``shared_torsion``, the default) the fit is 0.24 (errors -4.3 .. +4.3 %);
 #: with the torsion in the slices it was 0.41 (-4.7 .. +4.6 %).
 BODY_COMPLIANCE = 0.24
+
+#: The same fit with the contact term down to the matching depth
+#: (``FastCompliance(contact="matching_depth")``): errors -4.2 .. +4.2 %.
+BODY_COMPLIANCE_MATCHING_DEPTH = 0.91
+
+#: Reference depth of the contact term for ``contact="matching_depth"``, over m_n: the
+#: FE level's default matching depth (``gearbox.fe.FEOptions().matching_depth``, tested
+#: equal), below which that level reads the tooth from its mesh.
+CONTACT_DEPTH = 0.25
+
+
+_CALIBRATED = {"centre_line": BODY_COMPLIANCE, "matching_depth": BODY_COMPLIANCE_MATCHING_DEPTH}
 
 
 @runtime_checkable
@@ -120,27 +144,45 @@ class FastCompliance:
     entry of each gear's block (all tooth pairs), the far-field deflection of the rim
     that a two-dimensional slice foundation does not hold. shared_torsion: the body
     torsion held in Sainsot's foundation term is a rotation of the whole rim, one per
-    gear (True), or each slice's own (False, the first version).
+    gear (True), or each slice's own (False, the first version). contact: the
+    reference depth of Weber's contact flattening in each tooth, ``"centre_line"`` (the
+    distance of the contact from the tooth's centre line, Weber & Banaschek) or
+    ``"matching_depth"`` (``contact_depth`` times m_n below the flank, the FE level's
+    split: :func:`~gearbox.ltca.slice_model.weber_approach`); ``None`` for
+    body_compliance takes the value calibrated for that contact term
+    (:data:`BODY_COMPLIANCE`, :data:`BODY_COMPLIANCE_MATCHING_DEPTH`).
     """
 
     coupling_length: float = 1.0
-    body_compliance: float = BODY_COMPLIANCE
+    body_compliance: float | None = None
     section: str = "normal"
     shared_torsion: bool = True
+    contact: str = "centre_line"
+    contact_depth: float = CONTACT_DEPTH
     name: str = "fast"
     load_dependent: bool = True
 
     def __post_init__(self):
         p = Problems()
         p.in_range("coupling_length", self.coupling_length, 0.0, 20.0)
-        p.in_range("body_compliance", self.body_compliance, 0.0, 100.0)
+        if self.body_compliance is not None:
+            p.in_range("body_compliance", self.body_compliance, 0.0, 100.0)
         p.check(
             self.section in ("normal", "transverse"),
             "section",
             self.section,
             "must be 'normal' or 'transverse'",
         )
+        p.check(
+            self.contact in _CALIBRATED,
+            "contact",
+            self.contact,
+            "must be 'centre_line' or 'matching_depth'",
+        )
+        p.in_range("contact_depth", self.contact_depth, 0.05, 0.6)
         p.raise_if_any("invalid fast compliance")
+        if self.body_compliance is None:
+            object.__setattr__(self, "body_compliance", _CALIBRATED[self.contact])
 
     def slice_parts(self, grid: ContactGrid):
         """Normal compliance per unit face width of pinion and gear slices (m per N/m)."""
@@ -227,13 +269,26 @@ class FastCompliance:
         return C + self.torsion_matrix(grid) + self.body_matrix(grid)
 
     def contact_diagonal(self, grid: ContactGrid, line_load: np.ndarray) -> np.ndarray:
-        """Secant compliance of the local flattening, shape (n,), m/N."""
+        """Secant compliance of the local flattening, shape (n,), m/N: Weber's approach
+        of the two flanks relative to the reference depth of ``contact`` in each tooth."""
         E, nu = grid.youngs_modulus, grid.poisson_ratio
-        h1 = _half_thickness(grid.tooth1)
-        h2 = _half_thickness(grid.tooth2)
+        h1, h2 = self.contact_reference(grid)
         q = np.maximum(line_load, 1e-6)
         w = weber_approach(q, grid.curvature_radius, h1, h2, E, nu)
         return w / (q * grid.line_length)
+
+    def contact_reference(self, grid: ContactGrid):
+        """Depth of the contact flattening's reference point below each flank (m),
+        pinion and gear, shape (n,) each: the distance of the contact point from the
+        tooth's centre line in its transverse section (``"centre_line"``), or
+        ``contact_depth`` m_n, at most that distance (``"matching_depth"``)."""
+        h = (_half_thickness(grid.tooth1), _half_thickness(grid.tooth2))
+        if self.contact == "centre_line":
+            return h
+        return tuple(
+            np.minimum(self.contact_depth * t.normal_module, hi)
+            for t, hi in zip((grid.tooth1, grid.tooth2), h, strict=True)
+        )
 
     def matrix(self, grid: ContactGrid, line_load: np.ndarray | None = None) -> np.ndarray:
         C = self.tooth_matrix(grid)

@@ -29,10 +29,17 @@ fast level takes it out of the slices and adds it once per gear
 Contact flattening (local, per unit length of contact line): Weber's line-load
 formula for each body, ``w_i = 2 q (1 - nu^2) / (pi E) [ln(2 h_i / a) - nu / (2 (1 - nu))]``
 with the Hertz half-width ``a = sqrt(8 q R (1 - nu^2) / (pi E))`` (equal materials),
-h_i the distance of the contact from the tooth centre line: Weber, C., Banaschek,
+h_i the depth of the reference point below the contact: Weber, C., Banaschek,
 K., "Formänderung und Profilrücknahme bei gerad- und schrägverzahnten Rädern",
 Schriftenreihe Antriebstechnik 11, Vieweg (1953). It is load dependent (weakly,
 through ln a); :func:`weber_approach` returns the approach for a given line load.
+The formula is the plane-strain half-plane's: the approach of the surface under a
+Hertzian line load relative to the point at depth h on the load's line of action.
+Weber and Banaschek take h down to the tooth's centre line, where the beam model
+takes over; :class:`~gearbox.ltca.compliance.FastCompliance` offers that
+(``contact="centre_line"``, the default) and the FE level's matching depth
+(``contact="matching_depth"``), below which the FE level reads the tooth from its
+mesh and the fast level from the slices (docs/ltca.md, "The contact term").
 """
 
 from __future__ import annotations
@@ -227,8 +234,9 @@ def hertz_pressure(line_load, curvature_radius, youngs_modulus, poisson_ratio):
 def weber_approach(line_load, curvature_radius, h1, h2, youngs_modulus, poisson_ratio):
     """Approach of two teeth by contact flattening (m), Weber & Banaschek (1953).
 
-    line_load: q (N/m of contact line), curvature_radius: R (m), h1, h2: distance of
-    the contact from each tooth's centre line (m). Arrays broadcast. The logarithm
+    line_load: q (N/m of contact line), curvature_radius: R (m), h1, h2: depth of
+    each tooth's reference point below the contact (m; Weber: the distance from the
+    tooth's centre line). Arrays broadcast. The logarithm
     is floored at 1 (a >= 2h/e) so that a vanishing load gives a vanishing approach.
     """
     nu = poisson_ratio
