@@ -395,3 +395,25 @@ def test_fast_k_hbeta_against_the_stored_fe_level():
         for got, ref in zip(fast, rows, strict=True):
             assert got["k_hbeta"] == pytest.approx(ref["k_hbeta"], rel=0.08), f_um
             assert ref["k_hbeta"] > ref["iso_k_hbeta"] + 0.25
+
+
+def test_scene_modification_errors_name_the_key_and_range():
+    from gearbox.geometry import PairSpec, design_pair
+    from gearbox.ltca.beveloid import modifications_from_scene
+
+    scene = load_scene(ROOT / "models" / "case03.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    bad = {
+        "pinion_root_relief_um": 5.0,
+        "pinion_root_relief_length_mm": 30.0,  # reaches past the tip circle
+        "gear_end_relief_um": 5.0,
+        "gear_end_relief_length_mm": 30.0,  # past the middle of the 40 mm face
+    }
+    with pytest.raises(InputError) as err:
+        modifications_from_scene(design, scene.replaced(ltca=bad))
+    paths = {p.path for p in err.value.problems}
+    assert paths == {"ltca.pinion_root_relief_length_mm", "ltca.gear_end_relief_length_mm"}
+    assert "(0, 20]" in str(err.value)
+    # an amount without a length is caught when the scene is read
+    with pytest.raises(InputError, match="ltca.gear_end_relief_length_mm"):
+        scene.replaced(ltca={"gear_end_relief_um": 5.0})

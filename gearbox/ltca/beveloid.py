@@ -103,37 +103,31 @@ def modifications_from_scene(design, scene) -> tuple[FlankModification, FlankMod
         )
         ends = np.array([blank.z_toe, blank.z_heel])
         ra = blank.tip_radius(ends)
-        if mod.tip_relief > 0:
-            depth = float(np.min(ra) - max(gd.base_radius))
-            probs.in_range(
-                f"ltca.{name}_tip_relief_length_mm",
-                mod.tip_relief_length * 1e3,
-                0.0,
-                depth * 1e3,
-                lo_open=True,
-                hi_open=True,
-            )
-        if mod.root_relief > 0:
-            depth = float(np.min(ra - np.max(_form_radius(blank, gd, ends), axis=0)))
-            probs.in_range(
-                f"ltca.{name}_root_relief_length_mm",
-                mod.root_relief_length * 1e3,
-                0.0,
-                depth * 1e3,
-                lo_open=True,
-                hi_open=True,
-            )
-        if mod.end_relief > 0:
-            probs.in_range(
-                f"ltca.{name}_end_relief_length_mm",
-                mod.end_relief_length * 1e3,
-                0.0,
-                0.5 * blank.face_width * 1e3,
-                lo_open=True,
-            )
+        for kind in ("tip_relief", "root_relief", "end_relief"):
+            if getattr(mod, kind) > 0:
+                limit, hi_open = _relief_limit(kind, blank, gd, ends, ra)
+                probs.in_range(
+                    f"ltca.{name}_{kind}_length_mm",
+                    getattr(mod, f"{kind}_length") * 1e3,
+                    0.0,
+                    limit * 1e3,
+                    lo_open=True,
+                    hi_open=hi_open,
+                )
         out.append(mod)
     probs.raise_if_any("invalid flank modification")
     return out[0], out[1]
+
+
+def _relief_limit(kind: str, blank, gd, ends, ra) -> tuple[float, bool]:
+    """(largest length (m), whether it is excluded) of a relief of ``kind``: tip relief
+    must start above the base circle, root relief end below the tip circle (at both
+    face ends), end relief reach at most the face middle."""
+    if kind == "tip_relief":
+        return float(np.min(ra) - max(gd.base_radius)), True
+    if kind == "root_relief":
+        return float(np.min(ra - np.max(_form_radius(blank, gd, ends), axis=0))), True
+    return 0.5 * blank.face_width, False
 
 
 def tip_relief_from_scene(design, scene) -> tuple[FlankModification, FlankModification]:
