@@ -417,3 +417,21 @@ def test_scene_modification_errors_name_the_key_and_range():
     # an amount without a length is caught when the scene is read
     with pytest.raises(InputError, match="ltca.gear_end_relief_length_mm"):
         scene.replaced(ltca={"gear_end_relief_um": 5.0})
+
+
+def test_the_pipeline_refuses_bad_modifications_before_computing(tmp_path):
+    from gearbox.pipeline import run_pipeline
+
+    scene = load_scene(ROOT / "models" / "marine_drive.toml").replaced(
+        ltca={
+            "pinion_root_relief_um": 5.0,
+            "pinion_root_relief_length_mm": 30.0,
+            "gear_end_relief_um": 5.0,
+            "gear_end_relief_length_mm": 30.0,
+        }
+    )
+    with pytest.raises(InputError) as err:
+        run_pipeline(scene, ["ltca"], cache=tmp_path)
+    paths = {p.path for p in err.value.problems}
+    assert paths == {"ltca.pinion_root_relief_length_mm", "ltca.gear_end_relief_length_mm"}
+    assert not any(tmp_path.iterdir())  # nothing was computed or stored

@@ -231,15 +231,20 @@ def parallel_ltca(
     return LTCAResult(flanks=res, table=table, attrs=attrs)
 
 
+def is_parallel(design) -> bool:
+    """Whether a design is a parallel-axis pair (shaft angle and cone angles 0): the
+    loaded TCA then takes the closed-form grid (:func:`parallel_ltca`)."""
+    return abs(design.shaft_angle) < 1e-12 and all(
+        abs(g.cone_angle) < 1e-12 for g in (design.pinion, design.gear)
+    )
+
+
 def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResult:
     """Loaded TCA of a scene's pair: parallel-axis pairs (shaft angle and cone angles
     0) in closed form; crossed beveloid pairs through :func:`beveloid_ltca`."""
     lt = scene["ltca"]
     options = options or LTCAOptions(positions=lt["positions"])
-    parallel = abs(design.shaft_angle) < 1e-12 and all(
-        abs(g.cone_angle) < 1e-12 for g in (design.pinion, design.gear)
-    )
-    if parallel:
+    if is_parallel(design):
         from .beveloid import modifications_from_scene
 
         return parallel_ltca(

@@ -76,6 +76,7 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             mesh.compute_ltca,
             reads=(*_PAIR, "assembly", "tca", "ltca", "material", "load.torques_Nm"),
             depends=("design",),
+            validate=mesh.validate_ltca,
             code=("gearbox.surface", "gearbox.tca", "gearbox.ltca", "gearbox.meshtable"),
             doc="Loaded TCA over the mesh cycle, torque levels and flanks.",
         ),

@@ -3,10 +3,11 @@ tables the dynamics reads (gearbox.meshtable)."""
 
 from __future__ import annotations
 
+from ...errors import InputError
 from ..stage import StageContext, StageUnavailable
 from ._require import require
 
-__all__ = ["compute_ltca", "compute_tables", "compute_tca", "tables_depends"]
+__all__ = ["compute_ltca", "compute_tables", "compute_tca", "tables_depends", "validate_ltca"]
 
 
 def compute_tca(ctx: StageContext):
@@ -19,6 +20,33 @@ def compute_ltca(ctx: StageContext):
     """Loaded TCA over the mesh cycle, torque levels and flanks (gearbox.ltca)."""
     ltca = require("gearbox.ltca.table", "scene_ltca")
     return ltca.scene_ltca(ctx.inputs["design"], ctx.scene)
+
+
+def validate_ltca(scene) -> None:
+    """Check, before anything runs, the loaded-TCA inputs that need the design: the
+    flank modifications' lengths against the teeth and, for a parallel pair, its
+    assembly errors. Raises one InputError naming every key; a pair that does not
+    design is left to the design stage."""
+    from .geometry import pair_spec
+
+    geometry = require("gearbox.geometry", "design_pair")
+    beveloid = require("gearbox.ltca.beveloid", "modifications_from_scene")
+    table = require("gearbox.ltca.table", "parallel_pair_from_design", "is_parallel")
+    try:
+        design = geometry.design_pair(pair_spec(scene))
+    except InputError:
+        return
+    problems = []
+    checks = [beveloid.modifications_from_scene]
+    if table.is_parallel(design):
+        checks.append(table.parallel_pair_from_design)
+    for check in checks:
+        try:
+            check(design, scene)
+        except InputError as exc:
+            problems += exc.problems
+    if problems:
+        raise InputError(problems, "invalid loaded TCA inputs")
 
 
 def tables_depends(scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
