@@ -7,6 +7,10 @@ torques and positions), so the ratios are comparable between machines.
 
     python benchmarks/bench_ltca.py            # 3 repeats
     python benchmarks/bench_ltca.py --repeats 1
+    python benchmarks/bench_ltca.py --contact matching_depth   # the per-position solve
+
+``--contact`` picks the fast level's contact term for the per-position solve
+(``FastCompliance(contact=...)``); the full table runs the scene's default level.
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ def main(argv=None):
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--contact", default="centre_line", choices=("centre_line", "matching_depth"))
     args = ap.parse_args(argv)
     opts = LTCAOptions(positions=24)
 
@@ -68,7 +73,7 @@ def main(argv=None):
             args.repeats,
         )
         grids, _ = beveloid_grids(design, scene, field, 24)
-        fc = FastCompliance()
+        fc = FastCompliance(contact=args.contact)
         per = []
         for g in grids:
             t = time.perf_counter()

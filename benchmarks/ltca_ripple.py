@@ -157,7 +157,11 @@ def decompose(
         for name, C in fast_parts(g, fast).items():
             s, c = _pair_energy(C, g, F)
             row["fast " + name] = (s + c) / fn2
+            row["fast " + name + " cross"] = c / fn2
         row["fast Weber"] = float(F @ (fast.contact_diagonal(g, q) * F)) / fn2
+        for contact in ("centre_line", "matching_depth"):
+            w = FastCompliance(contact=contact).contact_diagonal(g, q)
+            row["fast Weber " + contact] = float(F @ (w * F)) / fn2
         rows.append(row)
     out = {
         "case": case,
@@ -168,6 +172,7 @@ def decompose(
         "fe_stiffness_N_per_m": res_fe.stiffness.tolist(),
         "fe_lte_pp_m": np.ptp(res_fe.lte, axis=1).tolist(),
         "fast_lte_pp_m": np.ptp(res_fast.lte, axis=1).tolist(),
+        "fe_pair_share": res_fe.pair_share.tolist(),
         "parts_torque_Nm": torque,
         "parts_m_per_N": rows,
     }

@@ -5,7 +5,9 @@ FE references (made by this package's FE level, never run here):
 - ``tests/data/fe_lte_ripple.json``: case 03 drive at the FE level's default mesh, 24
   positions, 150 / 300 / 450 N m (``python benchmarks/ltca_ripple.py --cases 03
   --flanks drive --fe 1.0 --far-field-matrix --json FILE``), with the split of both
-  levels' compliance into parts and the far field as a matrix;
+  levels' compliance into parts (within and between tooth pairs, both contact terms
+  of the fast level), the FE level's load shares of the tooth pairs and the far field
+  as a matrix;
 - ``tests/data/fe_reference_paper_cases.json``: the eight cases and flanks at the same
   mesh (the calibration runs; the LTE of the segment, whose peak-to-peak the FE level's
   constant far field does not change).
@@ -141,6 +143,39 @@ def test_contact_to_the_matching_depth_is_the_fe_half_space_above_it():
     w_h = np.median((FastCompliance().contact_diagonal(g, q) * F)[on])
     assert w_d == pytest.approx(w_fe, rel=0.06)
     assert w_h > 1.3 * w_fe
+
+
+def test_shared_terms_couple_the_tooth_pairs_as_the_fe_rim_does():
+    # a load on one tooth pair deflects the others through the rim: in the FE level
+    # the blocks between tooth pairs, under its own contact loads at 300 N m 0.251e-10
+    # m/N at position 8 (one pair carries 94 %) and 0.899e-10 at 21 (two pairs, 51 /
+    # 49 %), stored. The fast level's shared body torsion and body term (rank one per
+    # gear) are its coupling: with the FE's pair shares, sum over pairs a != b of
+    # s_a s_b C_ab gives 0.229e-10 and 0.965e-10 (-9 / +7 %, measured; the difference
+    # between the positions, which is what enters the ripple, -0.736 against -0.648).
+    # So no coupling between tooth pairs is missing; the ripple excess lies in each
+    # pair's own compliance (docs/ltca.md). Bounds: the measured errors plus 5 points
+    (run,) = RIPPLE["runs"]
+    scene, grids = _grids("03", "drive")
+    index = _cycle(grids, [300.0], FastCompliance()).pair_index
+    shares = np.asarray(run["fe_pair_share"])[1]
+    fast, fe = [], []
+    comp = FastCompliance()
+    for p in (8, 21):
+        g = grids[p]
+        C = comp.torsion_matrix(g) + comp.body_matrix(g)
+        s = dict(zip(index.tolist(), shares[p], strict=True))
+        e = 0.0
+        for a in g.pairs():
+            for b in g.pairs():
+                if a != b:
+                    e += s[a] * s[b] * C[np.ix_(g.pair == a, g.pair == b)].mean()
+        fast.append(e)
+        row = run["parts_m_per_N"][p]
+        fe.append(row["FE pinion cross"] + row["FE gear cross"])
+    fast, fe = np.asarray(fast), np.asarray(fe)
+    assert np.all(np.abs(fast / fe - 1) < 0.15), fast / fe
+    assert (fast[1] - fast[0]) / (fe[1] - fe[0]) == pytest.approx(1.0, abs=0.2)
 
 
 def test_stored_fe_ripple_run_agrees_with_the_calibration_runs():
