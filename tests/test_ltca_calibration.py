@@ -124,30 +124,17 @@ def test_contact_to_the_matching_depth_calibrated_within_5_percent(case, flank):
     assert np.all(np.abs(err) <= 0.05), err
 
 
-PARALLEL = json.loads((ROOT / "tests" / "data" / "fe_parallel_whole_gear.json").read_text())
-
-
 def _parallel_errors(compliance):
-    from gearbox.ltca import ParallelPair, parallel_grid
+    """benchmarks/ltca_ripple.py's comparison with the stored whole-gear FE level on
+    parallel pairs (tests/data/fe_parallel_whole_gear.json), fast / FE - 1 per pair."""
+    import importlib.util
 
-    out = []
-    for p in PARALLEL["pairs"]:
-        pair = ParallelPair(
-            p["normal_module_mm"] * 1e-3,
-            np.radians(p["normal_pressure_angle_deg"]),
-            np.radians(p["helix_angle_deg"]),
-            tuple(p["teeth"]),
-            face_width=p["face_width_mm"] * 1e-3,
-        )
-        res = ltca_cycle(
-            lambda f, pair=pair: parallel_grid(pair, f, PARALLEL["n_face"]),
-            [PARALLEL["torque_Nm"]],
-            options=LTCAOptions(positions=PARALLEL["positions"]),
-            compliance=compliance,
-        )
-        k = res.stiffness[0].mean() * np.cos(pair.base_helix_angle) ** 2 / pair.face_width
-        out.append(k / (p["fe_whole_gear"] * 1e9) - 1)
-    return np.asarray(out)
+    spec = importlib.util.spec_from_file_location(
+        "ltca_ripple", ROOT / "benchmarks" / "ltca_ripple.py"
+    )
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    return np.asarray(list(bench.parallel_errors(compliance).values()))
 
 
 def test_parallel_pairs_are_too_soft_against_the_whole_gear_fe_level():
