@@ -18,7 +18,8 @@ its calibrated body coefficient). ``--fit-body`` fits the body coefficient for i
 minimax rule of ``tests/test_ltca_calibration.py`` over the stored whole-gear FE mean
 stiffness, cases 01-04, both flanks, three torques) and prints the errors at the fit
 rounded to two decimals. ``--parallel`` compares the mean stiffness of three parallel
-pairs with the whole-gear FE level (``tests/data/fe_parallel_whole_gear.json``).
+pairs with the whole-gear FE level (``tests/data/fe_parallel_whole_gear.json``) and of
+two with ISO 6336-1's c_gamma_alpha.
 
 ``--fe REFINE`` runs the FE level itself (mesh ``MeshOptions().refined(REFINE)``, the
 segment, 24 positions) and splits each level's compliance under the FE's own contact
@@ -370,6 +371,36 @@ def parallel_errors(compliance) -> dict:
     return out
 
 
+def iso_ratios(compliance) -> dict:
+    """Mean mesh stiffness over ISO 6336-1's c_gamma_alpha (transverse convention,
+    ``k cos^2(beta_b) / b``) of the spur and 15 deg helical pairs z 30/45, m 4, b 30 at
+    400 N m, 24 positions, 20 face slices (the pairs of tests/test_ltca_parallel.py)."""
+    import math
+
+    from gearbox.ltca import ParallelPair, iso_mesh_stiffness, parallel_grid
+
+    out = {}
+    for beta in (0.0, 15.0):
+        pair = ParallelPair(4e-3, math.radians(20), math.radians(beta), (30, 45), face_width=0.03)
+        res = ltca_cycle(
+            lambda f, pair=pair: parallel_grid(pair, f, 20),
+            [400.0],
+            options=LTCAOptions(positions=24),
+            compliance=compliance,
+        )
+        k = res.stiffness[0].mean() * math.cos(pair.base_helix_angle) ** 2 / pair.face_width
+        iso = iso_mesh_stiffness(
+            teeth=pair.teeth,
+            helix_angle=pair.helix_angle,
+            normal_pressure_angle=pair.normal_pressure_angle,
+            profile_shift=pair.profile_shift,
+            transverse_contact_ratio=pair.transverse_contact_ratio,
+            load_per_width=400.0 / pair.pitch_radius(0) / pair.face_width,
+        )
+        out[f"beta {beta:.0f} deg"] = k / iso.c_gamma_alpha
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", nargs="+", default=["01", "02", "03", "04"])
@@ -433,6 +464,9 @@ def main(argv=None) -> int:
         print("parallel pairs, mean stiffness against the whole-gear FE level:")
         for name, e in parallel_errors(fast).items():
             print(f"  {name}: {100 * e:+.1f} %")
+        print("z 30/45, m 4, b 30, 400 N m, mean stiffness over ISO 6336-1 c_gamma_alpha:")
+        for name, r in iso_ratios(fast).items():
+            print(f"  {name}: {r:.3f}")
     if a.fe is None:
         return 0
     out = {"command": "python benchmarks/ltca_ripple.py " + " ".join(argv or sys.argv[1:])}
