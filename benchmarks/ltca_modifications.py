@@ -10,13 +10,23 @@ pattern, the peak amplitudes of the loaded TE's first two mesh-order harmonics, 
 largest contact pressure and the largest share of the load on edge points, with the
 run time. Every variant is an ordinary scene: the same numbers come
 out of ``gearbox ltca`` with those keys set.
+
+``--fe`` also runs the whole-gear FE level (its defaults) on the same contact grids for
+the variants of ``FE_VARIANTS`` and prints both levels side by side (mean stiffness, LTE
+peak-to-peak, largest contact pressure and the variant's change of each against the
+unmodified pair); ``--json FILE`` stores those rows (tests/data/fe_modifications_case03.json
+was made with ``--fe --positions 8 --json ...``). The FE runs take minutes.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import sys
 import time
 from pathlib import Path
+
+import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -52,6 +62,59 @@ VARIANTS = {
 }
 
 
+#: Variants the ``--fe`` comparison runs (the FE level costs minutes per variant).
+FE_VARIANTS = (
+    "unmodified (the paper's flanks)",
+    "lead crowning 10 um, pinion",
+    "helix slope +10 um, pinion",
+    "profile crowning 4 um, both",
+)
+
+
+def fe_rows(base, flank: str, torque: float, positions: int) -> dict:
+    """Fast and FE level on the same grids per variant of FE_VARIANTS: mean stiffness
+    (N/m), LTE peak-to-peak (m), largest contact pressure (Pa)."""
+    from gearbox.fe import FECompliance
+    from gearbox.geometry import PairSpec, design_pair
+    from gearbox.ltca import LTCAOptions, ltca_cycle
+    from gearbox.ltca.beveloid import scene_grids
+    from gearbox.surface import blanks_from_design
+
+    side = {"drive": "R", "coast": "L"}[flank]
+    design = design_pair(PairSpec.from_scene(base))
+    fe = FECompliance(blanks=blanks_from_design(design))
+    out = {}
+    for label in FE_VARIANTS:
+        scene = base.replaced(ltca=VARIANTS[label])
+        grids, _, _ = scene_grids(design, scene, side, positions)
+        row = {}
+        for name, comp in (("fast", None), ("fe", fe)):
+            t0 = time.perf_counter()
+            res = ltca_cycle(
+                lambda f, grids=grids: grids[int(round(f * positions)) % positions],
+                [torque],
+                options=LTCAOptions(positions=positions),
+                compliance=comp,
+            )
+            row[name] = {
+                "mean_stiffness_N_per_m": float(res.stiffness[0].mean()),
+                "lte_peak_to_peak_m": float(np.ptp(res.lte[0])),
+                "max_pressure_Pa": float(res.max_pressure[0].max()),
+                "seconds": time.perf_counter() - t0,
+            }
+        out[label] = row
+        f, e = row["fast"], row["fe"]
+        print(
+            f"{label:<42} k {f['mean_stiffness_N_per_m'] / 1e6:6.1f} / "
+            f"{e['mean_stiffness_N_per_m'] / 1e6:6.1f} MN/m, LTE p-p "
+            f"{f['lte_peak_to_peak_m'] * 1e6:5.2f} / {e['lte_peak_to_peak_m'] * 1e6:5.2f} um, "
+            f"p_max {f['max_pressure_Pa'] / 1e6:4.0f} / {e['max_pressure_Pa'] / 1e6:4.0f} MPa "
+            f"({e['seconds']:.0f} s FE)",
+            flush=True,
+        )
+    return out
+
+
 def main() -> None:
     from gearbox.geometry import PairSpec, design_pair
     from gearbox.ltca.table import scene_ltca
@@ -62,6 +125,8 @@ def main() -> None:
     ap.add_argument("--torque", type=float, default=300.0, help="pinion torque (N m)")
     ap.add_argument("--flank", default="drive", choices=("drive", "coast"))
     ap.add_argument("--positions", type=int, default=24)
+    ap.add_argument("--fe", action="store_true", help="also the FE level (FE_VARIANTS)")
+    ap.add_argument("--json", metavar="FILE", help="with --fe: store the rows here")
     args = ap.parse_args()
     base = load_scene(args.scene)
     print(
@@ -98,6 +163,25 @@ def main() -> None:
             f"{row['max_contact_pressure_Pa'] / 1e6:6.0f} "
             f"{100 * row['max_edge_load_fraction']:6.1f} {dt:6.2f}"
         )
+    if args.fe:
+        print("\nfast / FE level on the same grids (whole gear, FE defaults)")
+        base_fe = base.replaced(
+            ltca={"flanks": [args.flank], "positions": args.positions},
+            load={"torques_Nm": [args.torque]},
+        )
+        rows = fe_rows(base_fe, args.flank, args.torque, args.positions)
+        if args.json:
+            cmd = "python3 benchmarks/ltca_modifications.py " + " ".join(sys.argv[1:])
+            data = {
+                "command": cmd,
+                "scene": Path(args.scene).name,
+                "flank": args.flank,
+                "torque_Nm": args.torque,
+                "positions": args.positions,
+                "variants": {k: VARIANTS[k] for k in rows},
+                "rows": rows,
+            }
+            Path(args.json).write_text(json.dumps(data, indent=1))
 
 
 if __name__ == "__main__":
