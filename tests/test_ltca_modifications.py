@@ -30,13 +30,19 @@ from gearbox.ltca.table import parallel_ltca
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).parent / "data"
 
-SPUR = ParallelPair(
-    normal_module=4e-3,
-    normal_pressure_angle=math.radians(20.0),
-    helix_angle=0.0,
-    teeth=(30, 45),
-    face_width=30e-3,
-)
+
+def _benchmark(name: str):
+    """A script of benchmarks/ as a module (it holds the comparisons' set-ups)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+#: spur, m 4 mm, z 30/45, b 30 mm: the pair of benchmarks/ltca_misalignment.py
+SPUR = _benchmark("ltca_misalignment").SPUR
 
 
 def removal(mod, r, w, **kw):
@@ -378,15 +384,9 @@ def test_fast_k_hbeta_against_the_stored_fe_level():
     Both lie far above ISO's formula with their own stiffness (FE: 1.69 against 1.34 at
     10 um): the face distribution follows the teeth's own compliance, while part of
     the mesh compliance (rim and body) is shared by the whole face."""
-    import importlib.util
     import json
 
-    spec = importlib.util.spec_from_file_location(
-        "ltca_misalignment", ROOT / "benchmarks" / "ltca_misalignment.py"
-    )
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    k_hbeta = bench.k_hbeta
+    k_hbeta = _benchmark("ltca_misalignment").k_hbeta
     stored = json.loads((DATA / "fe_khbeta_spur.json").read_text())
     assert stored["command"].startswith("python3 benchmarks/ltca_misalignment.py")
     fe = {r["misalignment_um"]: r["rows"] for r in stored["levels"]["FE (whole gear)"]}
@@ -446,16 +446,10 @@ def test_modifications_act_as_in_the_fe_level():
     (lead crowning, helix slope, profile crowning), pressure ratios within 3 points;
     both levels raise the LTE ripple with lead crowning and helix slope and lower it
     with profile crowning (fast 0.52, FE 0.30 of the unmodified)."""
-    import importlib.util
     import json
 
     stored = json.loads((DATA / "fe_modifications_case03.json").read_text())
     assert stored["command"].startswith("python3 benchmarks/ltca_modifications.py --fe")
-    spec = importlib.util.spec_from_file_location(
-        "ltca_modifications", ROOT / "benchmarks" / "ltca_modifications.py"
-    )
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
     from gearbox.geometry import PairSpec, design_pair
     from gearbox.ltca.beveloid import scene_grids
 
