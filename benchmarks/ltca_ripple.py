@@ -14,7 +14,8 @@ against the FE's, and for ``--detail`` the per-position curves at the middle tor
     python benchmarks/ltca_ripple.py --contact matching_depth --fit-body --parallel
 
 ``--contact`` picks the fast level's contact term (``FastCompliance(contact=...)``, with
-its calibrated body coefficient). ``--fit-body`` fits the body coefficient for it (the
+its calibrated body coefficient), ``--root`` its tooth below the involute
+(``FastCompliance(root=...)``). ``--fit-body`` fits the body coefficient for it (the
 minimax rule of ``tests/test_ltca_calibration.py`` over the stored whole-gear FE mean
 stiffness, cases 01-04, both flanks, three torques) and prints the errors at the fit
 rounded to two decimals. ``--parallel`` compares the mean stiffness of three parallel
@@ -324,7 +325,7 @@ def calibration_errors(cases, flanks, compliance) -> np.ndarray:
     return np.asarray(out)
 
 
-def fit_body(cases, flanks, contact: str) -> float:
+def fit_body(cases, flanks, contact: str, root: str = "radial") -> float:
     """Minimax body coefficient: the mean stiffness with the body term is the one
     without it in series with ``c s`` (s from a second run at c = 0.3, exact for a
     parallel pair and within rounding here); the fit is checked by a full run."""
@@ -334,7 +335,7 @@ def fit_body(cases, flanks, contact: str) -> float:
             _, _, grids = case_grids(case, flank)
             run = stored_fe(case, flank)
             for c, out in ((0.0, k0), (0.3, k1)):
-                comp = FastCompliance(contact=contact, body_compliance=c)
+                comp = FastCompliance(contact=contact, body_compliance=c, root=root)
                 out.append(cycle(grids, run["torques_Nm"], comp).stiffness.mean(axis=1))
             kfe.append(whole_gear_stiffness(case, flank))
     k0, k1, kfe = (np.asarray(v) for v in (k0, k1, kfe))
@@ -371,33 +372,44 @@ def parallel_errors(compliance) -> dict:
     return out
 
 
+def iso_ratio(pair, torque: float, compliance=None, n_face: int = 20, positions: int = 24):
+    """Mean mesh stiffness of a parallel pair over ISO 6336-1's c_gamma_alpha, and the
+    cycle result. ISO's c' and c_gamma are transverse: load F_n cos(beta_b) per face
+    width over the transverse deflection LTE / cos(beta_b), so the mean stiffness
+    enters as ``k cos^2(beta_b) / b``."""
+    import math
+
+    from gearbox.ltca import iso_mesh_stiffness, parallel_grid
+
+    res = ltca_cycle(
+        lambda f: parallel_grid(pair, f, n_face),
+        [torque],
+        options=LTCAOptions(positions=positions),
+        compliance=compliance,
+    )
+    k = res.stiffness[0].mean() * math.cos(pair.base_helix_angle) ** 2 / pair.face_width
+    iso = iso_mesh_stiffness(
+        teeth=pair.teeth,
+        helix_angle=pair.helix_angle,
+        normal_pressure_angle=pair.normal_pressure_angle,
+        profile_shift=pair.profile_shift,
+        transverse_contact_ratio=pair.transverse_contact_ratio,
+        load_per_width=torque / pair.pitch_radius(0) / pair.face_width,
+    )
+    return k / iso.c_gamma_alpha, res
+
+
 def iso_ratios(compliance) -> dict:
-    """Mean mesh stiffness over ISO 6336-1's c_gamma_alpha (transverse convention,
-    ``k cos^2(beta_b) / b``) of the spur and 15 deg helical pairs z 30/45, m 4, b 30 at
+    """:func:`iso_ratio` of the spur and 15 deg helical pairs z 30/45, m 4, b 30 at
     400 N m, 24 positions, 20 face slices (the pairs of tests/test_ltca_parallel.py)."""
     import math
 
-    from gearbox.ltca import ParallelPair, iso_mesh_stiffness, parallel_grid
+    from gearbox.ltca import ParallelPair
 
     out = {}
     for beta in (0.0, 15.0):
         pair = ParallelPair(4e-3, math.radians(20), math.radians(beta), (30, 45), face_width=0.03)
-        res = ltca_cycle(
-            lambda f, pair=pair: parallel_grid(pair, f, 20),
-            [400.0],
-            options=LTCAOptions(positions=24),
-            compliance=compliance,
-        )
-        k = res.stiffness[0].mean() * math.cos(pair.base_helix_angle) ** 2 / pair.face_width
-        iso = iso_mesh_stiffness(
-            teeth=pair.teeth,
-            helix_angle=pair.helix_angle,
-            normal_pressure_angle=pair.normal_pressure_angle,
-            profile_shift=pair.profile_shift,
-            transverse_contact_ratio=pair.transverse_contact_ratio,
-            load_per_width=400.0 / pair.pitch_radius(0) / pair.face_width,
-        )
-        out[f"beta {beta:.0f} deg"] = k / iso.c_gamma_alpha
+        out[f"beta {beta:.0f} deg"] = iso_ratio(pair, 400.0, compliance)[0]
     return out
 
 
@@ -409,11 +421,12 @@ def main(argv=None) -> int:
     ap.add_argument("--fe", type=float, help="run the FE level at this mesh refinement")
     ap.add_argument("--far-field-matrix", action="store_true")
     ap.add_argument("--contact", default="centre_line", choices=("centre_line", "matching_depth"))
+    ap.add_argument("--root", default="radial", choices=("radial", "fillet"))
     ap.add_argument("--fit-body", action="store_true", help="fit the body coefficient")
     ap.add_argument("--parallel", action="store_true", help="parallel pairs against the FE")
     ap.add_argument("--json", type=Path)
     a = ap.parse_args(argv)
-    fast = FastCompliance(contact=a.contact)
+    fast = FastCompliance(contact=a.contact, root=a.root)
     # the column to compare with: the first version (torsion in the slices) for the
     # default contact term, the default contact term for the other
     other, other_name = (
@@ -421,7 +434,7 @@ def main(argv=None) -> int:
         if a.contact == "centre_line"
         else (FastCompliance(), "contact to the centre line")
     )
-    print(f"contact {a.contact}, body coefficient {fast.body_compliance}")
+    print(f"contact {a.contact}, root {a.root}, body coefficient {fast.body_compliance}")
     print("LTE peak-to-peak (um) at 150 / 300 / 450 N m; fast / FE - 1")
     print(
         f"{'case':>4} {'flank':>5}  {'FE (stored)':>20}  {'fast':>20}  {'error':>20}  {other_name}"
@@ -453,8 +466,8 @@ def main(argv=None) -> int:
         f"{100 * err.max():+.1f} %"
     )
     if a.fit_body:
-        c = round(fit_body(a.cases, a.flanks, a.contact), 2)
-        fitted = FastCompliance(contact=a.contact, body_compliance=c)
+        c = round(fit_body(a.cases, a.flanks, a.contact, a.root), 2)
+        fitted = FastCompliance(contact=a.contact, body_compliance=c, root=a.root)
         err = calibration_errors(a.cases, a.flanks, fitted)
         print(
             f"fitted body coefficient {c:.2f}: mean stiffness {100 * err.min():+.1f} .. "

@@ -12,7 +12,6 @@ from gearbox.ltca import (
     FastCompliance,
     LTCAOptions,
     ParallelPair,
-    iso_mesh_stiffness,
     ltca_cycle,
     parallel_grid,
     solve_contact,
@@ -88,19 +87,16 @@ def test_contact_flattening_stiffens_with_load():
 
 
 def _iso_ratio(pair, torque):
-    r = _cycle(pair, torques=(torque,), n_face=20)
-    # ISO's c' and c_gamma are transverse: load F_n cos(beta_b) per face width over
-    # the transverse deflection LTE / cos(beta_b)
-    k_iso_def = r.stiffness[0].mean() * math.cos(pair.base_helix_angle) ** 2 / pair.face_width
-    iso = iso_mesh_stiffness(
-        teeth=pair.teeth,
-        helix_angle=pair.helix_angle,
-        normal_pressure_angle=pair.normal_pressure_angle,
-        profile_shift=pair.profile_shift,
-        transverse_contact_ratio=pair.transverse_contact_ratio,
-        load_per_width=torque / pair.pitch_radius(0) / pair.face_width,
-    )
-    return k_iso_def / iso.c_gamma_alpha, r
+    """benchmarks/ltca_ripple.py's mean stiffness over ISO 6336-1's c_gamma_alpha (the
+    transverse convention), with the cycle result."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "ltca_ripple.py"
+    spec = importlib.util.spec_from_file_location("ltca_ripple", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    return bench.iso_ratio(pair, torque)
 
 
 def test_mean_mesh_stiffness_against_iso_6336_1_spur():

@@ -258,13 +258,17 @@ def build_tooth_mesh(
     bore_radius: float,
     options: MeshOptions = MeshOptions(),
     clamp_cut_faces: bool = True,
+    clamp_root: bool = False,
 ) -> ToothMesh:
     """Mapped mesh of 27-node hexahedra of consecutive teeth and their rim.
 
     blank: generating data (:class:`~gearbox.surface.blank.ToothBlank`); teeth:
     consecutive tooth offsets (tooth k turned by 2 pi k / N about +z); bore_radius:
     inner radius of the rim (m); clamp_cut_faces: clamp the two radial cut faces of the
-    segment as well as the bore (else they are free). Every node, mid-side nodes included, lies on the
+    segment as well as the bore (else they are free); clamp_root: clamp every tooth at
+    the root circle as well (the bottom row of the tooth block, the chord between the
+    two fillet ends), so that the body below it is rigid: the tooth alone, fillets
+    included, as a cantilever on a rigid foundation. Every node, mid-side nodes included, lies on the
     parametrised geometry (isoparametric quadratic elements). Raises
     :class:`FEBuildError` naming the cause for a self-intersecting fillet, pointed
     teeth, overlapping fillets or degenerate (inverted) elements.
@@ -349,6 +353,8 @@ def build_tooth_mesh(
             eblock.append(np.full(L.size, block))
         tb, rb = blocks
         clamped.append(inverse[rb[:, 0, :].ravel()])
+        if clamp_root:
+            clamped.append(inverse[tb[:, 0, :].ravel()])
         if ti == 0 and clamp_cut_faces:
             clamped.append(inverse[rb[:, :, 0].ravel()])
         if ti == len(teeth) - 1 and clamp_cut_faces:

@@ -150,7 +150,11 @@ class FastCompliance:
     ``"matching_depth"`` (``contact_depth`` times m_n below the flank, the FE level's
     split: :func:`~gearbox.ltca.slice_model.weber_approach`); ``None`` for
     body_compliance takes the value calibrated for that contact term
-    (:data:`BODY_COMPLIANCE`, :data:`BODY_COMPLIANCE_MATCHING_DEPTH`).
+    (:data:`BODY_COMPLIANCE`, :data:`BODY_COMPLIANCE_MATCHING_DEPTH`). root: the
+    tooth below its involute, ``"radial"`` (a radial flank from the base to the root
+    circle, and Sainsot's root thickness from it: the first version) or ``"fillet"``
+    (the generated fillet, in the beam and in Sainsot's root thickness:
+    :func:`~gearbox.ltca.slice_model.slice_compliance`).
     """
 
     coupling_length: float = 1.0
@@ -159,6 +163,7 @@ class FastCompliance:
     shared_torsion: bool = True
     contact: str = "centre_line"
     contact_depth: float = CONTACT_DEPTH
+    root: str = "radial"
     name: str = "fast"
     load_dependent: bool = True
 
@@ -180,6 +185,9 @@ class FastCompliance:
             "must be 'centre_line' or 'matching_depth'",
         )
         p.in_range("contact_depth", self.contact_depth, 0.05, 0.6)
+        p.check(
+            self.root in ("radial", "fillet"), "root", self.root, "must be 'radial' or 'fillet'"
+        )
         p.raise_if_any("invalid fast compliance")
         if self.body_compliance is None:
             object.__setattr__(self, "body_compliance", _CALIBRATED[self.contact])
@@ -197,7 +205,9 @@ class FastCompliance:
             section, factor = (
                 normal_section(teeth) if self.section == "normal" else (teeth, proj**2)
             )
-            c = slice_compliance(section, E, nu).total
+            c = slice_compliance(
+                section, E, nu, root=self.root, normal=self.section == "normal"
+            ).total
             if self.shared_torsion:
                 c = c - body_torsion(section, G)
             out.append(c * factor)

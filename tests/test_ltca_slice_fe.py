@@ -1,0 +1,152 @@
+"""The slice model against the FE tooth under uniform line loads.
+
+Reference: ``tests/data/fe_slice_line_load.json``, the FE level's segment at its
+default mesh with and without the root circle clamped, and the far field of coarse
+segments of growing extent (``python benchmarks/ltca_slice_vs_fe.py --refine 1.0
+--json tests/data/fe_slice_line_load.json``): the spur pinion z 30 (m 4, b 30) and
+case 03's pinion as a cylindrical helical gear, six load heights each.
+"""
+
+import importlib.util
+import json
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearbox.fe import MeshOptions
+from gearbox.fe.compliance import gear_loads
+from gearbox.fe.line_load import line_load_compliance
+from gearbox.ltca import FastCompliance, ParallelPair, parallel_grid
+from gearbox.ltca.slice_model import _fillet_points, _half_angle, fillet_root, normal_section
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = json.loads((ROOT / "tests" / "data" / "fe_slice_line_load.json").read_text())
+
+
+def _bench():
+    spec = importlib.util.spec_from_file_location(
+        "ltca_slice_vs_fe", ROOT / "benchmarks" / "ltca_slice_vs_fe.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _run(name):
+    (run,) = [r for r in DATA["runs"] if r["pair"] == name]
+    fe = {k: np.asarray(v) for k, v in run["fe_m2_per_N"].items()}
+    return np.asarray(run["radius_m"]), fe
+
+
+def _whole_foundation(fe):
+    """The FE's foundation of the whole gear: segment - tooth clamped at the root
+    circle, plus the far field (whole gear - segment)."""
+    return fe["segment_centre"] - fe["tooth_centre"] + fe["far_field"]
+
+
+@pytest.mark.parametrize("name", ["spur", "case03"])
+def test_sainsot_with_the_fillet_root_is_the_fe_foundation(name):
+    bench = _bench()
+    radii, fe = _run(name)
+    sl = bench.slice_terms(
+        bench.PAIRS[name], radii, fe["centre_depth_m"], float(fe["matching_depth_m"])
+    )
+    ratio = sl["fillet foundation"] / _whole_foundation(fe)
+    radial = sl["foundation"] / _whole_foundation(fe)
+    if name == "spur":
+        # measured 0.98 .. 1.00 at the six heights (the radial flank's root thickness:
+        # 1.14 .. 1.60, growing with the load's lever); tolerance 4 %: the FE's own
+        # discretisation (the segment's mean stiffness at this mesh is within 1 % of its
+        # Richardson limit, docs/fe.md) and the far field's extent uncertainty (+-1 %)
+        assert np.all(np.abs(ratio - 1) < 0.04), ratio
+        assert radial[-1] > 1.5
+    else:
+        # the helical tooth read as the virtual spur tooth of its normal section:
+        # measured 0.87 .. 0.91 with the fillet, 0.93 .. 1.22 with the radial flank
+        # (spread 0.29): the fillet root removes the error's growth with height
+        assert np.all((ratio > 0.83) & (ratio < 0.95)), ratio
+        assert np.ptp(ratio) < 0.06
+        assert np.ptp(radial) > 0.25
+
+
+@pytest.mark.parametrize("name", ["spur", "case03"])
+def test_the_beam_is_softer_than_the_fe_tooth_mostly_by_shear_near_the_root(name):
+    # the open part (docs/ltca.md): the beam clamped at the root circle against the FE
+    # tooth with the root circle clamped; measured 1.28 .. 2.00 (spur) and 1.27 .. 3.13
+    # (case 03) with the fillet, largest at the lowest load where the shear term is
+    # 95 % of the beam. Guards the statement, not a property of the model.
+    bench = _bench()
+    radii, fe = _run(name)
+    sl = bench.slice_terms(
+        bench.PAIRS[name], radii, fe["centre_depth_m"], float(fe["matching_depth_m"])
+    )
+    beam = sl["fillet bending"] + sl["fillet shear"] + sl["fillet axial"]
+    ratio = beam / fe["tooth_centre"]
+    assert np.all(ratio > 1.2)
+    assert np.all(np.diff(ratio) < 0)  # the excess shrinks with the load's height
+    assert sl["fillet shear"][0] > 0.9 * beam[0]
+
+
+def test_weber_between_the_matching_depth_and_the_centre_line_is_the_fe_compression():
+    # FE depth - centre against the plane-strain half-plane's 2 (1 - nu^2) / (pi E)
+    # ln(h / d): Weber / FE measured 0.88 .. 1.06 (spur) over the six heights, the
+    # largest departure at the tip, where the tooth is no half-plane; tolerance 15 %
+    bench = _bench()
+    radii, fe = _run("spur")
+    sl = bench.slice_terms(
+        bench.PAIRS["spur"], radii, fe["centre_depth_m"], float(fe["matching_depth_m"])
+    )
+    dc = fe["segment_depth"] - fe["segment_centre"]
+    assert np.all(np.abs(sl["weber_d_to_centre"] / dc - 1) < 0.15)
+
+
+@pytest.mark.parametrize("beta", [0.0, 20.0])
+def test_the_fillet_meets_the_involute_at_the_iso_form_circle(beta):
+    # the trochoid of the rack's tip round ends where ISO 21771's form diameter d_Ff
+    # lies (ParallelPair.form_radius), with the involute's half-angle there: two
+    # independent constructions of the same point
+    pair = ParallelPair(
+        4e-3, math.radians(20), math.radians(beta), (30, 45), profile_shift=(0.2, 0.0)
+    )
+    g = parallel_grid(pair, 0.0, 4)
+    sec = g.tooth1.take([0])
+    v, _ = normal_section(sec) if beta else (sec, 1.0)
+    _, r, sc, yc, rho, alpha = fillet_root(v)
+    phi1 = (sc + yc / np.tan(alpha)) / r
+    r_top, psi_top = _fillet_points(phi1, r, sc, yc, rho)
+    if beta == 0.0:
+        assert r_top[0] == pytest.approx(pair.form_radius(0), abs=1e-9)
+    assert psi_top[0] == pytest.approx(
+        _half_angle(r_top, v.base_radius, v.base_half_angle)[0], abs=1e-9
+    )
+    # the fillet's bottom lies on the root circle, at the angle fillet_root gives
+    _, psi0 = _fillet_points(sc / r, r, sc, yc, rho)
+    assert psi0[0] == pytest.approx(fillet_root(v)[0][0], abs=1e-12)
+
+
+def test_clamping_the_root_circle_stiffens_the_tooth_and_bad_input_is_refused():
+    pair = ParallelPair(4e-3, math.radians(20), 0.0, (30, 45), face_width=0.012)
+    g = parallel_grid(pair, 0.0, 4)
+    L = gear_loads(g, 0)
+    kw = dict(bore_radius=L.bore_radius, youngs_modulus=206e9, poisson_ratio=0.3)
+    r = [0.058, 0.062]
+    free = line_load_compliance(L.blank, L.side, r, options=MeshOptions.coarse(), **kw)
+    clamped = line_load_compliance(
+        L.blank, L.side, r, options=MeshOptions.coarse(), clamp_root=True, **kw
+    )
+    # the body's share is a large part of the compliance at both heights
+    assert np.all(clamped.centre < 0.6 * free.centre)
+    assert np.all(free.depth > free.centre)  # the compression above the centre line
+    with pytest.raises(Exception, match="side"):
+        line_load_compliance(L.blank, "X", r, **kw)
+    bad = replace(L.blank, cone_angle=0.01)
+    with pytest.raises(Exception, match="cone_angle"):
+        line_load_compliance(bad, L.side, r, **kw)
+
+
+def test_fast_compliance_root_option_is_checked():
+    with pytest.raises(Exception, match="root"):
+        FastCompliance(root="round")
