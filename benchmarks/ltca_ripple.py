@@ -474,11 +474,16 @@ def main(argv=None) -> int:
             f"{100 * err.max():+.1f} %"
         )
     if a.parallel:
-        print("parallel pairs, mean stiffness against the whole-gear FE level:")
-        for name, e in parallel_errors(fast).items():
+        # with --fit-body, the fitted coefficient
+        par = fitted if a.fit_body else fast
+        print(
+            f"parallel pairs (body coefficient {par.body_compliance}), mean stiffness "
+            "against the whole-gear FE level:"
+        )
+        for name, e in parallel_errors(par).items():
             print(f"  {name}: {100 * e:+.1f} %")
         print("z 30/45, m 4, b 30, 400 N m, mean stiffness over ISO 6336-1 c_gamma_alpha:")
-        for name, r in iso_ratios(fast).items():
+        for name, r in iso_ratios(par).items():
             print(f"  {name}: {r:.3f}")
     if a.fe is None:
         return 0

@@ -36,9 +36,15 @@ def _bench():
 
 
 def _run(name):
+    """The stored FE terms of a tooth and the slice model's at the same heights."""
     (run,) = [r for r in DATA["runs"] if r["pair"] == name]
     fe = {k: np.asarray(v) for k, v in run["fe_m2_per_N"].items()}
-    return np.asarray(run["radius_m"]), fe
+    radii = np.asarray(run["radius_m"])
+    bench = _bench()
+    sl = bench.slice_terms(
+        bench.PAIRS[name], radii, fe["centre_depth_m"], float(fe["matching_depth_m"])
+    )
+    return radii, fe, sl
 
 
 def _whole_foundation(fe):
@@ -49,11 +55,7 @@ def _whole_foundation(fe):
 
 @pytest.mark.parametrize("name", ["spur", "case03"])
 def test_sainsot_with_the_fillet_root_is_the_fe_foundation(name):
-    bench = _bench()
-    radii, fe = _run(name)
-    sl = bench.slice_terms(
-        bench.PAIRS[name], radii, fe["centre_depth_m"], float(fe["matching_depth_m"])
-    )
+    _, fe, sl = _run(name)
     ratio = sl["fillet foundation"] / _whole_foundation(fe)
     radial = sl["foundation"] / _whole_foundation(fe)
     if name == "spur":
@@ -78,11 +80,7 @@ def test_the_beam_is_softer_than_the_fe_tooth_mostly_by_shear_near_the_root(name
     # tooth with the root circle clamped; measured 1.28 .. 2.00 (spur) and 1.27 .. 3.13
     # (case 03) with the fillet, largest at the lowest load where the shear term is
     # 95 % of the beam. Guards the statement, not a property of the model.
-    bench = _bench()
-    radii, fe = _run(name)
-    sl = bench.slice_terms(
-        bench.PAIRS[name], radii, fe["centre_depth_m"], float(fe["matching_depth_m"])
-    )
+    _, fe, sl = _run(name)
     beam = sl["fillet bending"] + sl["fillet shear"] + sl["fillet axial"]
     ratio = beam / fe["tooth_centre"]
     assert np.all(ratio > 1.2)
@@ -94,11 +92,7 @@ def test_weber_between_the_matching_depth_and_the_centre_line_is_the_fe_compress
     # FE depth - centre against the plane-strain half-plane's 2 (1 - nu^2) / (pi E)
     # ln(h / d): Weber / FE measured 0.88 .. 1.06 (spur) over the six heights, the
     # largest departure at the tip, where the tooth is no half-plane; tolerance 15 %
-    bench = _bench()
-    radii, fe = _run("spur")
-    sl = bench.slice_terms(
-        bench.PAIRS["spur"], radii, fe["centre_depth_m"], float(fe["matching_depth_m"])
-    )
+    _, fe, sl = _run("spur")
     dc = fe["segment_depth"] - fe["segment_centre"]
     assert np.all(np.abs(sl["weber_d_to_centre"] / dc - 1) < 0.15)
 
