@@ -19,6 +19,13 @@ One tooth, a unit force along the flank normal spread evenly over the whole face
 
     python benchmarks/ltca_slice_vs_fe.py                    # spur z 30/45 and case 03
     python benchmarks/ltca_slice_vs_fe.py --refine 1.0 --json tests/data/fe_slice_line_load.json
+    python benchmarks/ltca_slice_vs_fe.py --stored tests/data/fe_slice_line_load.json \
+        --beam-at centre_line                                # no FE run
+
+``--beam-at`` picks where the slice beam's deflection is taken
+(``slice_compliance(beam_at=...)``: the load point or where the load's line crosses
+the tooth's centre line, the point the FE's "centre" is read at); ``--stored`` takes
+the FE numbers of a stored run instead of running the FE level.
 
 Compliances in 1e-11 m per N/m of face width (m^2/N). ``--refine`` is the mesh
 (``MeshOptions().refined(REFINE)``, 1.0 the FE level's default); the far field is
@@ -75,8 +82,11 @@ def heights(pair: ParallelPair, n: int) -> np.ndarray:
     return np.sqrt(rb**2 + x**2)
 
 
-def slice_terms(pair: ParallelPair, radii, contact_depths, matching_depth) -> dict:
-    """The slice model's terms per unit face width along the flank normal (m^2/N)."""
+def slice_terms(
+    pair: ParallelPair, radii, contact_depths, matching_depth, beam_at: str = "load_point"
+) -> dict:
+    """The slice model's terms per unit face width along the flank normal (m^2/N);
+    beam_at: ``slice_compliance(beam_at=...)``."""
     g = parallel_grid(pair, 0.0, 8)
     s = replace(g.tooth1.take(np.zeros(radii.size, int)), radius=np.asarray(radii))
     v, factor = normal_section(s)
@@ -88,7 +98,7 @@ def slice_terms(pair: ParallelPair, radii, contact_depths, matching_depth) -> di
         "weber_d_to_centre": weber,
     }
     for root, pre in (("radial", ""), ("fillet", "fillet ")):
-        c = slice_compliance(v, E, nu, root=root)
+        c = slice_compliance(v, E, nu, root=root, beam_at=beam_at)
         for k, part in enumerate(("bending", "shear", "axial", "foundation")):
             out[pre + part] = c[k] * factor
     return out
@@ -186,16 +196,28 @@ def main(argv=None) -> int:
     ap.add_argument("--refine", type=float, default=0.5, help="FE mesh refinement")
     ap.add_argument("--no-extent", action="store_true", help="skip the far-field study")
     ap.add_argument("--json", type=Path)
+    ap.add_argument("--beam-at", default="load_point", choices=("load_point", "centre_line"))
+    ap.add_argument("--stored", type=Path, help="the FE numbers of a stored --json run")
     a = ap.parse_args(argv)
     out = {"command": "python benchmarks/ltca_slice_vs_fe.py " + " ".join(argv or sys.argv[1:])}
     out["runs"] = []
+    stored = {}
+    if a.stored is not None:
+        for run in json.loads(a.stored.read_text())["runs"]:
+            stored[run["pair"]] = run
+    print(f"slice beam read at the {a.beam_at.replace('_', ' ')}")
     for name in a.pairs:
         pair = PAIRS[name]
-        radii = heights(pair, a.heights)
-        fe = fe_terms(pair, radii, a.refine, not a.no_extent)
-        sl = slice_terms(pair, radii, fe["centre_depth_m"], fe["matching_depth_m"])
+        if name in stored:
+            radii = np.asarray(stored[name]["radius_m"])
+            fe = {k: np.asarray(v) for k, v in stored[name]["fe_m2_per_N"].items()}
+        else:
+            radii = heights(pair, a.heights)
+            fe = fe_terms(pair, radii, a.refine, not a.no_extent)
+        depths = fe["centre_depth_m"]
+        sl = slice_terms(pair, radii, depths, float(fe["matching_depth_m"]), a.beam_at)
         table(name, pair, radii, fe, sl)
-        print(f"  FE: {fe['n_dofs']} unknowns, {fe['seconds']:.0f} s")
+        print(f"  FE: {int(fe['n_dofs'])} unknowns, {float(fe['seconds']):.0f} s")
         out["runs"].append(
             {
                 "pair": name,

@@ -154,7 +154,10 @@ class FastCompliance:
     tooth below its involute, ``"radial"`` (a radial flank from the base to the root
     circle, and Sainsot's root thickness from it: the first version) or ``"fillet"``
     (the generated fillet, in the beam and in Sainsot's root thickness:
-    :func:`~gearbox.ltca.slice_model.slice_compliance`).
+    :func:`~gearbox.ltca.slice_model.slice_compliance`). beam_at: where the tooth's
+    beam deflection is taken, ``"load_point"`` (the first version) or
+    ``"centre_line"`` (where the load's line crosses the tooth's centre line, down to
+    which Weber's contact term runs: ``slice_compliance(beam_at=...)``).
     """
 
     coupling_length: float = 1.0
@@ -164,6 +167,7 @@ class FastCompliance:
     contact: str = "centre_line"
     contact_depth: float = CONTACT_DEPTH
     root: str = "radial"
+    beam_at: str = "load_point"
     name: str = "fast"
     load_dependent: bool = True
 
@@ -188,6 +192,12 @@ class FastCompliance:
         p.check(
             self.root in ("radial", "fillet"), "root", self.root, "must be 'radial' or 'fillet'"
         )
+        p.check(
+            self.beam_at in ("load_point", "centre_line"),
+            "beam_at",
+            self.beam_at,
+            "must be 'load_point' or 'centre_line'",
+        )
         p.raise_if_any("invalid fast compliance")
         if self.body_compliance is None:
             object.__setattr__(self, "body_compliance", _CALIBRATED[self.contact])
@@ -206,7 +216,12 @@ class FastCompliance:
                 normal_section(teeth) if self.section == "normal" else (teeth, proj**2)
             )
             c = slice_compliance(
-                section, E, nu, root=self.root, normal=self.section == "normal"
+                section,
+                E,
+                nu,
+                root=self.root,
+                normal=self.section == "normal",
+                beam_at=self.beam_at,
             ).total
             if self.shared_torsion:
                 c = c - body_torsion(section, G)

@@ -87,6 +87,31 @@ def _dhalf_angle(rho, rb):
     return np.where(above, -np.sqrt(np.maximum(rho**2 - rb**2, 0.0)) / rho**2, 0.0)
 
 
+def _centre_x(rho, rb, psi_b):
+    """Distance along the tooth's centre line of the flank point at radius rho."""
+    return rho * np.cos(_half_angle(rho, rb, psi_b))
+
+
+def _fillet_x(phi, r, sc, yc, rho):
+    """Distance along the tooth's centre line of the fillet point cut at phi."""
+    radius, psi = _fillet_points(phi, r, sc, yc, rho)
+    return radius * np.cos(psi)
+
+
+def _bisect(f, target, lo, hi, steps=50):
+    """The parameter in [lo, hi] where the increasing f reaches target (clipped to the
+    ends), elementwise by bisection."""
+    lo, hi = np.array(lo, float), np.array(hi, float)
+    below = f(lo) >= target
+    above = f(hi) <= target
+    a, b = lo.copy(), hi.copy()
+    for _ in range(steps):
+        m = 0.5 * (a + b)
+        up = f(m) < target
+        a, b = np.where(up, m, a), np.where(up, b, m)
+    return np.where(below, lo, np.where(above, hi, 0.5 * (a + b)))
+
+
 class SliceCompliance(tuple):
     """(bending, shear, axial, foundation) compliances per unit face width (m^2/N
     ... i.e. deflection along the load per line load, m per N/m), each shape (n,)."""
@@ -147,6 +172,7 @@ def slice_compliance(
     *,
     root: str = "radial",
     normal: bool = True,
+    beam_at: str = "load_point",
 ) -> SliceCompliance:
     """Tooth compliance of thin transverse slices for a load at ``sections.radius``.
 
@@ -159,12 +185,24 @@ def slice_compliance(
     theta_f`` is the tooth's thickness at the root circle between the fillets' ends);
     normal: for ``"fillet"``, whether the sections are the normal section's virtual
     spur teeth (see :func:`fillet_root`).
+    beam_at: where the beam's deflection along the load is taken, ``"load_point"``
+    (the load's own displacement, the energy of the beam: Yang & Lin, Tian) or
+    ``"centre_line"`` (the point where the load's line of action crosses the tooth's
+    centre line, Maxwell-Mohr's unit-load integral ``int (M M_c / EI + 1.2 V V_c /
+    GA + N N_c / EA) dx`` with the unit load at that point). Weber & Banaschek (1953)
+    take the tooth's deflection there and the flattening from the contact down to
+    it, and Sainsot's lever ``u_f`` is measured to it; the load point's deflection
+    holds in addition the beam's shear strain along the load's line between the
+    centre line and the flank, ``gamma h_L sin(alpha)``, which is largest where the
+    beam is short (near the root: docs/ltca.md).
     Returns the bending, shear, axial and fillet-foundation parts (m per N/m of
     transverse line load, along the transverse line of action), each shape (n,).
     Vectorised: 32 quadrature nodes per point (48 with the fillet).
     """
     if root not in ("radial", "fillet"):
         raise ValueError(f"root must be 'radial' or 'fillet', not {root!r}")
+    if beam_at not in ("load_point", "centre_line"):
+        raise ValueError(f"beam_at must be 'load_point' or 'centre_line', not {beam_at!r}")
     E = youngs_modulus
     G = E / (2.0 * (1.0 + poisson_ratio))
     rL = sections.radius
@@ -178,11 +216,19 @@ def slice_compliance(
     hL = rL * np.sin(psi_L)
     cos1, sin1 = np.cos(a1), np.sin(a1)
 
+    # the point the deflection is read at: the load point or, along the load's line
+    # of action, the centre line (the unit load there has no lever h sin(alpha))
+    if beam_at == "centre_line":
+        xR, hR = xL - hL * np.tan(a1), np.zeros_like(hL)
+    else:
+        xR, hR = xL, hL
+
     def sums(w, x, h):
         inertia = 2.0 * h**3 / 3.0  # (2h)^3 / 12 per unit width
         area = 2.0 * h
         mb = (xL[:, None] - x) * cos1[:, None] - hL[:, None] * sin1[:, None]
-        cb = np.sum(w * mb**2 / (E * inertia), axis=1)
+        mr = (xR[:, None] - x) * cos1[:, None] - hR[:, None] * sin1[:, None]
+        cb = np.sum(w * mb * mr / (E * inertia), axis=1)
         cs = np.sum(w * 1.2 * cos1[:, None] ** 2 / (G * area), axis=1)
         ca = np.sum(w * sin1[:, None] ** 2 / (E * area), axis=1)
         return cb, cs, ca
@@ -207,6 +253,11 @@ def slice_compliance(
         phi1 = (sc + yc / np.tan(alpha)) / rg
         r_top, _ = _fillet_points(phi1, rg, sc, yc, rr)
         top = np.maximum(r_top, rb)
+        rR = rL
+        if beam_at == "centre_line":
+            # the fillet up to the reading point where it lies below the fillet's top
+            phi1 = _bisect(lambda p: _fillet_x(p, rg, sc, yc, rr), xR, phi0, phi1)
+            rR = _bisect(lambda r: _centre_x(r, rb, psi_b), xR, np.minimum(top, rL), rL)
         half = 0.5 * (phi1 - phi0)
         phi = 0.5 * (phi0 + phi1)[:, None] + half[:, None] * _GL_X[None, :]
         a = (rg[:, None], sc[:, None], yc[:, None], rr[:, None])
@@ -217,16 +268,19 @@ def slice_compliance(
         dx = (rp_ * np.cos(pp_) - rm_ * np.cos(pm_)) / (2.0 * eps)  # dx/dphi
         w = _GL_W[None, :] * half[:, None] * dx
         cb1, cs1, ca1 = sums(w, rho * np.cos(psi), rho * np.sin(psi))
-        cb2, cs2, ca2 = integrate(np.minimum(top, rL), rL)
+        cb2, cs2, ca2 = integrate(np.minimum(top, rR), rR)
         rf = rg - yc - rr  # the rack's root circle, where the fillet ends
     else:
+        rR = rL
+        if beam_at == "centre_line":
+            rR = _bisect(lambda r: _centre_x(r, rb, psi_b), xR, np.minimum(rf, rb), rL)
         # segment 1: root circle to base circle (radial flank), only where rf < rb
         lo1 = np.minimum(rf, rb)
-        hi1 = np.minimum(rb, rL)
+        hi1 = np.maximum(np.minimum(rb, rR), lo1)
         cb1, cs1, ca1 = integrate(lo1, hi1)
         # segment 2: involute from max(rf, rb) to the load point
         lo2 = np.maximum(rf, rb)
-        cb2, cs2, ca2 = integrate(lo2, rL)
+        cb2, cs2, ca2 = integrate(lo2, np.maximum(rR, lo2))
         psi_f = _half_angle(rf, rb, psi_b)
     # fillet foundation (Sainsot et al. 2004, eq. (8)), per unit width
     xf = rf * np.cos(psi_f)
