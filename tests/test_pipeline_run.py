@@ -213,6 +213,9 @@ _INTERRUPT = textwrap.dedent(
     from gearbox.cli import main
 
     where = sys.argv[1]
+    # a real Ctrl-C even when this process was started with SIGINT ignored (a shell's
+    # background job): Python then installs no KeyboardInterrupt handler of its own
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
     def interrupt(*a, **k):
         os.kill(os.getpid(), signal.SIGINT)   # a real Ctrl-C, delivered now
