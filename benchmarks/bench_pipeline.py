@@ -1,7 +1,8 @@
 """A scene's first run against a second run with only the propeller changed.
 
     python3 benchmarks/bench_pipeline.py [--scene models/marine_drive.toml]
-        [--repeats 3] [--set ltca.fidelity=fe ...] [--json out.json]
+        [--repeats 3] [--set ltca.fidelity=fe ...] [--output-worker on|off|both]
+        [--json out.json]
 
 Each repeat runs ``gearbox run`` twice in new processes (``python -m gearbox``), with
 a fresh, empty cache folder: first the scene as it is, then the same scene with
@@ -14,7 +15,10 @@ run records in its ``run_summary.json``.
 Prints per stage the median over the repeats of the seconds spent and the status
 (computed / cached), the time spent writing each stage's files and drawing the
 report, the median wall time of both runs and the median of the per-repeat ratios
-second / first.
+second / first. ``--output-worker both`` runs every repeat with and without the
+output worker of ``gearbox run`` (:mod:`gearbox.pipeline.overlap`: files and report
+sections made in a second process while later stages compute), each with its own
+fresh cache, and adds the ratios with / without for both runs.
 """
 
 from __future__ import annotations
@@ -62,10 +66,10 @@ def write_scenes(scene_path: Path, overrides: dict, folder: Path) -> tuple[Path,
     return first, second, f"propeller_inertia_kgm2 {j:g} -> {1.5 * j:g} kg m^2"
 
 
-def run_once(scene: Path, out: Path, cache: Path) -> dict:
+def run_once(scene: Path, out: Path, cache: Path, extra: tuple[str, ...] = ()) -> dict:
     """One ``gearbox run`` in a new process; its run_summary.json plus the wall time."""
     cmd = [sys.executable, "-m", "gearbox", "run", str(scene), "--out", str(out)]
-    cmd += ["--cache", str(cache), "--no-progress"]
+    cmd += ["--cache", str(cache), "--no-progress", *extra]
     env = os.environ | {"PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, env=env)
@@ -111,33 +115,8 @@ def output_rows(runs: list[dict]) -> dict[str, tuple[float, str]]:
     return rows
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scene", default=str(ROOT / "models" / "marine_drive.toml"))
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--set", action="append", default=[], metavar="SECTION.KEY=VALUE")
-    ap.add_argument("--json", metavar="FILE", help="write every run's summary here")
-    args = ap.parse_args()
-    if args.repeats < 1:
-        raise SystemExit(f"--repeats = {args.repeats}: must be >= 1")
-
-    firsts, seconds = [], []
-    with tempfile.TemporaryDirectory(prefix="bench_pipeline.") as tmp:
-        folder = Path(tmp)
-        s1, s2, change = write_scenes(Path(args.scene), parse_set(args.set), folder)
-        for i in range(args.repeats):
-            cache = folder / f"cache{i}"  # fresh for every repeat
-            firsts.append(run_once(s1, folder / f"out{i}a", cache))
-            seconds.append(run_once(s2, folder / f"out{i}b", cache))
-            r = seconds[-1]["wall_s"] / firsts[-1]["wall_s"]
-            print(
-                f"repeat {i + 1}: first {firsts[-1]['wall_s']:.2f} s, "
-                f"second {seconds[-1]['wall_s']:.2f} s, ratio {r:.3f}",
-                file=sys.stderr,
-            )
-
-    print(f"scene {args.scene} {' '.join(args.set)}; second run: {change}")
-    print(f"medians of {args.repeats} repeats, each with a fresh cache (s)\n")
+def print_table(firsts: list[dict], seconds: list[dict]) -> list[float]:
+    """Per stage, files and report: medians of both runs; returns the ratios."""
     a, b = stage_rows(firsts), stage_rows(seconds)
     head = f"{'stage':<22} {'first run':>9} {'':<9} {'second run':>10} {'':<9}"
     print(head)
@@ -161,10 +140,68 @@ def main() -> None:
         f"\nsecond / first: median {statistics.median(ratios):.3f} "
         f"(repeats: {', '.join(f'{r:.3f}' for r in ratios)})"
     )
+    return ratios
+
+
+#: ``--output-worker`` choices -> the variants run, each with its extra CLI options.
+VARIANTS = {
+    "on": {"output worker": ()},
+    "off": {"no output worker": ("--no-output-worker",)},
+    "both": {"output worker": (), "no output worker": ("--no-output-worker",)},
+}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scene", default=str(ROOT / "models" / "marine_drive.toml"))
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--set", action="append", default=[], metavar="SECTION.KEY=VALUE")
+    ap.add_argument(
+        "--output-worker",
+        choices=list(VARIANTS),
+        default="on",
+        help="run with the CLI's output worker (on, the default), without it "
+        "(--no-output-worker), or both, interleaved in every repeat",
+    )
+    ap.add_argument("--json", metavar="FILE", help="write every run's summary here")
+    args = ap.parse_args()
+    if args.repeats < 1:
+        raise SystemExit(f"--repeats = {args.repeats}: must be >= 1")
+
+    variants = VARIANTS[args.output_worker]
+    runs: dict[str, tuple[list[dict], list[dict]]] = {v: ([], []) for v in variants}
+    with tempfile.TemporaryDirectory(prefix="bench_pipeline.") as tmp:
+        folder = Path(tmp)
+        s1, s2, change = write_scenes(Path(args.scene), parse_set(args.set), folder)
+        for i in range(args.repeats):
+            for j, (label, extra) in enumerate(variants.items()):
+                cache = folder / f"cache{i}_{j}"  # fresh for every repeat and variant
+                firsts, seconds = runs[label]
+                firsts.append(run_once(s1, folder / f"out{i}_{j}a", cache, extra))
+                seconds.append(run_once(s2, folder / f"out{i}_{j}b", cache, extra))
+                r = seconds[-1]["wall_s"] / firsts[-1]["wall_s"]
+                print(
+                    f"repeat {i + 1}, {label}: first {firsts[-1]['wall_s']:.2f} s, "
+                    f"second {seconds[-1]['wall_s']:.2f} s, ratio {r:.3f}",
+                    file=sys.stderr,
+                )
+
+    print(f"scene {args.scene} {' '.join(args.set)}; second run: {change}")
+    out: dict[str, dict] = {}
+    for label, (firsts, seconds) in runs.items():
+        print(f"\n{label}: medians of {args.repeats} repeats, each with a fresh cache (s)\n")
+        ratios = print_table(firsts, seconds)
+        out[label] = {"first": firsts, "second": seconds, "ratios": ratios}
+    if len(runs) == 2:
+        (la, (fa, sa)), (lb, (fb, sb)) = runs.items()
+        for what, xa, xb in (("first", fa, fb), ("second", sa, sb)):
+            r = [x["wall_s"] / y["wall_s"] for x, y in zip(xa, xb, strict=True)]
+            print(
+                f"{what} run, {la} / {lb}: median {statistics.median(r):.3f} "
+                f"(repeats: {', '.join(f'{v:.3f}' for v in r)})"
+            )
     if args.json:
-        Path(args.json).write_text(
-            json.dumps({"first": firsts, "second": seconds, "ratios": ratios}, indent=1)
-        )
+        Path(args.json).write_text(json.dumps(out, indent=1))
 
 
 if __name__ == "__main__":

@@ -251,8 +251,12 @@ def test_interrupted_run_leaves_no_half_written_report(tmp_path, where):
     assert "interrupted" in proc.stderr
     # the previous report is untouched and no temporary file is left behind
     assert (out / "report.html").read_text() == old
+    # a stage's files may have been written, whole, beside the run (by the output
+    # worker, gearbox.pipeline.overlap) before the interrupt: nothing else is there
     leftovers = [p.name for p in out.iterdir() if p.name not in ("report.html", "run_summary.json")]
-    assert leftovers == [], leftovers
+    assert set(leftovers) <= {"design.json"}, leftovers
+    if leftovers:
+        assert "spec" in json.loads((out / "design.json").read_text())
 
 
 def short_scene_file(folder: Path, *extra: tuple[str, str], speeds: int = 2) -> Path:

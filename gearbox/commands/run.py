@@ -36,9 +36,16 @@ def add_arguments(parser):
         "--jobs",
         type=int,
         metavar="N",
-        help="worker processes for sweeps; 1: none (default: diffrax sweeps on threads, "
-        "one per core; other sweeps on a pool of processes when timing the first item "
-        "says it pays)",
+        help="worker processes for sweeps; 1: none, and no output worker either (default: "
+        "diffrax sweeps on threads, one per core; other sweeps on a pool of processes "
+        "when timing the first item says it pays)",
+    )
+    parser.add_argument(
+        "--no-output-worker",
+        action="store_true",
+        help="write the files and draw the report in this process after the stages "
+        "(default on a machine with more than one core: a second process does it for "
+        "each computed stage while the later stages compute)",
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bars")
     parser.add_argument(
@@ -68,7 +75,28 @@ def _outputs_line(written) -> str:
     return line
 
 
+def _output_worker(scene, only, cache, out, jobs, off: bool):
+    """An :class:`~gearbox.pipeline.overlap.OutputWorker` when it can help: more than
+    one core, ``--jobs`` not 1, not ``--no-output-worker``, and a requested stage (or,
+    with a report, any stage) to compute; else a context that gives None."""
+    import contextlib
+
+    from ..pipeline import preview
+    from ..pipeline.overlap import OutputWorker, available_cores
+    from ..pipeline.runner import _as_cache
+
+    if off or jobs == 1 or available_cores() < 2:
+        return contextlib.nullcontext()
+    requested = tuple(scene["outputs"]["requested"] if only is None else only)
+    report = "report" in requested
+    todo = [n for n, _, cached in preview(scene, requested, cache=cache) if not cached]
+    if not any(report or n in requested for n in todo):
+        return contextlib.nullcontext()
+    return OutputWorker(out, _as_cache(cache), files=requested, report=report)
+
+
 def run(args) -> int:
+    import functools
     import os
     import sys
     from pathlib import Path
@@ -104,15 +132,17 @@ def run(args) -> int:
         print(f"gearbox run: {rec.name} {rec.status} ({rec.seconds:.2f} s)", file=sys.stderr)
 
     quiet = progress or args.no_progress
-    result = run_pipeline(
-        scene,
-        args.only,
-        cache=cache,
-        jobs=args.jobs,
-        progress=progress,
-        on_stage=None if quiet else note,
-    )
-    written = write_run(result, out)
+    with _output_worker(scene, args.only, cache, out, args.jobs, args.no_output_worker) as worker:
+        result = run_pipeline(
+            scene,
+            args.only,
+            cache=cache,
+            jobs=args.jobs,
+            progress=progress,
+            on_stage=None if quiet else note,
+            on_result=None if worker is None else functools.partial(worker.submit, scene),
+        )
+        written = write_run(result, out, worker=worker)
     files = written.files
     s = result.summary
     if args.json:

@@ -28,7 +28,7 @@ from typing import Any
 
 from ..commands._common import write_atomic
 
-__all__ = ["WRITERS", "Written", "jsonable", "write_outputs", "write_run"]
+__all__ = ["WRITERS", "Written", "jsonable", "stage_files", "write_outputs", "write_run"]
 
 
 def jsonable(x: Any) -> Any:
@@ -146,17 +146,24 @@ def _write_stage(name: str, result: Any, folder: Path) -> list[Path]:
 
 
 def _stage_files(run, name: str, folder: Path) -> tuple[list[Path], bool]:
-    """Write one stage's files; ``(paths, from_cache)``.
+    """Write one stage's files; ``(paths, from_cache)`` (:func:`stage_files`)."""
+    key = run.cached_key(name) if hasattr(run, "cached_key") else None
+    return stage_files(name, run.results[name], folder, key, getattr(run, "cache", None))
 
-    The files' bytes are kept in the run's cache under a key made from the stage's
-    key (:func:`gearbox.pipeline.cache.derived_key`), so the files of a stage that
-    came from the cache are copied, not serialised again.
+
+def stage_files(
+    name: str, result: Any, folder: Path, key: str | None = None, cache=None
+) -> tuple[list[Path], bool]:
+    """Write the files of stage ``name``'s ``result`` into ``folder``;
+    ``(paths, from_cache)``.
+
+    With a cache and the stage's ``key``, the files' bytes are kept in the cache
+    under a key made from it (:func:`gearbox.pipeline.cache.derived_key`), so the
+    files of a stage that came from the cache are copied, not serialised again.
     """
     from .cache import derived_key, remembered
 
-    result = run.results[name]
-    key = run.cached_key(name) if hasattr(run, "cached_key") else None
-    if key is None:
+    if key is None or cache is None:
         return _write_stage(name, result, folder), False
     made: list[Path] = []
 
@@ -167,7 +174,7 @@ def _stage_files(run, name: str, folder: Path) -> tuple[list[Path], bool]:
     dkey = derived_key(
         "files", name, key, code=("gearbox.pipeline.outputs",), packages=FILE_PACKAGES
     )
-    files, hit = remembered(run.cache, "files", dkey, write)
+    files, hit = remembered(cache, "files", dkey, write)
     if not hit:
         return made, False
     return [write_atomic(folder / rel, data) for rel, data in files.items()], True
@@ -178,12 +185,14 @@ class Written:
     """What :func:`write_run` wrote: ``files`` in writing order; ``seconds`` per stage
     (and ``"report"``) spent writing (s); ``copied``: stages whose files came from the
     cache; ``sections``: per stage, ``"cached"`` or the seconds its report section
-    took to draw."""
+    took to draw; ``worker``: stages whose files or sections the output worker made
+    (:mod:`gearbox.pipeline.overlap`), their seconds being the worker's."""
 
     files: tuple[Path, ...]
     seconds: Mapping[str, float]
     copied: tuple[str, ...] = ()
     sections: Mapping[str, str] = field(default_factory=dict)
+    worker: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -191,34 +200,50 @@ class Written:
             "seconds": dict(self.seconds),
             "copied_from_cache": list(self.copied),
             "report_sections": dict(self.sections),
+            "made_by_output_worker": list(self.worker),
         }
 
 
-def write_run(run, folder: str | Path) -> Written:
+def write_run(run, folder: str | Path, *, worker=None) -> Written:
     """Write the run's files into ``folder``: each requested stage's results, the
-    report (when requested) and, last, ``run_summary.json`` (with these timings)."""
+    report (when requested) and, last, ``run_summary.json`` (with these timings).
+
+    ``worker``: an :class:`gearbox.pipeline.overlap.OutputWorker` the run's computed
+    stages were handed to; their files and sections are taken from it (what it
+    failed to make is made here)."""
     folder = Path(folder)
     files: list[Path] = []
     seconds: dict[str, float] = {}
     copied: list[str] = []
     drawn: dict[str, str] = {}
+    prepared = {}
+    if worker is not None:
+        prepared = {n: p for n in run.results if (p := worker.take(n)) is not None}
     for name in run.summary.requested:
         if run.results.get(name) is None:
             continue
-        t0 = time.perf_counter()
-        got, hit = _stage_files(run, name, folder)
+        done = prepared[name].files if name in prepared else None
+        if done is not None:
+            got, hit, seconds[name] = done
+        else:
+            t0 = time.perf_counter()
+            got, hit = _stage_files(run, name, folder)
+            seconds[name] = time.perf_counter() - t0
         files += got
-        seconds[name] = time.perf_counter() - t0
         if hit:
             copied.append(name)
     if "report" in run.summary.requested:
         from ..report.build import assemble
 
         t0 = time.perf_counter()
-        html, drawn = assemble(run)
+        drawn_there = {n: p.sections for n, p in prepared.items() if p.sections is not None}
+        html, drawn = assemble(run, prepared=drawn_there)
         files.append(write_atomic(folder / "report.html", html))
         seconds["report"] = time.perf_counter() - t0
-    written = Written(tuple(files), seconds, tuple(copied), drawn)
+    made_there = tuple(
+        n for n, p in prepared.items() if p.files is not None or p.sections is not None
+    )
+    written = Written(tuple(files), seconds, tuple(copied), drawn, made_there)
     summary = run.summary.to_dict() | {"keys": dict(run.keys), "outputs": written.to_dict()}
     path = write_atomic(folder / "run_summary.json", json.dumps(summary, indent=2))
     return dataclasses.replace(written, files=(path, *files))

@@ -176,6 +176,7 @@ def run_pipeline(
     jobs: int | None = None,
     progress: bool = False,
     on_stage: Callable[[StageRecord], None] | None = None,
+    on_result: Callable[[str, Any, str | None], None] | None = None,
 ) -> PipelineRun:
     """Compute, or load from the cache, every stage that ``requested`` needs.
 
@@ -199,6 +200,11 @@ def run_pipeline(
         tqdm progress bars on stderr.
     on_stage : callable, optional
         Called with each stage's :class:`StageRecord` as soon as the stage is done.
+    on_result : callable, optional
+        Called as ``on_result(stage, result, key)`` for each stage computed in this
+        run, as soon as it is done (``key`` is None without a cache); ``gearbox run``
+        hands the result to a worker process that writes its files and draws its
+        report section (:mod:`gearbox.pipeline.overlap`).
 
     A stage that raises is recorded as ``failed`` (its message in the summary, its
     traceback logged to the ``gearbox.pipeline`` logger) and the stages downstream of
@@ -290,6 +296,8 @@ def run_pipeline(
                         detail + "; " if detail else ""
                     ) + f"not cached ({type(exc).__name__}: {exc})"
             record(StageRecord(name, "computed", time.perf_counter() - t0, keys[name], detail))
+            if on_result is not None:
+                on_result(name, result, keys[name] if store is not None else None)
     bar.close()
     summary = RunSummary(
         records=tuple(records),

@@ -113,7 +113,9 @@ def section_key(run, name: str) -> str:
     return sections.section_key(run.scene, name, run.keys[name])
 
 
-def _render(name: str, render: Callable, run, own: bool) -> tuple[list[Section], str]:
+def _render(
+    name: str, render: Callable, run, own: bool, prepared=None
+) -> tuple[list[Section], str]:
     """The section(s) of one stage and where they came from (``"cached"`` or the
     seconds spent drawing). Default renderers see only their stage
     (:func:`gearbox.report.sections.stage_view`) and their sections are kept in the
@@ -124,16 +126,25 @@ def _render(name: str, render: Callable, run, own: bool) -> tuple[list[Section],
         t0 = time.perf_counter()
         got = render(result, run)
         return (got if isinstance(got, list) else [got]), f"{time.perf_counter() - t0:.2f}"
+    if prepared is not None:  # drawn by a worker process beside the stages
+        got, drawn = prepared
+        return list(got), drawn
     cached_key = getattr(run, "cached_key", None)
     store = run.cache if cached_key is not None and cached_key(name) is not None else None
     got, drawn = sections.draw(name, render, run.scene, result, run.keys.get(name, ""), store)
     return list(got), drawn
 
 
-def assemble(run, *, renderers: dict[str, Callable] | None = None) -> tuple[str, dict[str, str]]:
+def assemble(
+    run, *, renderers: dict[str, Callable] | None = None, prepared=None
+) -> tuple[str, dict[str, str]]:
     """``(html, drawn)``: the report of ``run`` and, per stage with a section, where
-    the section came from (``"cached"``, or the seconds spent drawing it)."""
+    the section came from (``"cached"``, or the seconds spent drawing it).
+
+    ``prepared``: stage -> ``(sections, drawn)`` already drawn with the default
+    renderers (by :class:`gearbox.pipeline.overlap.OutputWorker`); used as they are."""
     own = renderers is None
+    prepared = prepared if own and prepared else {}
     if renderers is None:
         renderers = RENDERERS or _renderers()
     from .generic import render_generic
@@ -148,7 +159,7 @@ def assemble(run, *, renderers: dict[str, Callable] | None = None) -> tuple[str,
         if name not in run.results:
             continue
         try:
-            got, drawn[name] = _render(name, render, run, own)
+            got, drawn[name] = _render(name, render, run, own, prepared.get(name))
         except Exception as exc:
             print(f"gearbox report: section {name!r} failed: {exc!r}", file=sys.stderr)
             warnings.append(
