@@ -7,7 +7,8 @@ depends on the stage's key and those entries only, and is kept in the run's cach
 under :func:`section_key`: a stage that came from the cache is not drawn again.
 (Drawing the sections on a background thread while later stages computed was tried
 and measured: no faster on a 16-core machine, the drawing and the stages' Python
-parts share the GIL.)
+parts share the GIL. ``gearbox run`` draws them in a second process instead:
+:mod:`gearbox.pipeline.overlap`.)
 """
 
 from __future__ import annotations
