@@ -157,7 +157,13 @@ class FastCompliance:
     :func:`~gearbox.ltca.slice_model.slice_compliance`). beam_at: where the tooth's
     beam deflection is taken, ``"load_point"`` (the first version) or
     ``"centre_line"`` (where the load's line crosses the tooth's centre line, down to
-    which Weber's contact term runs: ``slice_compliance(beam_at=...)``).
+    which Weber's contact term runs: ``slice_compliance(beam_at=...)``). tooth: the
+    tooth above the root circle, ``"beam"`` (bending, shear and axial compression of
+    :func:`~gearbox.ltca.slice_model.slice_compliance`, read at ``beam_at``) or
+    ``"fe"`` (the slice's tooth as a plane-strain finite-element body clamped at the
+    root circle, read at the centre line:
+    :func:`~gearbox.ltca.slice_fe.fe_tooth_compliance`; Sainsot's foundation as with
+    the beam).
     """
 
     coupling_length: float = 1.0
@@ -168,6 +174,7 @@ class FastCompliance:
     contact_depth: float = CONTACT_DEPTH
     root: str = "radial"
     beam_at: str = "load_point"
+    tooth: str = "beam"
     name: str = "fast"
     load_dependent: bool = True
 
@@ -198,6 +205,7 @@ class FastCompliance:
             self.beam_at,
             "must be 'load_point' or 'centre_line'",
         )
+        p.check(self.tooth in ("beam", "fe"), "tooth", self.tooth, "must be 'beam' or 'fe'")
         p.raise_if_any("invalid fast compliance")
         if self.body_compliance is None:
             object.__setattr__(self, "body_compliance", _CALIBRATED[self.contact])
@@ -215,14 +223,16 @@ class FastCompliance:
             section, factor = (
                 normal_section(teeth) if self.section == "normal" else (teeth, proj**2)
             )
-            c = slice_compliance(
-                section,
-                E,
-                nu,
-                root=self.root,
-                normal=self.section == "normal",
-                beam_at=self.beam_at,
-            ).total
+            normal = self.section == "normal"
+            parts = slice_compliance(
+                section, E, nu, root=self.root, normal=normal, beam_at=self.beam_at
+            )
+            if self.tooth == "fe":
+                from .slice_fe import fe_tooth_compliance
+
+                c = fe_tooth_compliance(section, E, nu, normal=normal) + parts[3]
+            else:
+                c = parts.total
             if self.shared_torsion:
                 c = c - body_torsion(section, G)
             out.append(c * factor)

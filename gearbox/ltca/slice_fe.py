@@ -127,14 +127,123 @@ def _stiffness(xy, conn, E, nu):
     return coo_matrix((Ke.ravel(), (rows, cols)), shape=(n, n)).tocsc()
 
 
+def _solve_section(sections, i0, radii, E, nu, normal, n_along, n_across) -> np.ndarray:
+    """Compliance of section ``i0`` (along the load, read at the centre line) for unit
+    line loads at ``radii``: one factorisation, one solve per radius."""
+    from scipy.sparse.linalg import splu
+
+    rho_o, psi_o = section_outline(sections, int(i0), normal=normal)
+    xy, conn, idx, rho_nodes = _mesh(rho_o, psi_o, n_along, n_across)
+    K = _stiffness(xy, conn, E, nu)
+    fixed = np.concatenate([2 * idx[0], 2 * idx[0] + 1])  # the root circle
+    free = np.setdiff1d(np.arange(K.shape[0]), fixed)
+    lu = splu(K[free][:, free])
+    rb = float(sections.base_radius[i0])
+    psi_b = float(sections.base_half_angle[i0])
+    rL = np.clip(np.asarray(radii, float), rho_nodes[0], rho_nodes[-1])
+    psi_L = _half_angle(rL, rb, psi_b)
+    a1 = np.arccos(np.clip(rb / rL, -1.0, 1.0)) - psi_L
+    xR = rL * np.cos(psi_L) - rL * np.sin(psi_L) * np.tan(a1)  # on the centre line
+    F = np.zeros((K.shape[0], rL.size))
+    edge = idx[:, -1]  # the flank t = +1, nodes along s
+    s_L = np.sqrt((rL - rho_nodes[0]) / (rho_nodes[-1] - rho_nodes[0]))
+    for k, (sl, a) in enumerate(zip(s_L, a1, strict=True)):
+        e = min(int(sl * n_along), n_along - 1)
+        w, _ = _lagrange3(np.array(2.0 * (sl * n_along - e) - 1.0))
+        nodes = edge[2 * e : 2 * e + 3]
+        F[2 * nodes, k] = -np.cos(a) * w
+        F[2 * nodes + 1, k] = -np.sin(a) * w
+    U = np.zeros_like(F)
+    U[free] = lu.solve(F[free])
+    centre = idx[:, idx.shape[1] // 2]  # t = 0: x = 0, y = rho
+    out = np.empty(rL.size)
+    for k, (xr, a) in enumerate(zip(xR, a1, strict=True)):
+        ux = np.interp(xr, rho_nodes, U[2 * centre, k])
+        uy = np.interp(xr, rho_nodes, U[2 * centre + 1, k])
+        out[k] = -(ux * np.cos(a) + uy * np.sin(a))
+    return out
+
+
+#: Tables of solved sections: key (the section's shape, rounded; material; mesh) ->
+#: (heights, compliance times Young's modulus: a plane-strain body's compliance per
+#: unit width times E depends on its shape and Poisson's ratio only).
+_TABLES: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+_TABLES_MAX = 512
+
+#: Load heights per table, spaced evenly in roll length from the involute's start (or
+#: the fillet's top, whichever is higher) to the tip; a cubic spline between them.
+TABLE_RADII = 13
+
+#: Rounding of the section's shape in the table key: the number of teeth, the profile
+#: shift coefficient and the root, tip and base radii over the normal module, the
+#: base half-angle, pressure and helix angles (rad) and the basic rack's dedendum and
+#: root radius over the module. Sections that agree to these steps share one table:
+#: the beveloid's sections change along the face, and every mesh position meets others.
+KEY_STEPS = (1.0, 0.02, 0.02, 0.02, 0.02, 2e-3, 1e-3, 1e-3, 1e-3, 1e-3)
+
+
+def _shape_keys(sections) -> np.ndarray:
+    """The dimensionless shape of each section (the compliance of a plane-strain body
+    per unit width does not depend on its size), rounded to :data:`KEY_STEPS`."""
+    n = np.asarray(sections.radius).size
+    m = np.broadcast_to(np.asarray(sections.normal_module, float), (n,))
+    cols = [
+        sections.teeth,
+        sections.profile_shift,
+        np.asarray(sections.root_radius) / m,
+        np.asarray(sections.tip_radius) / m,
+        np.asarray(sections.base_radius) / m,
+        sections.base_half_angle,
+        sections.normal_pressure_angle,
+        sections.helix_angle,
+        sections.rack_dedendum,
+        sections.rack_root_radius,
+    ]
+    cols = [np.broadcast_to(np.asarray(c, float), (n,)) for c in cols]
+    return np.column_stack([np.round(c / st) for c, st in zip(cols, KEY_STEPS, strict=True)])
+
+
+def _height(sections, radius) -> np.ndarray:
+    """Load height over the tooth's height, ``(r - r_f) / (r_a - r_f)``."""
+    rf = np.asarray(sections.root_radius, float)
+    return (np.asarray(radius, float) - rf) / (np.asarray(sections.tip_radius, float) - rf)
+
+
+def _table(sections, i0, key, E, nu, normal, n_along, n_across):
+    from dataclasses import fields, replace
+
+    got = _TABLES.get(key)
+    if got is None:
+        one = replace(
+            sections,
+            **{
+                f.name: np.atleast_1d(np.asarray(getattr(sections, f.name)))[[i0]]
+                for f in fields(sections)
+            },
+        )
+        rb = float(one.base_radius[0])
+        rho_o, _ = section_outline(one, 0, normal=normal, samples=50)
+        lo = max(rb * (1.0 + 1e-9), float(rho_o[0]) + 1e-3 * (rho_o[-1] - rho_o[0]))
+        ra = float(rho_o[-1])
+        roll = np.linspace(np.sqrt(lo**2 - rb**2), np.sqrt(ra**2 - rb**2), TABLE_RADII)
+        radii = np.sqrt(rb**2 + roll**2)
+        fe = _solve_section(one, 0, radii, E, nu, normal, n_along, n_across)
+        got = (_height(one, radii), fe * E)
+        if len(_TABLES) >= _TABLES_MAX:
+            _TABLES.clear()
+        _TABLES[key] = got
+    return got
+
+
 def fe_tooth_compliance(
     sections,
     youngs_modulus: float,
     poisson_ratio: float,
     *,
     normal: bool = True,
-    n_along: int = 48,
-    n_across: int = 10,
+    n_along: int = 24,
+    n_across: int = 6,
+    tabulated: bool = True,
 ) -> np.ndarray:
     """Tooth compliance of slices (m per N/m of transverse line load, along the load),
     the tooth alone clamped at the root circle, read where the load's line of action
@@ -142,57 +251,48 @@ def fe_tooth_compliance(
 
     ``sections``: :class:`~gearbox.ltca.grid.ToothSections` (use
     :func:`~gearbox.ltca.slice_model.normal_section` for helical slices, as the beam
-    does). Points whose section (everything but the load radius) is the same share
-    one model. ``n_along`` / ``n_across``: elements along and across the tooth.
+    does). ``n_along`` / ``n_across``: elements along and across the tooth.
+    ``tabulated``: solve one section per shape (:data:`KEY_STEPS`) for
+    :data:`TABLE_RADII` load heights and keep the table for the process (a loaded TCA
+    meets the same shapes at every mesh position); each point takes the value at its
+    height ``(r - r_f) / (r_a - r_f)`` (cubic spline; below the table, its first
+    value); else solve every distinct section at the points' own radii.
     """
-    from scipy.sparse.linalg import splu
+    from scipy.interpolate import CubicSpline
 
     n = np.asarray(sections.radius).size
-    keys = np.column_stack(
-        [
-            sections.base_radius,
-            sections.base_half_angle,
-            sections.tip_radius,
-            sections.profile_shift,
-            sections.normal_module,
-            sections.normal_pressure_angle,
-            sections.helix_angle,
-            sections.rack_dedendum,
-            sections.rack_root_radius,
-            sections.teeth,
-        ]
-    )
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    radius = np.asarray(sections.radius, float)
+    E, nu = float(youngs_modulus), float(poisson_ratio)
     out = np.empty(n)
+    if not tabulated:
+        keys = np.column_stack(
+            [
+                np.broadcast_to(np.asarray(getattr(sections, f), float), (n,))
+                for f in (
+                    "base_radius",
+                    "base_half_angle",
+                    "root_radius",
+                    "tip_radius",
+                    "teeth",
+                    "rack_dedendum",
+                    "rack_root_radius",
+                    "helix_angle",
+                )
+            ]
+        )
+        _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+        inverse = inverse.ravel()
+        for g, i0 in enumerate(first):
+            pts = np.flatnonzero(inverse == g)
+            out[pts] = _solve_section(sections, i0, radius[pts], E, nu, normal, n_along, n_across)
+        return out
+    keys = _shape_keys(sections)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    height = _height(sections, radius)
     for g, i0 in enumerate(first):
-        pts = np.flatnonzero(inverse.ravel() == g)
-        rho_o, psi_o = section_outline(sections, int(i0), normal=normal)
-        xy, conn, idx, rho_nodes = _mesh(rho_o, psi_o, n_along, n_across)
-        K = _stiffness(xy, conn, youngs_modulus, poisson_ratio)
-        fixed = np.concatenate([2 * idx[0], 2 * idx[0] + 1])  # the root circle
-        free = np.setdiff1d(np.arange(K.shape[0]), fixed)
-        lu = splu(K[free][:, free])
-        rb = float(sections.base_radius[i0])
-        psi_b = float(sections.base_half_angle[i0])
-        rL = np.asarray(sections.radius, float)[pts]
-        psi_L = _half_angle(rL, rb, psi_b)
-        a1 = np.arccos(np.clip(rb / rL, -1.0, 1.0)) - psi_L
-        xR = rL * np.cos(psi_L) - rL * np.sin(psi_L) * np.tan(a1)  # on the centre line
-        F = np.zeros((K.shape[0], pts.size))
-        edge = idx[:, -1]  # the flank t = +1, nodes along s
-        s_L = np.sqrt((rL - rho_nodes[0]) / (rho_nodes[-1] - rho_nodes[0]))
-        for k, (sl, a) in enumerate(zip(s_L, a1, strict=True)):
-            e = min(int(sl * n_along), n_along - 1)
-            loc = 2.0 * (sl * n_along - e) - 1.0
-            w, _ = _lagrange3(np.array(loc))
-            nodes = edge[2 * e : 2 * e + 3]
-            F[2 * nodes, k] = -np.cos(a) * w
-            F[2 * nodes + 1, k] = -np.sin(a) * w
-        U = np.zeros_like(F)
-        U[free] = lu.solve(F[free])
-        centre = idx[:, idx.shape[1] // 2]  # t = 0: x = 0, y = rho
-        for k, (xr, a) in enumerate(zip(xR, a1, strict=True)):
-            ux = np.interp(xr, rho_nodes, U[2 * centre, k])
-            uy = np.interp(xr, rho_nodes, U[2 * centre + 1, k])
-            out[pts[k]] = -(ux * np.cos(a) + uy * np.sin(a))
+        pts = np.flatnonzero(inverse == g)
+        key = (*keys[i0].tolist(), E, nu, bool(normal), int(n_along), int(n_across))
+        h, ce = _table(sections, int(i0), key, E, nu, normal, n_along, n_across)
+        out[pts] = CubicSpline(h, ce)(np.clip(height[pts], h[0], h[-1])) / E
     return out
