@@ -244,8 +244,9 @@ def test_plane_strain_tooth_matches_the_fe_tooth_clamped_at_the_root(name):
     3-D FE tooth clamped at the root circle, read at the centre line, at all six
     heights: within -4 .. +3 % (measured -3.3 .. +2.6 %; the 3-D tooth has free end
     faces, and case 03's is the helical tooth itself, not its virtual spur tooth of the
-    normal section), where the beam is 1.15 to 1.97 times softer. The default mesh is
-    within 0.5 % of one four times finer in each direction."""
+    normal section), where the beam is 1.15 to 1.97 times softer. The default (a coarse
+    mesh, one table per section shape) is within 1 % of a mesh four times finer solved
+    at each height (measured 0.85 % at case 03's lowest)."""
     from gearbox.ltca.slice_fe import fe_tooth_compliance
 
     pair = _bench().PAIRS[name]
@@ -258,7 +259,7 @@ def test_plane_strain_tooth_matches_the_fe_tooth_clamped_at_the_root(name):
     E, nu = g.youngs_modulus, g.poisson_ratio
     c = fe_tooth_compliance(v, E, nu) * factor
     fine = fe_tooth_compliance(v, E, nu, n_along=96, n_across=20) * factor
-    np.testing.assert_allclose(c, fine, rtol=5e-3)
+    np.testing.assert_allclose(c, fine, rtol=1e-2)
     ratio = c / fe3
     assert np.all(ratio > 0.96) and np.all(ratio < 1.03), ratio
     b = slice_compliance(v, E, nu, root="fillet", beam_at="centre_line")
