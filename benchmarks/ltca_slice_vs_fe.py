@@ -15,7 +15,9 @@ One tooth, a unit force along the flank normal spread evenly over the whole face
 - slice model (``gearbox.ltca.slice_model``): bending, shear, axial compression (the
   beam, clamped at the root circle), Sainsot's fillet foundation (body torsion
   included) and the body torsion alone, and Weber's half-plane compression between
-  the same two depths, ``2 (1 - nu^2) / (pi E) ln(h / d)`` per unit line load.
+  the same two depths, ``2 (1 - nu^2) / (pi E) ln(h / d)`` per unit line load;
+  and the tooth as a plane-strain FE body clamped at the root circle
+  (``gearbox.ltca.slice_fe``, ``FastCompliance(tooth="fe")``).
 
     python benchmarks/ltca_slice_vs_fe.py                    # spur z 30/45 and case 03
     python benchmarks/ltca_slice_vs_fe.py --refine 1.0 --json tests/data/fe_slice_line_load.json
@@ -51,6 +53,7 @@ from gearbox.fe.compliance import gear_loads  # noqa: E402
 from gearbox.fe.extent import extent_limit  # noqa: E402
 from gearbox.fe.line_load import line_load_compliance  # noqa: E402
 from gearbox.ltca import ParallelPair, parallel_grid  # noqa: E402
+from gearbox.ltca.slice_fe import fe_tooth_compliance  # noqa: E402
 from gearbox.ltca.slice_model import body_torsion, normal_section, slice_compliance  # noqa: E402
 
 #: The two teeth of the experiment: the spur pinion z 30 of docs/fe.md's pair z 30/45,
@@ -97,6 +100,7 @@ def slice_terms(
         "torsion": body_torsion(v, E / (2 * (1 + nu))) * factor,
         "weber_d_to_centre": weber,
     }
+    out["plane strain tooth"] = fe_tooth_compliance(v, E, nu) * factor
     for root, pre in (("radial", ""), ("fillet", "fillet ")):
         c = slice_compliance(v, E, nu, root=root, beam_at=beam_at)
         for k, part in enumerate(("bending", "shear", "axial", "foundation")):
@@ -175,7 +179,7 @@ def table(name: str, pair: ParallelPair, radii, fe: dict, sl: dict) -> None:
         )
     print(
         f"{'h (mm)':>7} | {'FE fdn+far':>10} {'Sainsot':>7} {'ratio':>5} {'fillet':>6} {'ratio':>5} "
-        f"| {'FE tooth':>8} {'beam, fillet':>12} {'ratio':>5}"
+        f"| {'FE tooth':>8} {'beam, fillet':>12} {'ratio':>5} | {'plane strain':>12} {'ratio':>5}"
     )
     for i, r in enumerate(radii):
         whole = fe["segment_centre"][i] - fe["tooth_centre"][i]
@@ -185,7 +189,9 @@ def table(name: str, pair: ParallelPair, radii, fe: dict, sl: dict) -> None:
             f"{(r - rf) * 1e3:7.2f} | {whole / UNIT:10.3f} {sl['foundation'][i] / UNIT:7.3f} "
             f"{sl['foundation'][i] / whole:5.2f} {sl['fillet foundation'][i] / UNIT:6.3f} "
             f"{sl['fillet foundation'][i] / whole:5.2f} | {fe['tooth_centre'][i] / UNIT:8.3f} "
-            f"{beam / UNIT:12.3f} {beam / fe['tooth_centre'][i]:5.2f}"
+            f"{beam / UNIT:12.3f} {beam / fe['tooth_centre'][i]:5.2f} | "
+            f"{sl['plane strain tooth'][i] / UNIT:12.3f} "
+            f"{sl['plane strain tooth'][i] / fe['tooth_centre'][i]:5.2f}"
         )
 
 
