@@ -163,7 +163,9 @@ class FastCompliance:
     ``"fe"`` (the slice's tooth as a plane-strain finite-element body clamped at the
     root circle, read at the centre line:
     :func:`~gearbox.ltca.slice_fe.fe_tooth_compliance`; Sainsot's foundation as with
-    the beam).
+    the beam). The FE tooth holds the generated fillet and is read at the centre line
+    whatever ``root`` and ``beam_at`` say; ``root`` still picks Sainsot's root thickness,
+    so ``tooth="fe"`` goes with ``root="fillet"`` (measured so: docs/ltca.md).
     """
 
     coupling_length: float = 1.0
