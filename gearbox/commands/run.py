@@ -92,7 +92,10 @@ def _output_worker(scene, only, cache, out, jobs, off: bool):
     todo = [n for n, _, cached in preview(scene, requested, cache=cache) if not cached]
     if not any(report or n in requested for n in todo):
         return contextlib.nullcontext()
-    return OutputWorker(out, _as_cache(cache), files=requested, report=report)
+    try:
+        return OutputWorker(out, _as_cache(cache), files=requested, report=report)
+    except (OSError, NotImplementedError):  # no process pool here (e.g. no semaphores)
+        return contextlib.nullcontext()
 
 
 def run(args) -> int:
