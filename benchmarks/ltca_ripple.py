@@ -18,7 +18,8 @@ its calibrated body coefficient), ``--root`` its tooth below the involute
 (``FastCompliance(root=...)``), ``--beam-at`` where its slice beam's deflection is
 taken (``FastCompliance(beam_at=...)``), ``--tooth`` the tooth above the root circle
 (``FastCompliance(tooth=...)``: the beam or the plane-strain FE slice), ``--body`` its
-body coefficient (default: the calibrated one). ``--fit-body`` fits the body coefficient for it (the
+body coefficient (default: the calibrated one), ``--coupling-length`` the slices'
+coupling along the face (``FastCompliance(coupling_length=...)``). ``--fit-body`` fits the body coefficient for it (the
 minimax rule of ``tests/test_ltca_calibration.py`` over the stored whole-gear FE mean
 stiffness, cases 01-04, both flanks, three torques) and prints the errors at the fit
 rounded to two decimals. ``--parallel`` compares the mean stiffness of three parallel
@@ -42,6 +43,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -328,21 +330,18 @@ def calibration_errors(cases, flanks, compliance) -> np.ndarray:
     return np.asarray(out)
 
 
-def fit_body(
-    cases, flanks, contact: str, root: str = "radial", beam_at="load_point", tooth="beam"
-) -> float:
+def fit_body(cases, flanks, base: FastCompliance) -> float:
     """Minimax body coefficient: the mean stiffness with the body term is the one
     without it in series with ``c s`` (s from a second run at c = 0.3, exact for a
-    parallel pair and within rounding here); the fit is checked by a full run."""
+    parallel pair and within rounding here); the fit is checked by a full run. ``base``:
+    the fast level whose body coefficient is fitted (its other options kept)."""
     k0, k1, kfe = [], [], []
     for case in cases:
         for flank in flanks:
             _, _, grids = case_grids(case, flank)
             run = stored_fe(case, flank)
             for c, out in ((0.0, k0), (0.3, k1)):
-                comp = FastCompliance(
-                    contact=contact, body_compliance=c, root=root, beam_at=beam_at, tooth=tooth
-                )
+                comp = replace(base, body_compliance=c)
                 out.append(cycle(grids, run["torques_Nm"], comp).stiffness.mean(axis=1))
             kfe.append(whole_gear_stiffness(case, flank))
     k0, k1, kfe = (np.asarray(v) for v in (k0, k1, kfe))
@@ -431,13 +430,19 @@ def main(argv=None) -> int:
     ap.add_argument("--root", default="radial", choices=("radial", "fillet"))
     ap.add_argument("--beam-at", default="load_point", choices=("load_point", "centre_line"))
     ap.add_argument("--tooth", default="beam", choices=("beam", "fe"))
+    ap.add_argument("--coupling-length", type=float, default=1.0, help="over the tooth depth")
     ap.add_argument("--body", type=float, help="body coefficient (default: the calibrated one)")
     ap.add_argument("--fit-body", action="store_true", help="fit the body coefficient")
     ap.add_argument("--parallel", action="store_true", help="parallel pairs against the FE")
     ap.add_argument("--json", type=Path)
     a = ap.parse_args(argv)
     fast = FastCompliance(
-        contact=a.contact, root=a.root, beam_at=a.beam_at, tooth=a.tooth, body_compliance=a.body
+        contact=a.contact,
+        root=a.root,
+        beam_at=a.beam_at,
+        tooth=a.tooth,
+        body_compliance=a.body,
+        coupling_length=a.coupling_length,
     )
     # the column to compare with: the first version (torsion in the slices) for the
     # default contact term, the default contact term for the other
@@ -448,7 +453,7 @@ def main(argv=None) -> int:
     )
     print(
         f"contact {a.contact}, root {a.root}, beam at the {a.beam_at}, tooth {a.tooth}, "
-        f"body coefficient {fast.body_compliance}"
+        f"coupling length {a.coupling_length}, body coefficient {fast.body_compliance}"
     )
     print("LTE peak-to-peak (um) at 150 / 300 / 450 N m; fast / FE - 1")
     print(
@@ -481,10 +486,8 @@ def main(argv=None) -> int:
         f"{100 * err.max():+.1f} %"
     )
     if a.fit_body:
-        c = round(fit_body(a.cases, a.flanks, a.contact, a.root, a.beam_at, a.tooth), 2)
-        fitted = FastCompliance(
-            contact=a.contact, body_compliance=c, root=a.root, beam_at=a.beam_at, tooth=a.tooth
-        )
+        c = round(fit_body(a.cases, a.flanks, fast), 2)
+        fitted = replace(fast, body_compliance=c)
         err = calibration_errors(a.cases, a.flanks, fitted)
         print(
             f"fitted body coefficient {c:.2f}: mean stiffness {100 * err.min():+.1f} .. "
