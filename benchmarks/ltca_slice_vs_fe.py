@@ -17,7 +17,9 @@ One tooth, a unit force along the flank normal spread evenly over the whole face
   included) and the body torsion alone, and Weber's half-plane compression between
   the same two depths, ``2 (1 - nu^2) / (pi E) ln(h / d)`` per unit line load;
   and the tooth as a plane-strain FE body clamped at the root circle
-  (``gearbox.ltca.slice_fe``, ``FastCompliance(tooth="fe")``).
+  (``gearbox.ltca.slice_fe``, ``FastCompliance(tooth="fe")``), and the whole virtual
+  spur gear in plane strain (``slice_fe.whole_gear_compliance``, its number of teeth
+  rounded) against the FE's whole gear (segment + far field).
 
     python benchmarks/ltca_slice_vs_fe.py                    # spur z 30/45 and case 03
     python benchmarks/ltca_slice_vs_fe.py --refine 1.0 --json tests/data/fe_slice_line_load.json
@@ -53,7 +55,7 @@ from gearbox.fe.compliance import gear_loads  # noqa: E402
 from gearbox.fe.extent import extent_limit  # noqa: E402
 from gearbox.fe.line_load import line_load_compliance  # noqa: E402
 from gearbox.ltca import ParallelPair, parallel_grid  # noqa: E402
-from gearbox.ltca.slice_fe import fe_tooth_compliance  # noqa: E402
+from gearbox.ltca.slice_fe import fe_tooth_compliance, whole_gear_compliance  # noqa: E402
 from gearbox.ltca.slice_model import body_torsion, normal_section, slice_compliance  # noqa: E402
 
 #: The two teeth of the experiment: the spur pinion z 30 of docs/fe.md's pair z 30/45,
@@ -101,6 +103,9 @@ def slice_terms(
         "weber_d_to_centre": weber,
     }
     out["plane strain tooth"] = fe_tooth_compliance(v, E, nu) * factor
+    # the whole (virtual spur) gear in plane strain, its number of teeth rounded
+    zv = int(round(float(v.teeth[0])))
+    out["plane strain gear"] = whole_gear_compliance(v, E, nu, zv) * factor
     for root, pre in (("radial", ""), ("fillet", "fillet ")):
         c = slice_compliance(v, E, nu, root=root, beam_at=beam_at)
         for k, part in enumerate(("bending", "shear", "axial", "foundation")):
@@ -179,8 +184,10 @@ def table(name: str, pair: ParallelPair, radii, fe: dict, sl: dict) -> None:
         )
     print(
         f"{'h (mm)':>7} | {'FE fdn+far':>10} {'Sainsot':>7} {'ratio':>5} {'fillet':>6} {'ratio':>5} "
-        f"| {'FE tooth':>8} {'beam, fillet':>12} {'ratio':>5} | {'plane strain':>12} {'ratio':>5}"
+        f"| {'FE tooth':>8} {'beam, fillet':>12} {'ratio':>5} | {'plane strain':>12} {'ratio':>5} "
+        f"| {'FE whole':>8} {'2-D gear':>8} {'ratio':>5}"
     )
+    whole_fe = fe["segment_centre"] + fe.get("far_field", np.full(radii.size, np.nan))
     for i, r in enumerate(radii):
         whole = fe["segment_centre"][i] - fe["tooth_centre"][i]
         whole = whole + fe.get("far_field", np.full(radii.size, np.nan))[i]
@@ -191,7 +198,9 @@ def table(name: str, pair: ParallelPair, radii, fe: dict, sl: dict) -> None:
             f"{sl['fillet foundation'][i] / whole:5.2f} | {fe['tooth_centre'][i] / UNIT:8.3f} "
             f"{beam / UNIT:12.3f} {beam / fe['tooth_centre'][i]:5.2f} | "
             f"{sl['plane strain tooth'][i] / UNIT:12.3f} "
-            f"{sl['plane strain tooth'][i] / fe['tooth_centre'][i]:5.2f}"
+            f"{sl['plane strain tooth'][i] / fe['tooth_centre'][i]:5.2f} | "
+            f"{whole_fe[i] / UNIT:8.3f} {sl['plane strain gear'][i] / UNIT:8.3f} "
+            f"{sl['plane strain gear'][i] / whole_fe[i]:5.2f}"
         )
 
 

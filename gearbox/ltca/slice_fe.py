@@ -28,7 +28,7 @@ import numpy as np
 
 from .slice_model import _fillet_points, _half_angle, fillet_root
 
-__all__ = ["fe_tooth_compliance", "section_outline"]
+__all__ = ["fe_tooth_compliance", "section_outline", "whole_gear_compliance"]
 
 _G3 = np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
 _W3 = np.array([5.0, 8.0, 5.0]) / 9.0
@@ -127,17 +127,16 @@ def _stiffness(xy, conn, E, nu):
     return coo_matrix((Ke.ravel(), (rows, cols)), shape=(n, n)).tocsc()
 
 
-def _solve_section(sections, i0, radii, E, nu, normal, n_along, n_across) -> np.ndarray:
-    """Compliance of section ``i0`` (along the load, read at the centre line) for unit
-    line loads at ``radii``: one factorisation, one solve per radius."""
+def _read_loads(K, fixed, tooth, rho_nodes, sections, i0, radii) -> np.ndarray:
+    """Unit line loads on the flank ``t = +1`` of the tooth whose node grid (rows along
+    s, columns across t) is ``tooth``, along the transverse line of action at
+    ``radii``, and the displacement along each load where its line crosses the tooth's
+    centre line (m per N/m): one factorisation of ``K`` with ``fixed`` dofs held."""
     from scipy.sparse.linalg import splu
 
-    rho_o, psi_o = section_outline(sections, int(i0), normal=normal)
-    xy, conn, idx, rho_nodes = _mesh(rho_o, psi_o, n_along, n_across)
-    K = _stiffness(xy, conn, E, nu)
-    fixed = np.concatenate([2 * idx[0], 2 * idx[0] + 1])  # the root circle
+    n_along = (tooth.shape[0] - 1) // 2
     free = np.setdiff1d(np.arange(K.shape[0]), fixed)
-    lu = splu(K[free][:, free])
+    lu = splu(K[free][:, free].tocsc())
     rb = float(sections.base_radius[i0])
     psi_b = float(sections.base_half_angle[i0])
     rL = np.clip(np.asarray(radii, float), rho_nodes[0], rho_nodes[-1])
@@ -145,7 +144,7 @@ def _solve_section(sections, i0, radii, E, nu, normal, n_along, n_across) -> np.
     a1 = np.arccos(np.clip(rb / rL, -1.0, 1.0)) - psi_L
     xR = rL * np.cos(psi_L) - rL * np.sin(psi_L) * np.tan(a1)  # on the centre line
     F = np.zeros((K.shape[0], rL.size))
-    edge = idx[:, -1]  # the flank t = +1, nodes along s
+    edge = tooth[:, -1]  # the flank t = +1, nodes along s
     s_L = np.sqrt((rL - rho_nodes[0]) / (rho_nodes[-1] - rho_nodes[0]))
     for k, (sl, a) in enumerate(zip(s_L, a1, strict=True)):
         e = min(int(sl * n_along), n_along - 1)
@@ -155,13 +154,88 @@ def _solve_section(sections, i0, radii, E, nu, normal, n_along, n_across) -> np.
         F[2 * nodes + 1, k] = -np.sin(a) * w
     U = np.zeros_like(F)
     U[free] = lu.solve(F[free])
-    centre = idx[:, idx.shape[1] // 2]  # t = 0: x = 0, y = rho
+    centre = tooth[:, tooth.shape[1] // 2]  # t = 0: on the centre line, at rho
     out = np.empty(rL.size)
     for k, (xr, a) in enumerate(zip(xR, a1, strict=True)):
         ux = np.interp(xr, rho_nodes, U[2 * centre, k])
         uy = np.interp(xr, rho_nodes, U[2 * centre + 1, k])
         out[k] = -(ux * np.cos(a) + uy * np.sin(a))
     return out
+
+
+def _solve_section(sections, i0, radii, E, nu, normal, n_along, n_across) -> np.ndarray:
+    """Compliance of section ``i0``'s tooth clamped at the root circle (along the load,
+    read at the centre line) for unit line loads at ``radii``."""
+    rho_o, psi_o = section_outline(sections, int(i0), normal=normal)
+    xy, conn, idx, rho_nodes = _mesh(rho_o, psi_o, n_along, n_across)
+    K = _stiffness(xy, conn, E, nu)
+    fixed = np.concatenate([2 * idx[0], 2 * idx[0] + 1])  # the root circle
+    return _read_loads(K, fixed, idx, rho_nodes, sections, i0, radii)
+
+
+def whole_gear_compliance(
+    sections,
+    youngs_modulus: float,
+    poisson_ratio: float,
+    teeth: int,
+    *,
+    normal: bool = True,
+    i0: int = 0,
+    n_along: int = 24,
+    n_across: int = 6,
+    n_gap: int = 6,
+    n_rim: int = 8,
+) -> np.ndarray:
+    """The whole gear of section ``i0`` as a plane-strain FE body: ``teeth`` teeth on a
+    rim from the bore (clamped) to the root circle, tooth 0 loaded at each of
+    ``sections.radius`` in turn, read as :func:`fe_tooth_compliance` (m per N/m),
+    shape (n,). For checks of the foundation (the slices' Sainsot term) against the
+    3-D FE level (``benchmarks/ltca_slice_vs_fe.py``); ``teeth`` must be an integer,
+    so a helical gear's virtual spur gear is rounded by the caller."""
+    rho_o, psi_o = section_outline(sections, int(i0), normal=normal)
+    xy_t, conn_t, idx_t, rho_nodes = _mesh(rho_o, psi_o, n_along, n_across)
+    rf, theta_f = float(rho_o[0]), float(psi_o[0])
+    z = int(teeth)
+    nt = 2 * n_across + 1
+    pitch = 2.0 * np.pi / z
+    # rim: per pitch the tooth's root nodes (uniform in angle) and the gap to the next
+    per = np.concatenate(
+        [
+            np.linspace(-theta_f, theta_f, nt)[:-1],
+            np.linspace(theta_f, pitch - theta_f, 2 * n_gap + 1)[:-1],
+        ]
+    )
+    ang = (per[None, :] + pitch * np.arange(z)[:, None]).ravel()
+    na = ang.size
+    u = np.linspace(0.0, 1.0, 2 * n_rim + 1)
+    bore = float(np.asarray(sections.bore_radius, float).ravel()[i0])
+    rr = bore + (rf - bore) * (1.0 - (1.0 - u) ** 2)  # finer towards the root circle
+    ridx = np.arange(rr.size * na).reshape(rr.size, na)
+    xy = [
+        np.column_stack([(rr[:, None] * np.sin(ang)).ravel(), (rr[:, None] * np.cos(ang)).ravel()])
+    ]
+    ii, jj = np.meshgrid(np.arange(n_rim), np.arange(na // 2), indexing="ij")
+    ii, jj = ii.ravel(), jj.ravel()
+    conn = [
+        np.stack([ridx[2 * ii + a, (2 * jj + b) % na] for a in range(3) for b in range(3)], axis=1)
+    ]
+    count = ridx.size
+    tooth0 = None
+    for k in range(z):
+        gid = np.empty_like(idx_t)
+        gid[0] = ridx[-1, (k * per.size + np.arange(nt)) % na]  # on the rim's root circle
+        gid[1:] = count + np.arange(idx_t[1:].size).reshape(idx_t.shape[0] - 1, nt)
+        count += idx_t[1:].size
+        c, s = np.cos(pitch * k), np.sin(pitch * k)
+        q = xy_t[idx_t[1:].ravel()]
+        xy.append(np.column_stack([c * q[:, 0] + s * q[:, 1], -s * q[:, 0] + c * q[:, 1]]))
+        local = np.empty(xy_t.shape[0], int)
+        local[idx_t.ravel()] = gid.ravel()
+        conn.append(local[conn_t])
+        tooth0 = gid if k == 0 else tooth0
+    K = _stiffness(np.concatenate(xy), np.concatenate(conn), youngs_modulus, poisson_ratio)
+    fixed = np.concatenate([2 * ridx[0], 2 * ridx[0] + 1])  # the bore
+    return _read_loads(K, fixed, tooth0, rho_nodes, sections, i0, sections.radius)
 
 
 #: Tables of solved sections: key (the section's shape, rounded; material; mesh) ->
