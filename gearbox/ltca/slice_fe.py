@@ -232,13 +232,14 @@ def whole_gear_compliance(
         local = np.empty(xy_t.shape[0], int)
         local[idx_t.ravel()] = gid.ravel()
         conn.append(local[conn_t])
-        tooth0 = gid if k == 0 else tooth0
+        if k == 0:
+            tooth0 = gid
     K = _stiffness(np.concatenate(xy), np.concatenate(conn), youngs_modulus, poisson_ratio)
     fixed = np.concatenate([2 * ridx[0], 2 * ridx[0] + 1])  # the bore
     return _read_loads(K, fixed, tooth0, rho_nodes, sections, i0, sections.radius)
 
 
-#: Tables of solved sections: key (the section's shape, rounded; material; mesh) ->
+#: Tables of solved sections: key (the section's shape, rounded; Poisson's ratio; mesh) ->
 #: (heights, compliance times Young's modulus: a plane-strain body's compliance per
 #: unit width times E depends on its shape and Poisson's ratio only).
 _TABLES: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
@@ -284,17 +285,9 @@ def _height(sections, radius) -> np.ndarray:
 
 
 def _table(sections, i0, key, E, nu, normal, n_along, n_across):
-    from dataclasses import fields, replace
-
     got = _TABLES.get(key)
     if got is None:
-        one = replace(
-            sections,
-            **{
-                f.name: np.atleast_1d(np.asarray(getattr(sections, f.name)))[[i0]]
-                for f in fields(sections)
-            },
-        )
+        one = sections.take(np.array([i0]))
         rb = float(one.base_radius[0])
         rho_o, _ = section_outline(one, 0, normal=normal, samples=50)
         lo = max(rb * (1.0 + 1e-9), float(rho_o[0]) + 1e-3 * (rho_o[-1] - rho_o[0]))
@@ -332,26 +325,20 @@ def fe_tooth_compliance(
     height ``(r - r_f) / (r_a - r_f)`` (cubic spline; below the table, its first
     value); else solve every distinct section at the points' own radii.
     """
+    from dataclasses import fields
+
     from scipy.interpolate import CubicSpline
 
     n = np.asarray(sections.radius).size
     radius = np.asarray(sections.radius, float)
     E, nu = float(youngs_modulus), float(poisson_ratio)
     out = np.empty(n)
-    if not tabulated:
+    if not tabulated:  # one model per distinct section: every field but the radius
         keys = np.column_stack(
             [
-                np.broadcast_to(np.asarray(getattr(sections, f), float), (n,))
-                for f in (
-                    "base_radius",
-                    "base_half_angle",
-                    "root_radius",
-                    "tip_radius",
-                    "teeth",
-                    "rack_dedendum",
-                    "rack_root_radius",
-                    "helix_angle",
-                )
+                np.broadcast_to(np.asarray(getattr(sections, f.name), float), (n,))
+                for f in fields(sections)
+                if f.name != "radius"
             ]
         )
         _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
@@ -366,7 +353,7 @@ def fe_tooth_compliance(
     height = _height(sections, radius)
     for g, i0 in enumerate(first):
         pts = np.flatnonzero(inverse == g)
-        key = (*keys[i0].tolist(), E, nu, bool(normal), int(n_along), int(n_across))
+        key = (*keys[i0].tolist(), nu, bool(normal), int(n_along), int(n_across))
         h, ce = _table(sections, int(i0), key, E, nu, normal, n_along, n_across)
         out[pts] = CubicSpline(h, ce)(np.clip(height[pts], h[0], h[-1])) / E
     return out

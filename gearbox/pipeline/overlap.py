@@ -59,13 +59,12 @@ def _init_worker() -> None:
 
     from ..report import build
 
-    build.RENDERERS or build.RENDERERS.update(build._renderers())
+    build._renderers()  # imports the renderers' modules
 
 
 def _prepare(payload: bytes) -> Prepared:
     """In the worker: the files and the section(s) of one stage."""
     from ..report import build, sections
-    from ..report.generic import render_generic
     from .cache import Cache
     from .outputs import stage_files
 
@@ -80,8 +79,8 @@ def _prepare(payload: bytes) -> Prepared:
         except Exception as exc:
             out["files_error"] = exc
     if section:
-        render = (build.RENDERERS or build._renderers()).get(name) or render_generic(name, name)
         try:
+            render = build.default_renderer(name)
             out["sections"] = sections.draw(name, render, scene, result, key or "", cache)
         except Exception as exc:
             out["section_error"] = exc

@@ -52,6 +52,14 @@ def _renderers() -> dict[str, Callable]:
 RENDERERS: dict[str, Callable] = {}
 
 
+def default_renderer(name: str) -> Callable:
+    """The renderer :func:`assemble` uses for stage ``name`` by default: its own, else
+    the generic one (``_repr_html_``, ``report_figures`` or the result's scalars)."""
+    from .generic import render_generic
+
+    return (RENDERERS or _renderers()).get(name) or render_generic(name, name)
+
+
 def _toml_value(v) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
