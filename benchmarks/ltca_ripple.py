@@ -19,7 +19,9 @@ its calibrated body coefficient), ``--root`` its tooth below the involute
 taken (``FastCompliance(beam_at=...)``), ``--tooth`` the tooth above the root circle
 (``FastCompliance(tooth=...)``: the beam or the plane-strain FE slice), ``--body`` its
 body coefficient (default: the calibrated one), ``--coupling-length`` the slices'
-coupling along the face (``FastCompliance(coupling_length=...)``). ``--fit-body`` fits the body coefficient for it (the
+coupling along the face (``FastCompliance(coupling_length=...)``), ``--foundation``
+the split of the fillet foundation (``FastCompliance(foundation=...)``: all in the
+slices, or the body's far field shared by the whole gear). ``--fit-body`` fits the body coefficient for it (the
 minimax rule of ``tests/test_ltca_calibration.py`` over the stored whole-gear FE mean
 stiffness, cases 01-04, both flanks, three torques) and prints the errors at the fit
 rounded to two decimals. ``--parallel`` compares the mean stiffness of three parallel
@@ -431,6 +433,7 @@ def main(argv=None) -> int:
     ap.add_argument("--beam-at", default="load_point", choices=("load_point", "centre_line"))
     ap.add_argument("--tooth", default="beam", choices=("beam", "fe"))
     ap.add_argument("--coupling-length", type=float, default=1.0, help="over the tooth depth")
+    ap.add_argument("--foundation", default="normal", choices=("normal", "split"))
     ap.add_argument("--body", type=float, help="body coefficient (default: the calibrated one)")
     ap.add_argument("--fit-body", action="store_true", help="fit the body coefficient")
     ap.add_argument("--parallel", action="store_true", help="parallel pairs against the FE")
@@ -443,6 +446,7 @@ def main(argv=None) -> int:
         tooth=a.tooth,
         body_compliance=a.body,
         coupling_length=a.coupling_length,
+        foundation=a.foundation,
     )
     # the column to compare with: the first version (torsion in the slices) for the
     # default contact term, the default contact term for the other
@@ -453,7 +457,8 @@ def main(argv=None) -> int:
     )
     print(
         f"contact {a.contact}, root {a.root}, beam at the {a.beam_at}, tooth {a.tooth}, "
-        f"coupling length {a.coupling_length}, body coefficient {fast.body_compliance}"
+        f"coupling length {a.coupling_length}, foundation {a.foundation}, body coefficient "
+        f"{fast.body_compliance}"
     )
     print("LTE peak-to-peak (um) at 150 / 300 / 450 N m; fast / FE - 1")
     print(

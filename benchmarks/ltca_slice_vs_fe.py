@@ -74,6 +74,11 @@ PAIRS = {
         youngs_modulus=206e9,
     ),
 }
+# case 03's pinion at other helix angles (the same normal module, profile shift, face
+# and number of teeth): how the 3-D whole gear departs from its normal section's 2-D
+# virtual spur gear as the helix angle grows
+for _deg in (0, 10, 30):
+    PAIRS[f"case03_beta{_deg}"] = replace(PAIRS["case03"], helix_angle=math.radians(_deg))
 UNIT = 1e-11
 
 
