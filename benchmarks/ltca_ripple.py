@@ -55,6 +55,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from gearbox.geometry import PairSpec, design_pair  # noqa: E402
 from gearbox.ltca import FastCompliance, LTCAOptions, ltca_cycle, solve_contact  # noqa: E402
 from gearbox.ltca.beveloid import scene_grids  # noqa: E402
+from gearbox.ltca.compliance import CALIBRATED_BEAM  # noqa: E402
 from gearbox.scene import load_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -429,11 +430,14 @@ def main(argv=None) -> int:
     ap.add_argument("--fe", type=float, help="run the FE level at this mesh refinement")
     ap.add_argument("--far-field-matrix", action="store_true")
     ap.add_argument("--contact", default="centre_line", choices=("centre_line", "matching_depth"))
-    ap.add_argument("--root", default="radial", choices=("radial", "fillet"))
-    ap.add_argument("--beam-at", default="load_point", choices=("load_point", "centre_line"))
-    ap.add_argument("--tooth", default="beam", choices=("beam", "fe"))
-    ap.add_argument("--coupling-length", type=float, default=1.0, help="over the tooth depth")
-    ap.add_argument("--foundation", default="normal", choices=("normal", "split"))
+    d = FastCompliance()  # the defaults
+    ap.add_argument("--root", default=d.root, choices=("radial", "fillet"))
+    ap.add_argument("--beam-at", default=d.beam_at, choices=("load_point", "centre_line"))
+    ap.add_argument("--tooth", default=d.tooth, choices=("beam", "fe"))
+    ap.add_argument(
+        "--coupling-length", type=float, default=d.coupling_length, help="over the tooth depth"
+    )
+    ap.add_argument("--foundation", default=d.foundation, choices=("normal", "split"))
     ap.add_argument("--body", type=float, help="body coefficient (default: the calibrated one)")
     ap.add_argument("--fit-body", action="store_true", help="fit the body coefficient")
     ap.add_argument("--parallel", action="store_true", help="parallel pairs against the FE")
@@ -448,10 +452,11 @@ def main(argv=None) -> int:
         coupling_length=a.coupling_length,
         foundation=a.foundation,
     )
-    # the column to compare with: the first version (torsion in the slices) for the
-    # default contact term, the default contact term for the other
+    # the column to compare with: the previous default (the slice beam, Sainsot's
+    # foundation in the slices, body coefficient 0.24) for the default contact term,
+    # the default contact term for the other
     other, other_name = (
-        (FastCompliance(shared_torsion=False, body_compliance=0.41), "torsion in slices")
+        (CALIBRATED_BEAM, "calibrated beam (before)")
         if a.contact == "centre_line"
         else (FastCompliance(), "contact to the centre line")
     )

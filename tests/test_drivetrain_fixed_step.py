@@ -287,5 +287,9 @@ def test_contact_loss_hands_the_run_to_adaptive_steps(base):
     sw = speed_sweep(m, [663.3, 2000.0], DiffraxSolver(), settle_cycles=0, mesh_cycles=40)
     assert sw.status == ("success", "success")
     assert sw.contact_loss_steps[0] > 0 and sw.contact_loss_steps[1] == 0
+    # the same adaptive settings: equal to the single run's within rounding, which the
+    # step control at the contact kinks amplifies (the sweep's batched program and the
+    # single run's differ in the order of floating-point operations; measured 1.7e-6
+    # on one machine, 0 on another), far below the 28 % of fixed steps
     k = "mesh_force_mesh_order_amplitude_N"
-    assert sw.metrics[k][0] == pytest.approx(a[k], rel=1e-9)
+    assert sw.metrics[k][0] == pytest.approx(a[k], rel=1e-4)

@@ -1,7 +1,8 @@
 """models/example_relief_dynamics.py, a script users copy: flank modification to
 dynamic response through the pipeline. A long tip relief lowers the quasi-static LTE
-harmonic but, by softening the mesh, moves the mesh mode towards the mesh frequency,
-so the dynamic mesh force grows (measured in the script's docstring)."""
+harmonic and, by softening the mesh, moves the mesh mode towards the mesh frequency;
+on the default drive the smaller excitation wins and the dynamic mesh force falls
+(measured in the script's docstring)."""
 
 from __future__ import annotations
 
@@ -20,10 +21,12 @@ def test_example_relief_dynamics_runs(tmp_path, monkeypatch):
     got = script["main"](["--mesh-cycles", "120", "--positions", "12"])
     plain, relieved = got["unmodified"], got["relieved"]
     assert tuple(relieved["computed"]) == ("ltca", "tables", "dynamics", "spectra")  # design cached
-    # quasi-static: the relief lowers the first LTE harmonic (2.26 -> 1.63 um measured)
-    assert relieved["lte_harmonics_m"][0] < 0.8 * plain["lte_harmonics_m"][0]
-    # the softer mesh: its mode falls towards the mesh frequency (1959 -> 1745 Hz
-    # against 1692 Hz) and the mesh-order response grows (3893 -> 6352 N)
+    # quasi-static: the relief lowers the first LTE harmonic (1.97 -> 0.17 um measured
+    # on the full record)
+    assert relieved["lte_harmonics_m"][0] < 0.5 * plain["lte_harmonics_m"][0]
+    # the softer mesh: its mode falls towards the mesh frequency (2045 -> 1844 Hz
+    # against 1692 Hz), and the mesh-order response falls with the excitation (2776 ->
+    # 360 N)
     f_mesh = plain["mesh_frequency_Hz"]
     assert abs(relieved["mesh_mode_Hz"] - f_mesh) < abs(plain["mesh_mode_Hz"] - f_mesh)
-    assert relieved["mesh_force_N"][0] > 1.3 * plain["mesh_force_N"][0]
+    assert relieved["mesh_force_N"][0] < 0.5 * plain["mesh_force_N"][0]

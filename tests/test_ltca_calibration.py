@@ -15,6 +15,7 @@ error over those 24 numbers is smallest. Target of issue 5: every one within 5 %
 """
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +26,7 @@ from gearbox.fe.extent import aitken_limit, extent_limit
 from gearbox.geometry import PairSpec, design_pair
 from gearbox.ltca import BODY_COMPLIANCE, FastCompliance, LTCAOptions, ltca_cycle
 from gearbox.ltca.beveloid import scene_grids
-from gearbox.ltca.compliance import BODY_COMPLIANCE_MATCHING_DEPTH
+from gearbox.ltca.compliance import BODY_COMPLIANCE_MATCHING_DEPTH, CALIBRATED_BEAM
 from gearbox.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -98,17 +99,30 @@ def _fast_mean_stiffness(case, flank, compliance):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("case,flank", CASES)
-def test_fast_level_within_5_percent_of_the_whole_gear_fe_level(case, flank):
+def test_calibrated_beam_within_5_percent_of_the_whole_gear_fe_level(case, flank):
     k_fe, _ = whole_gear_stiffness(case, flank)
-    k_fast = _fast_mean_stiffness(case, flank, FastCompliance())
+    k_fast = _fast_mean_stiffness(case, flank, CALIBRATED_BEAM)
     err = k_fast / k_fe - 1
     # measured with BODY_COMPLIANCE = 0.24: -4.3 % .. +4.3 % over the 24 numbers
     assert np.all(np.abs(err) <= 0.05), err
     # without the body term (slices and the shared body torsion) the fast level is
     # too stiff: +6.2 / +7.3 / +8.1 % on case 01 drive (measured)
     if (case, flank) == ("01", "drive"):
-        k0 = _fast_mean_stiffness(case, flank, FastCompliance(body_compliance=0.0))
+        k0 = _fast_mean_stiffness(case, flank, replace(CALIBRATED_BEAM, body_compliance=0.0))
         assert np.all(k0 / k_fe - 1 > 0.05)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case,flank", CASES)
+def test_default_level_against_the_whole_gear_fe_level(case, flank):
+    # the default (plane-strain tooth, the body's far field shared, no body term;
+    # the slices' coupling length chosen on the FE level): measured -2.7 .. +8.9 % over
+    # the 24 numbers (`python benchmarks/ltca_ripple.py --parallel`), the drive flanks
+    # of cases 01 and 02 the stiffest (+4.5 .. +8.9 %). Band: the measured range
+    # widened by a point each side
+    k_fe, _ = whole_gear_stiffness(case, flank)
+    err = _fast_mean_stiffness(case, flank, FastCompliance()) / k_fe - 1
+    assert np.all((err > -0.037) & (err < 0.099)), err
 
 
 @pytest.mark.slow
@@ -118,7 +132,7 @@ def test_contact_to_the_matching_depth_calibrated_within_5_percent(case, flank):
     # same minimax rule (benchmarks/ltca_ripple.py --contact matching_depth --fit-body):
     # 0.91, measured -4.2 % .. +4.2 % over the 24 numbers
     k_fe, _ = whole_gear_stiffness(case, flank)
-    comp = FastCompliance(contact="matching_depth")
+    comp = replace(CALIBRATED_BEAM, contact="matching_depth", body_compliance=None)
     assert comp.body_compliance == BODY_COMPLIANCE_MATCHING_DEPTH
     err = _fast_mean_stiffness(case, flank, comp) / k_fe - 1
     assert np.all(np.abs(err) <= 0.05), err
@@ -144,23 +158,30 @@ def test_parallel_pairs_are_too_soft_against_the_whole_gear_fe_level():
     # calibration -25.5 / -21.6 / -12.3 %: the spur pairs' softness is not the contact
     # term's (docs/ltca.md, "The contact term"). Bands: each measured value +- 1.5
     # points, so that a change that moves these pairs is seen here
-    centre = _parallel_errors(FastCompliance())
-    depth = _parallel_errors(FastCompliance(contact="matching_depth"))
+    centre = _parallel_errors(CALIBRATED_BEAM)
+    depth = _parallel_errors(
+        replace(CALIBRATED_BEAM, contact="matching_depth", body_compliance=None)
+    )
     assert centre == pytest.approx([-0.221, -0.179, -0.084], abs=0.015)
     assert depth == pytest.approx([-0.255, -0.216, -0.123], abs=0.015)
     assert np.all(depth < centre)
 
 
 def test_plane_strain_tooth_brings_the_spur_pairs_to_the_whole_gear_fe_level():
-    # FastCompliance(tooth="fe", root="fillet", beam_at="centre_line") at the default
-    # body coefficient: the spur pairs, whose line load is even along the face, within
-    # 4 % of the whole-gear FE (measured +2.3 / +3.5 %, against -22.1 / -17.9 % with the
-    # beam); the helical pair too stiff (+13.7 %, measured): what is left lies in the
-    # face-wise coupling and the helical foundation (docs/ltca.md). Bands: measured
-    # +- 1.5 points
-    err = _parallel_errors(FastCompliance(root="fillet", beam_at="centre_line", tooth="fe"))
+    # the plane-strain tooth with Sainsot's whole foundation in the slices and the
+    # calibrated body coefficient 0.24: the spur pairs, whose line load is even along
+    # the face, within 4 % of the whole-gear FE (measured +2.3 / +3.5 %, against
+    # -22.1 / -17.9 % with the beam); the helical pair too stiff (+13.7 %). With the
+    # far field shared and the coupling length 0.6 (the default, no body term): -1.2 /
+    # -0.2 / +4.6 % (measured). Bands: measured +- 1.5 points
+    fe_normal = FastCompliance(foundation="normal", coupling_length=1.0)
+    assert fe_normal.body_compliance == BODY_COMPLIANCE
+    err = _parallel_errors(fe_normal)
     assert err == pytest.approx([0.023, 0.035, 0.137], abs=0.015)
     assert np.all(np.abs(err[:2]) < 0.04)
+    err = _parallel_errors(FastCompliance())
+    assert err == pytest.approx([-0.012, -0.002, 0.046], abs=0.015)
+    assert np.all(np.abs(err[:2]) < 0.02)
     with pytest.raises(InputError, match="tooth"):
         FastCompliance(tooth="solid")
 
@@ -170,7 +191,8 @@ def test_contact_option_names_the_bad_value():
         FastCompliance(contact="hertz")
     with pytest.raises(InputError, match="contact_depth"):
         FastCompliance(contact="matching_depth", contact_depth=2.0)
-    assert FastCompliance().body_compliance == BODY_COMPLIANCE
+    assert FastCompliance().body_compliance == 0.0  # the split foundation: nothing fitted
+    assert CALIBRATED_BEAM.body_compliance == BODY_COMPLIANCE
     assert FastCompliance(contact="matching_depth", body_compliance=0.3).body_compliance == 0.3
 
 

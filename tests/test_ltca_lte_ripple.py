@@ -25,6 +25,7 @@ import pytest
 from gearbox.geometry import PairSpec, design_pair
 from gearbox.ltca import FastCompliance, LTCAOptions, ParallelPair, ltca_cycle, parallel_grid
 from gearbox.ltca.beveloid import scene_grids
+from gearbox.ltca.compliance import CALIBRATED_BEAM
 from gearbox.ltca.slice_model import body_torsion, normal_section, slice_compliance
 from gearbox.scene import load_scene
 
@@ -155,27 +156,52 @@ def test_shared_terms_couple_the_tooth_pairs_as_the_fe_rim_does():
     # between the positions, which is what enters the ripple, -0.736 against -0.648).
     # So no coupling between tooth pairs is missing; the ripple excess lies in each
     # pair's own compliance (docs/ltca.md). Bounds: the measured errors plus 5 points
+    # (This holds for CALIBRATED_BEAM, the default of that study. A constant term
+    # shared by all points moves every point alike and leaves the load sharing alone,
+    # so like with like the FE level's far field, a constant, belongs beside the fast
+    # level's shared terms: the test below.)
+    fast, fe = _pair_coupling(CALIBRATED_BEAM)
+    assert np.all(np.abs(fast / fe - 1) < 0.15), fast / fe
+    assert (fast[1] - fast[0]) / (fe[1] - fe[0]) == pytest.approx(1.0, abs=0.2)
+
+
+def _pair_coupling(comp, far_field: bool = False):
+    """Coupling between tooth pairs under the FE level's pair shares at 300 N m (case 03
+    drive, positions 8 and 21): sum over pairs a != b of s_a s_b C_ab with the fast
+    level's shared terms, and the FE level's blocks between pairs (with its far-field
+    constant for ``far_field``), m/N."""
     (run,) = RIPPLE["runs"]
     scene, grids = _grids("03", "drive")
-    index = _cycle(grids, [300.0], FastCompliance()).pair_index
+    index = _cycle(grids, [300.0], comp).pair_index
     shares = np.asarray(run["fe_pair_share"])[1]
+    far = run["far_field_matrix"]["constant_m_per_N"] if far_field else 0.0
     fast, fe = [], []
-    comp = FastCompliance()
     for p in (8, 21):
         g = grids[p]
         C = comp.torsion_matrix(g) + comp.body_matrix(g)
         s = dict(zip(index.tolist(), shares[p], strict=True))
-        e = 0.0
+        e, f = 0.0, 0.0
         for a in g.pairs():
             for b in g.pairs():
                 if a != b:
                     e += s[a] * s[b] * C[np.ix_(g.pair == a, g.pair == b)].mean()
+                    f += s[a] * s[b] * far
         fast.append(e)
         row = run["parts_m_per_N"][p]
-        fe.append(row["FE pinion cross"] + row["FE gear cross"])
-    fast, fe = np.asarray(fast), np.asarray(fe)
-    assert np.all(np.abs(fast / fe - 1) < 0.15), fast / fe
-    assert (fast[1] - fast[0]) / (fe[1] - fe[0]) == pytest.approx(1.0, abs=0.2)
+        fe.append(row["FE pinion cross"] + row["FE gear cross"] + f)
+    return np.asarray(fast), np.asarray(fe)
+
+
+def test_the_shared_far_field_couples_the_tooth_pairs_nearer_the_fe_level():
+    # the default shares the body's far field (FastCompliance(foundation="split")):
+    # against the FE level's coupling with its far field (3.72e-10 m/N, stored) it
+    # gives 0.74 / 0.75 at the two positions and 0.76 of the difference between them
+    # (measured; CALIBRATED_BEAM: 0.34 / 0.35). Bands: measured +- 0.08
+    fast, fe = _pair_coupling(FastCompliance(), far_field=True)
+    assert fast / fe == pytest.approx([0.74, 0.75], abs=0.08)
+    assert (fast[1] - fast[0]) / (fe[1] - fe[0]) == pytest.approx(0.76, abs=0.08)
+    old, _ = _pair_coupling(CALIBRATED_BEAM, far_field=True)
+    assert np.all(old / fe < 0.45)
 
 
 def test_stored_fe_ripple_run_agrees_with_the_calibration_runs():
@@ -192,16 +218,20 @@ def test_lte_peak_to_peak_against_the_fe_level(case, flank):
     torques = scene["load"]["torques_Nm"]
     fe = _fe_pp(case, flank)
     err = np.ptp(_cycle(grids, torques, FastCompliance()).lte, axis=1) / fe - 1
-    # measured over the eight cases and flanks, 150 / 300 / 450 N m: +7.0 .. +38.9 %
-    # (torsion in the slices: +9.6 .. +47.7 %). The fast level is deterministic; the
-    # bound is the largest measured error plus a point, so that a change that widens
-    # the ripple again fails here. The rest of the excess is open (docs/ltca.md)
-    assert np.all(err < 0.40), err
-    assert np.all(err > 0.0), err
+    # measured over the eight cases and flanks, 150 / 300 / 450 N m: -1.5 .. +8.0 %
+    # (the default: the plane-strain tooth, the far field shared); CALIBRATED_BEAM
+    # +7.0 .. +38.9 %, with the torsion in the slices +9.6 .. +47.7 %. The fast level is
+    # deterministic; the bounds are the largest measured errors plus a point, so that a
+    # change that widens the ripple again fails here
+    assert np.all(err < 0.09), err
+    assert np.all(err > -0.025), err
+    beam = np.ptp(_cycle(grids, torques, CALIBRATED_BEAM).lte, axis=1) / fe - 1
+    assert np.all(np.abs(err) < beam - 0.05), (err, beam)
+    assert np.all(beam < 0.40) and np.all(beam > 0.0), beam
     # the shared torsion narrows the ripple at every torque (by 2.6 to 8.9 points)
-    old = FastCompliance(shared_torsion=False, body_compliance=0.41)
+    old = replace(CALIBRATED_BEAM, shared_torsion=False, body_compliance=0.41)
     err_old = np.ptp(_cycle(grids, torques, old).lte, axis=1) / fe - 1
-    assert np.all(err < err_old - 0.02), (err, err_old)
+    assert np.all(beam < err_old - 0.02), (beam, err_old)
 
 
 @pytest.mark.slow
@@ -210,16 +240,16 @@ def test_contact_to_the_matching_depth_narrows_the_ripple(case, flank):
     scene, grids = _grids(case, flank)
     torques = scene["load"]["torques_Nm"]
     fe = _fe_pp(case, flank)
-    depth = FastCompliance(contact="matching_depth")
+    depth = replace(CALIBRATED_BEAM, contact="matching_depth", body_compliance=None)
     err = np.ptp(_cycle(grids, torques, depth).lte, axis=1) / fe - 1
     # measured over the eight cases and flanks, 150 / 300 / 450 N m, with its body
     # coefficient (0.91): +0.4 .. +24.6 %; bound: the largest plus 1.4 points (the
     # next round number), and no case below the FE level by more than 2 points
     assert np.all(err < 0.26), err
     assert np.all(err > -0.02), err
-    # against the contact to the centre line (the default) it narrows the ripple at
-    # every torque, by 5.2 to 16.5 points (measured); asserted: by more than 4
-    err_c = np.ptp(_cycle(grids, torques, FastCompliance()).lte, axis=1) / fe - 1
+    # against the contact to the centre line (CALIBRATED_BEAM's) it narrows the ripple
+    # at every torque, by 5.2 to 16.5 points (measured); asserted: by more than 4
+    err_c = np.ptp(_cycle(grids, torques, CALIBRATED_BEAM).lte, axis=1) / fe - 1
     assert np.all(err < err_c - 0.04), (err, err_c)
 
 

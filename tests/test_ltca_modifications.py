@@ -22,6 +22,7 @@ from gearbox.ltca import (
     compliance_for,
     ltca_cycle,
 )
+from gearbox.ltca.compliance import CALIBRATED_BEAM
 from gearbox.ltca.modification import as_modification
 from gearbox.ltca.parallel import parallel_grid
 from gearbox.ltca.solver import solve_contact
@@ -152,7 +153,9 @@ def test_crowned_spur_pair_against_the_elastic_foundation_solution():
     and delta by bisection on the total force. With k constant this is the closed form
     y0 = (b/2) sqrt(delta / C_tot), F = (4/3) k delta y0; Weber's ln(a) makes k grow
     by about 8 % between the flat pair's line load and the crowned pair's peak here."""
-    comp = FastCompliance(coupling_length=0.0, body_compliance=0.0, shared_torsion=False)
+    comp = FastCompliance(
+        coupling_length=0.0, body_compliance=0.0, shared_torsion=False, foundation="normal"
+    )
     b, n = SPUR.face_width, 120
     frac = 0.8  # single-pair zone: eps_alpha = 1.70, so 0.7..1.0 of a cycle
     C = 40e-6  # both gears crowned 20 um: 40 um at each face end
@@ -316,7 +319,9 @@ def test_misaligned_spur_slices_give_iso_k_hbeta():
     body or torsion term) are that foundation; c from the aligned pair at the same
     position and load. 2 %: Weber's ln(a) makes c grow with the line load (measured
     0.1-0.9 % above ISO's K at 5-20 um)."""
-    comp = FastCompliance(coupling_length=0.0, body_compliance=0.0, shared_torsion=False)
+    # the slice beam (CALIBRATED_BEAM's slices): with the stiffer plane-strain tooth the
+    # contact term's ln(a) is a larger share, 2.5 % above ISO at 60 um (measured)
+    comp = replace(CALIBRATED_BEAM, coupling_length=0.0, body_compliance=0.0, shared_torsion=False)
     b, n, F = SPUR.face_width, 120, 6000.0
     flat = parallel_grid(SPUR, 0.8, n)
     arm = float(flat.arm[0])
@@ -380,7 +385,8 @@ def test_misalignment_loads_drive_and_coast_at_opposite_ends():
 def test_fast_k_hbeta_against_the_stored_fe_level():
     """The misaligned spur pair of benchmarks/ltca_misalignment.py: the fast level's
     K_Hbeta against the whole-gear FE level stored by that script
-    (tests/data/fe_khbeta_spur.json). Measured -5.2 / -5.0 % at 10 / 20 um; bound 8 %.
+    (tests/data/fe_khbeta_spur.json). Measured -2.2 .. -2.4 / -0.9 .. -1.1 % at 10 / 20
+    um (CALIBRATED_BEAM, the default before: -5.2 / -5.0 %); bounds 4 % and 8 %.
     Both lie far above ISO's formula with their own stiffness (FE: 1.69 against 1.34 at
     10 um): the face distribution follows the teeth's own compliance, while part of
     the mesh compliance (rim and body) is shared by the whole face."""
@@ -392,8 +398,10 @@ def test_fast_k_hbeta_against_the_stored_fe_level():
     fe = {r["misalignment_um"]: r["rows"] for r in stored["levels"]["FE (whole gear)"]}
     for f_um, rows in fe.items():
         fast = k_hbeta(FastCompliance(), f_um)["rows"]
-        for got, ref in zip(fast, rows, strict=True):
-            assert got["k_hbeta"] == pytest.approx(ref["k_hbeta"], rel=0.08), f_um
+        beam = k_hbeta(CALIBRATED_BEAM, f_um)["rows"]
+        for got, old, ref in zip(fast, beam, rows, strict=True):
+            assert got["k_hbeta"] == pytest.approx(ref["k_hbeta"], rel=0.04), f_um
+            assert old["k_hbeta"] == pytest.approx(ref["k_hbeta"], rel=0.08), f_um
             assert ref["k_hbeta"] > ref["iso_k_hbeta"] + 0.25
 
 
@@ -442,10 +450,13 @@ def test_modifications_act_as_in_the_fe_level():
     mean stiffness, largest pressure and LTE peak-to-peak against the unmodified pair,
     fast level now against the whole-gear FE level stored by
     ``benchmarks/ltca_modifications.py --fe`` (tests/data/fe_modifications_case03.json).
-    Measured: stiffness ratios 0.849 / 0.887 / 0.870 against 0.849 / 0.901 / 0.883
-    (lead crowning, helix slope, profile crowning), pressure ratios within 3 points;
-    both levels raise the LTE ripple with lead crowning and helix slope and lower it
-    with profile crowning (fast 0.52, FE 0.30 of the unmodified)."""
+    Measured with the default: stiffness ratios 0.835 / 0.889 / 0.878 against 0.849 /
+    0.901 / 0.883 (lead crowning, helix slope, profile crowning), pressure ratios within
+    6 points (profile crowning 0.908 against 0.851), the LTE peak-to-peak itself within
+    7 % of the FE's in every variant (1.95 / 2.93 / 2.62 / 0.53 against 1.93 / 2.87 /
+    2.63 / 0.57 um); with CALIBRATED_BEAM (the default when the FE ran) 0.849 / 0.887 /
+    0.870, pressure ratios within 3 points, and the ripple 21 % above the FE's unmodified
+    and 112 % above it with profile crowning (ratio 0.52 against 0.30)."""
     import json
 
     stored = json.loads((DATA / "fe_modifications_case03.json").read_text())
@@ -459,33 +470,41 @@ def test_modifications_act_as_in_the_fe_level():
         load={"torques_Nm": [stored["torque_Nm"]]},
     )
     design = design_pair(PairSpec.from_scene(base))
-    fast = {}
-    for label, keys in stored["variants"].items():
-        grids, _, _ = scene_grids(design, base.replaced(ltca=keys), "R", P)
-        res = ltca_cycle(
-            lambda f, grids=grids: grids[int(round(f * P)) % P],
-            [stored["torque_Nm"]],
-            options=LTCAOptions(positions=P),
-        )
-        fast[label] = res
+    runs = {}
+    for name, comp in (("default", FastCompliance()), ("beam", CALIBRATED_BEAM)):
+        runs[name] = {}
+        for label, keys in stored["variants"].items():
+            grids, _, _ = scene_grids(design, base.replaced(ltca=keys), "R", P)
+            runs[name][label] = ltca_cycle(
+                lambda f, grids=grids: grids[int(round(f * P)) % P],
+                [stored["torque_Nm"]],
+                options=LTCAOptions(positions=P),
+                compliance=comp,
+            )
     ref = "unmodified (the paper's flanks)"
     fe = {label: row["fe"] for label, row in stored["rows"].items()}
 
     def ratio(rows, label, key):
         return rows[label][key] / rows[ref][key]
 
-    for label in stored["variants"]:
-        if label == ref:
-            continue
-        k = fast[label].stiffness[0].mean() / fast[ref].stiffness[0].mean()
-        p = fast[label].max_pressure[0].max() / fast[ref].max_pressure[0].max()
-        e = np.ptp(fast[label].lte[0]) / np.ptp(fast[ref].lte[0])
-        assert k == pytest.approx(ratio(fe, label, "mean_stiffness_N_per_m"), abs=0.025), label
-        assert p == pytest.approx(ratio(fe, label, "max_pressure_Pa"), abs=0.04), label
-        e_fe = ratio(fe, label, "lte_peak_to_peak_m")
-        assert (e > 1.2) == (e_fe > 1.2) and (e < 0.6) == (e_fe < 0.6), label
-    # the stored fast rows were this fast level when the FE ran (1 %: later changes of
-    # the fast level show here first)
-    for label, res in fast.items():
+    for name, fast in runs.items():
+        for label in stored["variants"]:
+            e = np.ptp(fast[label].lte[0]) / np.ptp(fast[ref].lte[0])
+            e_fe = ratio(fe, label, "lte_peak_to_peak_m")
+            if name == "default":  # the ripple itself, within 7 % measured
+                lte = np.ptp(fast[label].lte[0])
+                assert lte == pytest.approx(fe[label]["lte_peak_to_peak_m"], rel=0.1), label
+            if label == ref:
+                continue
+            k = fast[label].stiffness[0].mean() / fast[ref].stiffness[0].mean()
+            p = fast[label].max_pressure[0].max() / fast[ref].max_pressure[0].max()
+            k_fe = ratio(fe, label, "mean_stiffness_N_per_m")
+            assert k == pytest.approx(k_fe, abs=0.025), (name, label)
+            tol = 0.04 if name == "beam" else 0.07
+            assert p == pytest.approx(ratio(fe, label, "max_pressure_Pa"), abs=tol), (name, label)
+            assert (e > 1.2) == (e_fe > 1.2) and (e < 0.6) == (e_fe < 0.6), (name, label)
+    # the stored fast rows were CALIBRATED_BEAM, the default when the FE ran (1 %: later
+    # changes of that level show here first)
+    for label, res in runs["beam"].items():
         want = stored["rows"][label]["fast"]["mean_stiffness_N_per_m"]
         assert res.stiffness[0].mean() == pytest.approx(want, rel=0.01), label

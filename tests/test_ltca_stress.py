@@ -21,6 +21,7 @@ from gearbox.ltca import (
     parallel_grid,
     solve_contact,
 )
+from gearbox.ltca.compliance import CALIBRATED_BEAM
 from gearbox.ltca.stress import (
     RootStressModel,
     grid_root_stress,
@@ -147,15 +148,25 @@ def test_helical_pair_root_stress_against_iso_6336_3(pair, gear):
     # virtual spur gear's outer point of single pair contact with the whole F_t and
     # corrects for the oblique contact line with the empirical, linear Y_beta; the
     # loaded TCA finds the load sharing and the line-end concentrations itself.
-    # Measured (bench_root_stress.py --iso): -6 % (15 deg, eps_beta 0.62) and +9 % (30
-    # deg, eps_beta 2.4); 12 % is the agreement asserted. The independent slices (no
-    # spread) give 2.7 to 3.2 times ISO on these pairs, which this bound rules out
+    # Measured (bench_root_stress.py --iso), pinion / gear: -13.5 / -16.0 % (15 deg,
+    # eps_beta 0.62) and +13.8 / +10.3 % (30 deg, eps_beta 2.4) with the default; 17 %
+    # is the agreement asserted. CALIBRATED_BEAM: -6.9 / -6.2 % and +8.7 / +9.1 %,
+    # asserted 12 %. Against the FE level (tests/test_ltca_stress_fe.py) the default is
+    # the closer of the two; ISO's Y_beta is an empirical linear correction. The
+    # independent slices (no spread) give 2.7 to 3.2 times ISO on these pairs, which
+    # these bounds rule out
     T = 400.0
-    r = ltca_cycle(lambda f: parallel_grid(pair, f, n_face=40), [T], options=LTCAOptions(48))
-    got = (r.root_stress_pinion if gear == 0 else r.root_stress_gear)[0].max()
     iso = iso_pair_root_stress(pair, T, gear)
     eps_b = min(pair.overlap_ratio, 1.0)
     assert iso.Y_beta == pytest.approx(1 - eps_b * min(math.degrees(pair.helix_angle), 30) / 120)
-    assert got == pytest.approx(iso.sigma_F0, rel=0.12), (
-        f"loaded TCA {got / 1e6:.1f} MPa, ISO 6336-3 {iso.sigma_F0 / 1e6:.1f} MPa"
-    )
+    for comp, rel in ((None, 0.17), (CALIBRATED_BEAM, 0.12)):
+        r = ltca_cycle(
+            lambda f: parallel_grid(pair, f, n_face=40),
+            [T],
+            options=LTCAOptions(48),
+            compliance=comp,
+        )
+        got = (r.root_stress_pinion if gear == 0 else r.root_stress_gear)[0].max()
+        assert got == pytest.approx(iso.sigma_F0, rel=rel), (
+            f"loaded TCA {got / 1e6:.1f} MPa, ISO 6336-3 {iso.sigma_F0 / 1e6:.1f} MPa"
+        )

@@ -30,12 +30,13 @@ def drive():
 
 @pytest.mark.parametrize("gear", ["pinion", "gear"])
 def test_largest_root_stress_within_15_percent_of_fe(drive, gear):
-    # measured fast / FE - 1 at 150 / 300 / 450 N m (calibrated fast compliance):
-    # pinion -6.6 / -10.0 / -10.1 %, gear +1.7 / -1.5 / -2.1 % (the independent slices
-    # were +129 to +258 %)
+    # measured fast / FE - 1 at 150 / 300 / 450 N m: pinion -4.7 / -5.8 / -6.2 %, gear
+    # +3.7 / +3.1 / +2.3 % (the default fast compliance; with CALIBRATED_BEAM pinion
+    # -6.6 / -10.0 / -10.1 %, gear +1.7 / -1.5 / -2.1 %; the independent slices were
+    # +129 to +258 %); bound 10 %
     got = getattr(drive, f"root_stress_{gear}").max(axis=1)
     ref = np.asarray(REF[f"max_root_stress_{gear}_Pa"])
-    np.testing.assert_allclose(got, ref, rtol=0.15, err_msg=f"case 03 drive, {gear}, vs FE")
+    np.testing.assert_allclose(got, ref, rtol=0.10, err_msg=f"case 03 drive, {gear}, vs FE")
 
 
 def test_pinion_root_stress_along_the_face_follows_fe(drive):

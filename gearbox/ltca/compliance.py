@@ -9,9 +9,11 @@ level (``fidelity = "fe"``) plugs in by implementing :class:`Compliance`.
 :class:`FastCompliance` is the semi-analytical level:
 
 - each face slice of each tooth is a thin slice of the tooth's normal section (the
-  virtual spur tooth, :func:`~gearbox.ltca.slice_model.normal_section`) whose
-  compliance comes from :func:`~gearbox.ltca.slice_model.slice_compliance` (bending,
-  shear, axial compression, fillet foundation);
+  virtual spur tooth, :func:`~gearbox.ltca.slice_model.normal_section`): the tooth as
+  a plane-strain finite-element body clamped at the root circle
+  (:func:`~gearbox.ltca.slice_fe.fe_tooth_compliance`, the default; or the beam of
+  :func:`~gearbox.ltca.slice_model.slice_compliance`: bending, shear, axial
+  compression) on Sainsot's fillet foundation;
 - neighbouring slices of one tooth are coupled by a shear layer: the slices are the
   springs of a Pasternak foundation (Pasternak, P.L., "On a new method of analysis of
   an elastic foundation by means of two foundation constants", Gosudarstvennoe
@@ -22,9 +24,13 @@ level (``fidelity = "fe"``) plugs in by implementing :class:`Compliance`.
   exponential influence function ``exp(-|y - y'| / lambda) / (2 lambda)``; a uniform
   line load gives exactly the slice deflection, so the coupling redistributes load
   without changing the stiffness of a uniformly loaded tooth. The decay length
-  ``lambda`` is ``coupling_length`` times the whole depth of the tooth (default 1.0, a
-  modelling choice: on cases 01 and 03, drive flank, 1 to 4 tooth depths lowered the
-  LTE peak-to-peak by 0 to 16 % and raised the mean stiffness by 6 to 10 %);
+  ``lambda`` is ``coupling_length`` times the whole depth of the tooth (default 0.6,
+  :data:`COUPLING_LENGTH`, chosen on the FE level: with the plane-strain tooth and the
+  shared far field, 0.5 / 0.6 / 0.75 / 1.0 tooth depths give the face load factor
+  K_Hbeta of a misaligned spur pair -4.6 .. -4.1 / -2.4 .. -0.9 / +0.9 .. +4.0 /
+  +6.4 .. +11.9 % against the whole-gear FE, the beveloid cases' mean stiffness
+  -6.1 .. +9.0 / -2.7 .. +8.9 / +1.2 .. +9.9 / +5.4 .. +11.2 % and their LTE
+  peak-to-peak -1.5 .. +8.0 % at 0.6; 0.6 has the smallest largest error);
 - the torsion of each gear's body (bore to root circle), a rigid rotation of its rim
   that every tooth in mesh shares: Sainsot's foundation term holds it for a single
   loaded tooth (:func:`~gearbox.ltca.slice_model.body_torsion`), so it is taken out of
@@ -32,8 +38,12 @@ level (``fidelity = "fe"``) plugs in by implementing :class:`Compliance`.
   normal about the gear's axis, K_t the annulus' torsional stiffness). Counted per
   slice, it was halved wherever two tooth pairs share the load and made the loaded
   TE ripple too large (docs/ltca.md, "LTE peak-to-peak against the FE level");
-- one body compliance per gear, common to all its loaded points (``BODY_COMPLIANCE``,
-  calibrated on the FE level);
+- the far field of each gear's body, common to all its loaded points: Sainsot's
+  foundation is the whole 2-D gear's, and the part of it beyond the loaded tooth and
+  its neighbours (``FAR_FIELD``, growing with the helix angle as measured on the FE
+  level's whole gear) is taken out of the slices and added once per gear
+  (``foundation="split"``, the default; ``"normal"`` keeps it in the slices with the
+  body coefficient ``BODY_COMPLIANCE`` calibrated on the FE level, the first version);
 - the local contact flattening of each slice is Weber's line-load approach (diagonal,
   load dependent) down to a reference depth in each tooth: the tooth's centre line
   (``contact="centre_line"``, Weber & Banaschek's own choice and the default) or the
@@ -56,7 +66,11 @@ from .slice_model import body_torsion, normal_section, slice_compliance, weber_a
 __all__ = [
     "BODY_COMPLIANCE",
     "BODY_COMPLIANCE_MATCHING_DEPTH",
+    "CALIBRATED_BEAM",
     "CONTACT_DEPTH",
+    "COUPLING_LENGTH",
+    "FAR_FIELD",
+    "FAR_FIELD_EXPONENT",
     "Compliance",
     "FastCompliance",
     "compliance_for",
@@ -80,10 +94,24 @@ BODY_COMPLIANCE_MATCHING_DEPTH = 0.91
 CONTACT_DEPTH = 0.25
 
 
-#: The far field of a gear's body over ``1 / E`` per unit face width: what the FE
-#: level's whole gear adds to its three-tooth segment under a line load, less the body
-#: torsion, at beta = 0 (0.92 .. 1.17 on two teeth, ``benchmarks/ltca_slice_vs_fe.py``).
+#: The far field of a gear's body over ``1 / E`` per unit face width
+#: (``FastCompliance(foundation="split")``): what the FE level's whole gear adds to its
+#: three-tooth segment under a line load along the face, less the body torsion, at
+#: beta = 0: 0.92 .. 1.10 (case 03's pinion as a spur gear) and 0.99 .. 1.17 (spur
+#: z 30, m 4), lowest to highest load (``benchmarks/ltca_slice_vs_fe.py``, stored in
+#: ``tests/data/fe_slice_line_load*.json``; tested).
 FAR_FIELD = 1.0
+
+#: Its growth with the helix angle, ``cos(beta)^-FAR_FIELD_EXPONENT``: on case 03's
+#: pinion at beta 10 / 20 / 30 deg the FE's far field less the torsion is 1.077 /
+#: 1.346 / 1.905 times that at 0 deg (mean over six heights), the law 1.071 / 1.323 /
+#: 1.909 (tested). The segment's own foundation hardly changes (30 deg over 0 deg:
+#: 0.98 .. 1.06): a helical tooth reaches round the gear, and its far field grows.
+FAR_FIELD_EXPONENT = 4.5
+
+#: Default decay length of the slices' coupling along the face, over the tooth's whole
+#: depth (module docstring: chosen on the FE level).
+COUPLING_LENGTH = 0.6
 
 _CALIBRATED = {"centre_line": BODY_COMPLIANCE, "matching_depth": BODY_COMPLIANCE_MATCHING_DEPTH}
 
@@ -171,18 +199,35 @@ class FastCompliance:
     the beam). The FE tooth holds the generated fillet and is read at the centre line
     whatever ``root`` and ``beam_at`` say; ``root`` still picks Sainsot's root thickness,
     so ``tooth="fe"`` goes with ``root="fillet"`` (measured so: docs/ltca.md).
+    foundation: where Sainsot's foundation term (the whole 2-D gear under one tooth's
+    load) is kept: ``"normal"`` all in each slice (the first version), or ``"split"``
+    (the default): the body's far field, :data:`FAR_FIELD` over ``E`` per unit face
+    width growing with the helix angle as ``cos(beta)^-FAR_FIELD_EXPONENT``, taken out
+    of every slice and shared by every loaded point of the gear (``FAR_FIELD g(beta) /
+    (E b)`` in every entry of its block, as the FE level's rank-one far field), so a
+    tooth pair's own compliance holds only what the FE level's three-tooth segment
+    holds; ``body_compliance`` is then what is added to it (default 0: nothing
+    fitted).
+
+    The default (the plane-strain tooth, the fillet root, the split foundation, the
+    coupling length :data:`COUPLING_LENGTH`, no body term) against the FE level
+    (``python benchmarks/ltca_ripple.py --parallel``, docs/ltca.md): LTE peak-to-peak
+    of the paper's cases within -1.5 .. +8.0 %, mean stiffness of spur pairs -1.2 /
+    -0.2 %, of a 15 degree helical pair +4.6 % and of the beveloid cases -2.7 ..
+    +8.9 %; :data:`CALIBRATED_BEAM` +7.0 .. +38.9 %, -22.1 / -17.9 %, -8.4 % and
+    -4.3 .. +4.3 % (fitted there).
     """
 
-    coupling_length: float = 1.0
+    coupling_length: float = COUPLING_LENGTH
     body_compliance: float | None = None
     section: str = "normal"
     shared_torsion: bool = True
     contact: str = "centre_line"
     contact_depth: float = CONTACT_DEPTH
-    root: str = "radial"
-    beam_at: str = "load_point"
-    tooth: str = "beam"
-    foundation: str = "normal"
+    root: str = "fillet"
+    beam_at: str = "centre_line"
+    tooth: str = "fe"
+    foundation: str = "split"
     name: str = "fast"
     load_dependent: bool = True
 
@@ -222,10 +267,13 @@ class FastCompliance:
         )
         p.raise_if_any("invalid fast compliance")
         if self.body_compliance is None:
-            object.__setattr__(self, "body_compliance", _CALIBRATED[self.contact])
+            body = 0.0 if self.foundation == "split" else _CALIBRATED[self.contact]
+            object.__setattr__(self, "body_compliance", body)
 
     def slice_parts(self, grid: ContactGrid):
-        """Normal compliance per unit face width of pinion and gear slices (m per N/m)."""
+        """Normal compliance per unit face width of pinion and gear slices (m per N/m):
+        the tooth above the root circle and Sainsot's foundation less what the gear
+        shares (the body torsion and, for ``foundation="split"``, the far field)."""
         E, nu = grid.youngs_modulus, grid.poisson_ratio
         G = E / (2.0 * (1.0 + nu))
         out = []
@@ -353,10 +401,20 @@ class FastCompliance:
         return C
 
 
+#: The fast level's default until the plane-strain tooth and the shared far field: the
+#: slice beam read at the load point on the radial root, Sainsot's whole foundation in
+#: every slice, slices coupled over one tooth depth and the body coefficient
+#: :data:`BODY_COMPLIANCE` fitted on the FE level (docs/ltca.md keeps its measurements
+#: beside the default's).
+CALIBRATED_BEAM = FastCompliance(
+    coupling_length=1.0, root="radial", beam_at="load_point", tooth="beam", foundation="normal"
+)
+
+
 def _far_growth(teeth) -> float:
-    """Growth of the far field with the helix angle, ``1 / cos^4(beta)`` at the mean
-    helix angle of the sections."""
-    return float(1.0 / np.cos(np.mean(np.abs(teeth.helix_angle))) ** 4)
+    """Growth of the far field with the helix angle, ``cos(beta)^-FAR_FIELD_EXPONENT``
+    at the mean helix angle of the sections."""
+    return float(np.cos(np.mean(np.abs(teeth.helix_angle))) ** -FAR_FIELD_EXPONENT)
 
 
 def _half_thickness(teeth) -> np.ndarray:
