@@ -30,6 +30,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from gearbox.ltca import FastCompliance, ParallelPair  # noqa: E402
+from gearbox.ltca.compliance import CALIBRATED_BEAM  # noqa: E402
 from gearbox.ltca.parallel import parallel_grid  # noqa: E402
 from gearbox.ltca.solver import solve_contact  # noqa: E402
 
@@ -87,8 +88,10 @@ def main() -> None:
     args = ap.parse_args()
     levels = {
         "fast (default)": FastCompliance(),
+        "calibrated beam": CALIBRATED_BEAM,
+        # the elastic foundation ISO's formula assumes: nothing shared, no coupling
         "independent slices": FastCompliance(
-            coupling_length=0.0, body_compliance=0.0, shared_torsion=False
+            coupling_length=0.0, body_compliance=0.0, shared_torsion=False, foundation="normal"
         ),
     }
     if args.fe:
