@@ -349,3 +349,12 @@ def test_fast_compliance_foundation_option_is_checked():
     assert FastCompliance().foundation == "split"
     assert FastCompliance().body_compliance == 0.0
     assert FastCompliance(foundation="normal").body_compliance == pytest.approx(0.24)
+
+
+def test_the_compliance_is_named_in_the_tables_provenance():
+    from gearbox.ltca.compliance import CALIBRATED_BEAM, describe_compliance
+
+    text = FastCompliance().describe()
+    assert "plane-strain FE tooth" in text and "far field shared" in text
+    assert "0.6 tooth depths" in text
+    assert "body term 0.24" in describe_compliance(CALIBRATED_BEAM)

@@ -43,7 +43,7 @@ from .. import __version__
 from ..errors import InputError, Problem, Problems
 from ..geometry.involute import inv
 from .analysis import LTCAOptions, ltca_cycle
-from .compliance import compliance_for
+from .compliance import compliance_for, describe_compliance
 from .grid import ContactGrid, ToothSections
 from .modification import FlankModification, TipRelief, as_modification, describe_pair
 
@@ -826,7 +826,7 @@ def beveloid_ltca(
     attrs = {
         "scene": scene.name,
         "method": "loaded TCA: separation field of the generated flanks (gearbox.surface), "
-        "thin-slice compliance, active-set contact solver",
+        f"{describe_compliance(compliance)}, active-set contact solver",
         "fidelity": lt["fidelity"],
         "gearbox_version": __version__,
         "frame": "Sf of gearbox.tca.assembly (paper Fig. 11); drive = R flank, coast = L flank",

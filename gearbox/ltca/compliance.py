@@ -74,6 +74,7 @@ __all__ = [
     "Compliance",
     "FastCompliance",
     "compliance_for",
+    "describe_compliance",
 ]
 
 #: Body compliance of :class:`FastCompliance` over 1/(E b), fitted on the FE level
@@ -270,6 +271,21 @@ class FastCompliance:
             body = 0.0 if self.foundation == "split" else _CALIBRATED[self.contact]
             object.__setattr__(self, "body_compliance", body)
 
+    def describe(self) -> str:
+        """One line naming the model's choices, for provenance (table attributes, the
+        report)."""
+        tooth = {
+            "fe": "plane-strain FE tooth",
+            "beam": f"slice beam read at the {self.beam_at.replace('_', ' ')}",
+        }[self.tooth]
+        shared = "far field shared" if self.foundation == "split" else "foundation in the slices"
+        body = f", body term {self.body_compliance:g}" if self.body_compliance else ""
+        return (
+            f"thin {self.section} slices: {tooth}, {self.root} root, Sainsot foundation "
+            f"({shared}{body}), coupled over {self.coupling_length:g} tooth depths, "
+            f"Weber contact to the {self.contact.replace('_', ' ')}"
+        )
+
     def slice_parts(self, grid: ContactGrid):
         """Normal compliance per unit face width of pinion and gear slices (m per N/m):
         the tooth above the root circle and Sainsot's foundation less what the gear
@@ -424,6 +440,12 @@ def _half_thickness(teeth) -> np.ndarray:
     alpha = np.arccos(np.clip(teeth.base_radius / teeth.radius, -1, 1))
     psi = teeth.base_half_angle - inv(alpha)
     return np.maximum(teeth.radius * np.sin(psi), 1e-6)
+
+
+def describe_compliance(compliance) -> str:
+    """A compliance level in words: its ``describe()`` where it has one, else its name."""
+    describe = getattr(compliance, "describe", None)
+    return describe() if callable(describe) else f"{compliance.name} compliance"
 
 
 def compliance_for(fidelity: str, *, blanks=None) -> Compliance:

@@ -16,7 +16,7 @@ from .. import __version__
 from ..errors import Problems
 from ..meshtable import MeshTable
 from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle
-from .compliance import compliance_for
+from .compliance import compliance_for, describe_compliance
 from .parallel import ParallelPair, parallel_grid
 
 __all__ = [
@@ -214,7 +214,8 @@ def parallel_ltca(
     a = pair.working_center_distance
     attrs = {
         "scene": scene_name,
-        "method": "loaded TCA, parallel-axis involute pair (plane of action, closed form)",
+        "method": "loaded TCA, parallel-axis involute pair (plane of action, closed form), "
+        f"{describe_compliance(compliance)}",
         "fidelity": fidelity,
         "gearbox_version": __version__,
         "frame": "pinion axis z through origin, gear axis through (a, 0, 0); drive = R flank",
