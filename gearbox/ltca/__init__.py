@@ -2,8 +2,9 @@
 levels, mesh-cycle tables.
 
 - :class:`ContactGrid`: the flanks at one position, as the mechanics needs them;
-- :class:`Compliance` (interface), :class:`FastCompliance` (thin slices, shear-layer
-  coupling, Weber contact flattening);
+- :class:`Compliance` (interface), :class:`FastCompliance` (thin slices: the tooth as
+  a plane-strain FE body on Sainsot's foundation, the body's far field shared by the
+  gear, shear-layer coupling along the face, Weber contact flattening);
 - :func:`solve_contact` / :class:`ContactSolver`: the complementarity problem;
 - :func:`ltca_cycle`: a mesh cycle x torque levels -> :class:`CycleResult`;
 - :class:`ParallelPair`, :func:`parallel_grid`: spur/helical reference pairs;
