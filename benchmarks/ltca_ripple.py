@@ -4,8 +4,8 @@ Reference: the FE level's tables at its default mesh stored in
 ``tests/data/fe_reference_paper_cases.json`` (the segment; the FE level's far-field
 correction is a constant per gear, which shifts the LTE by a constant per torque and
 leaves its peak-to-peak unchanged). Printed per case and flank: the LTE peak-to-peak
-of the fast level (torsion shared, the default, and in the slices, the first version)
-against the FE's, and for ``--detail`` the per-position curves at the middle torque
+of the fast level (the default, or the options given, and the earlier default
+``CALIBRATED_BEAM``) against the FE's, and for ``--detail`` the per-position curves at the middle torque
 (LTE about its mean, stiffness, the load shares of the tooth pairs, the tip-edge load).
 
     python benchmarks/ltca_ripple.py                          # all cases, both flanks
