@@ -358,3 +358,15 @@ def test_the_compliance_is_named_in_the_tables_provenance():
     assert "plane-strain FE tooth" in text and "far field shared" in text
     assert "0.6 tooth depths" in text
     assert "body term 0.24" in describe_compliance(CALIBRATED_BEAM)
+
+
+@pytest.mark.parametrize("root", ["radial", "fillet"])
+def test_foundation_alone_is_the_slice_models_fourth_part(root):
+    from gearbox.ltca.slice_model import foundation_compliance
+
+    pair = _bench().PAIRS["case03"]
+    g = parallel_grid(pair, 0.3, 8)
+    v, _ = normal_section(g.tooth1)
+    full = slice_compliance(v, g.youngs_modulus, g.poisson_ratio, root=root)
+    alone = foundation_compliance(v, g.youngs_modulus, root=root)
+    np.testing.assert_array_equal(alone, full[3])

@@ -61,7 +61,13 @@ import numpy as np
 
 from ..errors import Problems
 from .grid import ContactGrid
-from .slice_model import body_torsion, normal_section, slice_compliance, weber_approach
+from .slice_model import (
+    body_torsion,
+    foundation_compliance,
+    normal_section,
+    slice_compliance,
+    weber_approach,
+)
 
 __all__ = [
     "BODY_COMPLIANCE",
@@ -302,15 +308,16 @@ class FastCompliance:
                 normal_section(teeth) if self.section == "normal" else (teeth, proj**2)
             )
             normal = self.section == "normal"
-            parts = slice_compliance(
-                section, E, nu, root=self.root, normal=normal, beam_at=self.beam_at
-            )
-            if self.tooth == "fe":
+            if self.tooth == "fe":  # the beam's integrals are not needed
                 from .slice_fe import fe_tooth_compliance
 
-                c = fe_tooth_compliance(section, E, nu, normal=normal) + parts[3]
+                c = fe_tooth_compliance(section, E, nu, normal=normal) + foundation_compliance(
+                    section, E, root=self.root, normal=normal
+                )
             else:
-                c = parts.total
+                c = slice_compliance(
+                    section, E, nu, root=self.root, normal=normal, beam_at=self.beam_at
+                ).total
             if self.shared_torsion:
                 c = c - body_torsion(section, G)
             if self.foundation == "split":

@@ -241,8 +241,9 @@ def whole_gear_compliance(
 
 #: Tables of solved sections: key (the section's shape, rounded; Poisson's ratio; mesh) ->
 #: (heights, compliance times Young's modulus: a plane-strain body's compliance per
-#: unit width times E depends on its shape and Poisson's ratio only).
-_TABLES: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+#: unit width times E depends on its shape and Poisson's ratio only; the cubic spline
+#: through them, built once).
+_TABLES: dict[tuple, tuple] = {}
 _TABLES_MAX = 512
 
 #: Load heights per table, spaced evenly in roll length from the involute's start (or
@@ -294,8 +295,11 @@ def _table(sections, i0, key, E, nu, normal, n_along, n_across):
         ra = float(rho_o[-1])
         roll = np.linspace(np.sqrt(lo**2 - rb**2), np.sqrt(ra**2 - rb**2), TABLE_RADII)
         radii = np.sqrt(rb**2 + roll**2)
+        from scipy.interpolate import CubicSpline
+
         fe = _solve_section(one, 0, radii, E, nu, normal, n_along, n_across)
-        got = (_height(one, radii), fe * E)
+        h = _height(one, radii)
+        got = (h, fe * E, CubicSpline(h, fe * E))
         if len(_TABLES) >= _TABLES_MAX:
             _TABLES.clear()
         _TABLES[key] = got
@@ -327,8 +331,6 @@ def fe_tooth_compliance(
     """
     from dataclasses import fields
 
-    from scipy.interpolate import CubicSpline
-
     n = np.asarray(sections.radius).size
     radius = np.asarray(sections.radius, float)
     E, nu = float(youngs_modulus), float(poisson_ratio)
@@ -354,6 +356,6 @@ def fe_tooth_compliance(
     for g, i0 in enumerate(first):
         pts = np.flatnonzero(inverse == g)
         key = (*keys[i0].tolist(), nu, bool(normal), int(n_along), int(n_across))
-        h, ce = _table(sections, int(i0), key, E, nu, normal, n_along, n_across)
-        out[pts] = CubicSpline(h, ce)(np.clip(height[pts], h[0], h[-1])) / E
+        h, _, spline = _table(sections, int(i0), key, E, nu, normal, n_along, n_across)
+        out[pts] = spline(np.clip(height[pts], h[0], h[-1])) / E
     return out

@@ -51,6 +51,7 @@ from ..geometry.involute import inv
 __all__ = [
     "SliceCompliance",
     "body_torsion",
+    "foundation_compliance",
     "hertz_half_width",
     "normal_section",
     "slice_compliance",
@@ -282,14 +283,39 @@ def slice_compliance(
         lo2 = np.maximum(rf, rb)
         cb2, cs2, ca2 = integrate(lo2, np.maximum(rR, lo2))
         psi_f = _half_angle(rf, rb, psi_b)
-    # fillet foundation (Sainsot et al. 2004, eq. (8)), per unit width
-    xf = rf * np.cos(psi_f)
-    uf = xL - hL * np.tan(a1) - xf
-    sf = 2.0 * rf * psi_f
-    hf = rf / sections.bore_radius
-    L, M, P, Q = (_sainsot(k, hf, psi_f) for k in "LMPQ")
-    cf = cos1**2 / E * (L * (uf / sf) ** 2 + M * (uf / sf) + P * (1.0 + Q * np.tan(a1) ** 2))
+    cf = _sainsot_foundation(E, rf, psi_f, xL - hL * np.tan(a1), a1, sections.bore_radius)
     return SliceCompliance((cb1 + cb2, cs1 + cs2, ca1 + ca2, cf))
+
+
+def _sainsot_foundation(E, rf, psi_f, x_centre, a1, bore_radius):
+    """Sainsot et al. (2004), eq. (8), per unit width: the root thickness ``2 r_f psi_f``
+    at the root radius rf, the load's line crossing the centre line at ``x_centre``
+    (its lever ``u_f`` from the root), a1 the load's angle to the centre line's normal."""
+    uf = x_centre - rf * np.cos(psi_f)
+    sf = 2.0 * rf * psi_f
+    hf = rf / bore_radius
+    L, M, P, Q = (_sainsot(k, hf, psi_f) for k in "LMPQ")
+    return (
+        np.cos(a1) ** 2 / E * (L * (uf / sf) ** 2 + M * (uf / sf) + P * (1.0 + Q * np.tan(a1) ** 2))
+    )
+
+
+def foundation_compliance(
+    sections, youngs_modulus: float, *, root: str = "radial", normal: bool = True
+) -> np.ndarray:
+    """Sainsot's fillet foundation alone, the fourth part of :func:`slice_compliance`
+    (m per N/m of transverse line load), shape (n,), without the beam's integrals."""
+    rL, rb, rf = sections.radius, sections.base_radius, sections.root_radius
+    psi_b = sections.base_half_angle
+    psi_L = _half_angle(rL, rb, psi_b)
+    a1 = np.arccos(np.clip(rb / rL, -1.0, 1.0)) - psi_L
+    if root == "fillet":
+        psi_f, rg, _, yc, rr, _ = fillet_root(sections, normal)
+        rf = rg - yc - rr  # the rack's root circle, where the fillet ends
+    else:
+        psi_f = _half_angle(rf, rb, psi_b)
+    x_centre = rL * np.cos(psi_L) - rL * np.sin(psi_L) * np.tan(a1)
+    return _sainsot_foundation(youngs_modulus, rf, psi_f, x_centre, a1, sections.bore_radius)
 
 
 def body_torsion(sections, shear_modulus: float) -> np.ndarray:
