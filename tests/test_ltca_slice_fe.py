@@ -370,3 +370,14 @@ def test_foundation_alone_is_the_slice_models_fourth_part(root):
     full = slice_compliance(v, g.youngs_modulus, g.poisson_ratio, root=root)
     alone = foundation_compliance(v, g.youngs_modulus, root=root)
     np.testing.assert_array_equal(alone, full[3])
+
+
+def test_a_far_field_larger_than_the_foundation_is_refused(monkeypatch):
+    from gearbox.errors import InputError
+    from gearbox.ltca import compliance
+
+    g = parallel_grid(_bench().PAIRS["spur"], 0.3, 8)
+    monkeypatch.setattr(compliance, "FAR_FIELD", 100.0)
+    with pytest.raises(InputError, match="far field"):
+        FastCompliance().slice_parts(g)
+    assert FastCompliance(foundation="normal").slice_parts(g)[0].min() > 0

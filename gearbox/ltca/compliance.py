@@ -59,7 +59,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from ..errors import Problems
+from ..errors import InputError, Problem, Problems
 from .grid import ContactGrid
 from .slice_model import (
     body_torsion,
@@ -322,6 +322,16 @@ class FastCompliance:
                 c = c - body_torsion(section, G)
             if self.foundation == "split":
                 c = c - FAR_FIELD / (E * factor)
+                if np.any(c <= 0.0):  # a far field larger than the slice's own foundation
+                    raise InputError(
+                        Problem(
+                            "ltca.fidelity",
+                            "fast",
+                            "the body's far field exceeds a slice's foundation for these "
+                            "teeth (FastCompliance(foundation='normal') keeps it in the "
+                            "slices)",
+                        )
+                    )
             out.append(c * factor)
         return tuple(out)
 
@@ -378,8 +388,10 @@ class FastCompliance:
         return C
 
     def body_matrix(self, grid: ContactGrid) -> np.ndarray:
-        """The calibrated body term, ``body_compliance / (E b)`` per gear in every
-        entry (m/N), shape (n, n)."""
+        """The terms every loaded point of a gear shares, in every entry (m/N), shape
+        (n, n): ``body_compliance / (E b)`` per gear and, for ``foundation="split"``, the
+        far field ``FAR_FIELD g(beta) / (E b)`` (b the face width along that gear's
+        axis)."""
         face1 = float(grid.n_slots * np.mean(grid.width))
         face2 = float(grid.n_slots * np.mean(grid.width2))
         k1 = k2 = self.body_compliance
