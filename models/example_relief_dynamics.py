@@ -22,9 +22,9 @@ dynamic mesh force at 3500 rpm falls from 2776 to 360 N, that of the DTE from 3.
 which moves the mesh mode from 2045 to 1844 Hz, towards the mesh frequency of 1692 Hz:
 here the smaller excitation wins, but a relief sized on the quasi-static TE alone can
 move a mode onto an excitation order; ``gearbox modes`` and the Campbell diagram of
-``gearbox run`` show where the mode sits. (With the fast level's earlier compliance,
-softer teeth, the same relief left the first harmonic at 1.63 um and the mesh force
-rose from 3880 to 6232 N next to a mode at 1745 Hz: the answer depends on the tables.)
+``gearbox run`` show where the mode sits. (With the fast level's earlier, softer
+compliance the same relief raised the dynamic mesh force instead, next to a mode that
+had moved onto the mesh frequency: the answer depends on the tables.)
 
 Run it from the repository root::
 

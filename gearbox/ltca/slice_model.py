@@ -246,7 +246,7 @@ def slice_compliance(
         return sums(w, x, rho * np.sin(psi))
 
     if root == "fillet":
-        psi_f, rg, sc, yc, rr, alpha = fillet_root(sections, normal)
+        _, rg, sc, yc, rr, alpha = fillet_root(sections, normal)
         # the fillet from the root circle (phi_0 = s_c / r) up to where the round's
         # normal is the flank's (phi_1 = (s_c + y_c / tan(alpha)) / r), in the rolling
         # angle; above it the involute
@@ -270,7 +270,6 @@ def slice_compliance(
         w = _GL_W[None, :] * half[:, None] * dx
         cb1, cs1, ca1 = sums(w, rho * np.cos(psi), rho * np.sin(psi))
         cb2, cs2, ca2 = integrate(np.minimum(top, rR), rR)
-        rf = rg - yc - rr  # the rack's root circle, where the fillet ends
     else:
         rR = rL
         if beam_at == "centre_line":
@@ -282,29 +281,19 @@ def slice_compliance(
         # segment 2: involute from max(rf, rb) to the load point
         lo2 = np.maximum(rf, rb)
         cb2, cs2, ca2 = integrate(lo2, np.maximum(rR, lo2))
-        psi_f = _half_angle(rf, rb, psi_b)
-    cf = _sainsot_foundation(E, rf, psi_f, xL - hL * np.tan(a1), a1, sections.bore_radius)
+    cf = foundation_compliance(sections, E, root=root, normal=normal)
     return SliceCompliance((cb1 + cb2, cs1 + cs2, ca1 + ca2, cf))
-
-
-def _sainsot_foundation(E, rf, psi_f, x_centre, a1, bore_radius):
-    """Sainsot et al. (2004), eq. (8), per unit width: the root thickness ``2 r_f psi_f``
-    at the root radius rf, the load's line crossing the centre line at ``x_centre``
-    (its lever ``u_f`` from the root), a1 the load's angle to the centre line's normal."""
-    uf = x_centre - rf * np.cos(psi_f)
-    sf = 2.0 * rf * psi_f
-    hf = rf / bore_radius
-    L, M, P, Q = (_sainsot(k, hf, psi_f) for k in "LMPQ")
-    return (
-        np.cos(a1) ** 2 / E * (L * (uf / sf) ** 2 + M * (uf / sf) + P * (1.0 + Q * np.tan(a1) ** 2))
-    )
 
 
 def foundation_compliance(
     sections, youngs_modulus: float, *, root: str = "radial", normal: bool = True
 ) -> np.ndarray:
-    """Sainsot's fillet foundation alone, the fourth part of :func:`slice_compliance`
-    (m per N/m of transverse line load), shape (n,), without the beam's integrals."""
+    """Sainsot's fillet foundation (Sainsot et al. 2004, eq. (8)), the fourth part of
+    :func:`slice_compliance` and on its own for the plane-strain tooth (m per N/m of
+    transverse line load), shape (n,): root thickness ``S_f = 2 r_f psi_f`` (``root``
+    as in :func:`slice_compliance`), lever ``u_f`` from the root circle to where the
+    load's line crosses the centre line, a1 the load's angle to the centre line's
+    normal."""
     rL, rb, rf = sections.radius, sections.base_radius, sections.root_radius
     psi_b = sections.base_half_angle
     psi_L = _half_angle(rL, rb, psi_b)
@@ -314,8 +303,14 @@ def foundation_compliance(
         rf = rg - yc - rr  # the rack's root circle, where the fillet ends
     else:
         psi_f = _half_angle(rf, rb, psi_b)
-    x_centre = rL * np.cos(psi_L) - rL * np.sin(psi_L) * np.tan(a1)
-    return _sainsot_foundation(youngs_modulus, rf, psi_f, x_centre, a1, sections.bore_radius)
+    uf = rL * np.cos(psi_L) - rL * np.sin(psi_L) * np.tan(a1) - rf * np.cos(psi_f)
+    sf = 2.0 * rf * psi_f
+    L, M, P, Q = (_sainsot(k, rf / sections.bore_radius, psi_f) for k in "LMPQ")
+    return (
+        np.cos(a1) ** 2
+        / youngs_modulus
+        * (L * (uf / sf) ** 2 + M * (uf / sf) + P * (1.0 + Q * np.tan(a1) ** 2))
+    )
 
 
 def body_torsion(sections, shear_modulus: float) -> np.ndarray:
