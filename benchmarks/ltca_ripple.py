@@ -18,7 +18,8 @@ its calibrated body coefficient), ``--root`` its tooth below the involute
 (``FastCompliance(root=...)``), ``--beam-at`` where its slice beam's deflection is
 taken (``FastCompliance(beam_at=...)``), ``--tooth`` the tooth above the root circle
 (``FastCompliance(tooth=...)``: the beam or the plane-strain FE slice), ``--body`` its
-body coefficient (default: the calibrated one), ``--coupling-length`` the slices'
+body coefficient (default: none with the shared far field, the calibrated one with
+``--foundation normal``), ``--coupling-length`` the slices'
 coupling along the face (``FastCompliance(coupling_length=...)``), ``--foundation``
 the split of the fillet foundation (``FastCompliance(foundation=...)``: all in the
 slices, or the body's far field shared by the whole gear). ``--fit-body`` fits the body coefficient for it (the
@@ -438,7 +439,11 @@ def main(argv=None) -> int:
         "--coupling-length", type=float, default=d.coupling_length, help="over the tooth depth"
     )
     ap.add_argument("--foundation", default=d.foundation, choices=("normal", "split"))
-    ap.add_argument("--body", type=float, help="body coefficient (default: the calibrated one)")
+    ap.add_argument(
+        "--body",
+        type=float,
+        help="body coefficient (default: 0 with the split foundation, else the calibrated one)",
+    )
     ap.add_argument("--fit-body", action="store_true", help="fit the body coefficient")
     ap.add_argument("--parallel", action="store_true", help="parallel pairs against the FE")
     ap.add_argument("--json", type=Path)

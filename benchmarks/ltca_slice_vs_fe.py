@@ -25,6 +25,8 @@ One tooth, a unit force along the flank normal spread evenly over the whole face
     python benchmarks/ltca_slice_vs_fe.py --refine 1.0 --json tests/data/fe_slice_line_load.json
     python benchmarks/ltca_slice_vs_fe.py --stored tests/data/fe_slice_line_load.json \
         --beam-at centre_line                                # no FE run
+    python benchmarks/ltca_slice_vs_fe.py --pairs case03_beta0 case03_beta10 case03_beta30 \
+        --refine 1.0 --beam-at centre_line --json tests/data/fe_slice_line_load_helix.json
 
 ``--beam-at`` picks where the slice beam's deflection is taken
 (``slice_compliance(beam_at=...)``: the load point or where the load's line crosses
