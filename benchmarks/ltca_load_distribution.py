@@ -15,8 +15,9 @@ coupling; the rotation tells the overall stiffness.
 
 The FE level (default mesh, far field included) takes about 2.5 minutes for its
 influence coefficients on case 03 and 3-4 GB; ``--stored`` reads its loads from an
-earlier ``--json`` run and solves the fast level only (seconds). ``--coupling-length``
-and ``--body`` change the fast level's (``FastCompliance``) for experiments.
+earlier ``--json`` run and solves the fast level only (seconds). ``--coupling-length``,
+``--body`` and ``--contact`` change the fast level's (``FastCompliance``) for
+experiments.
 """
 
 from __future__ import annotations
@@ -91,12 +92,19 @@ def main(argv=None) -> int:
     ap.add_argument("--stored", type=Path, help="FE solutions of an earlier --json run")
     ap.add_argument("--coupling-length", type=float, help="the fast level's (tooth depths)")
     ap.add_argument("--body", type=float, help="the fast level's body coefficient")
+    ap.add_argument(
+        "--contact",
+        choices=("centre_line", "matching_depth"),
+        help="the fast level's contact reference (with the plane-strain tooth read there)",
+    )
     a = ap.parse_args(argv)
     opts = {}
     if a.coupling_length is not None:
         opts["coupling_length"] = a.coupling_length
     if a.body is not None:
         opts["body_compliance"] = a.body
+    if a.contact is not None:
+        opts["contact"] = a.contact
     fast = FastCompliance(**opts)
     if a.stored is not None:
         stored = json.loads(a.stored.read_text())

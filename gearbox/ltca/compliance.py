@@ -311,9 +311,10 @@ class FastCompliance:
             if self.tooth == "fe":  # the beam's integrals are not needed
                 from .slice_fe import fe_tooth_compliance
 
-                c = fe_tooth_compliance(section, E, nu, normal=normal) + foundation_compliance(
-                    section, E, root=self.root, normal=normal
-                )
+                depth = self.contact_depth if self.contact == "matching_depth" else None
+                c = fe_tooth_compliance(
+                    section, E, nu, normal=normal, depth=depth
+                ) + foundation_compliance(section, E, root=self.root, normal=normal)
             else:
                 c = slice_compliance(
                     section, E, nu, root=self.root, normal=normal, beam_at=self.beam_at
