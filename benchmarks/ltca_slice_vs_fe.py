@@ -17,9 +17,11 @@ One tooth, a unit force along the flank normal spread evenly over the whole face
   included) and the body torsion alone, and Weber's half-plane compression between
   the same two depths, ``2 (1 - nu^2) / (pi E) ln(h / d)`` per unit line load;
   and the tooth as a plane-strain FE body clamped at the root circle
-  (``gearbox.ltca.slice_fe``, ``FastCompliance(tooth="fe")``), and the whole virtual
-  spur gear in plane strain (``slice_fe.whole_gear_compliance``, its number of teeth
-  rounded) against the FE's whole gear (segment + far field).
+  (``gearbox.ltca.slice_fe``, ``FastCompliance(tooth="fe")``), read at the centre
+  line and at the matching depth (``FastCompliance(contact="matching_depth")``)
+  against the FE tooth read there, and the whole virtual spur gear in plane strain
+  (``slice_fe.whole_gear_compliance``, its number of teeth rounded) against the FE's
+  whole gear (segment + far field).
 
     python benchmarks/ltca_slice_vs_fe.py                    # spur z 30/45 and case 03
     python benchmarks/ltca_slice_vs_fe.py --refine 1.0 --json tests/data/fe_slice_line_load.json
@@ -110,6 +112,8 @@ def slice_terms(
         "weber_d_to_centre": weber,
     }
     out["plane strain tooth"] = fe_tooth_compliance(v, E, nu) * factor
+    depth = matching_depth / pair.normal_module  # read at the FE level's matching depth
+    out["plane strain tooth at d"] = fe_tooth_compliance(v, E, nu, depth=depth) * factor
     # the whole (virtual spur) gear in plane strain, its number of teeth rounded
     zv = int(round(float(v.teeth[0])))
     out["plane strain gear"] = whole_gear_compliance(v, E, nu, zv) * factor
@@ -209,11 +213,24 @@ def table(name: str, pair: ParallelPair, radii, fe: dict, sl: dict) -> None:
             f"{whole_fe[i] / UNIT:8.3f} {sl['plane strain gear'][i] / UNIT:8.3f} "
             f"{sl['plane strain gear'][i] / whole_fe[i]:5.2f}"
         )
+    print(
+        f"{'h (mm)':>7} | {'FE tooth at d':>13} {'plane strain at d':>17} {'ratio':>5} | "
+        f"compression d -> centre over Weber's: {'FE tooth':>8} {'plane strain':>12}"
+    )
+    for i, r in enumerate(radii):
+        at_d = sl["plane strain tooth at d"][i]
+        w = sl["weber_d_to_centre"][i]
+        print(
+            f"{(r - rf) * 1e3:7.2f} | {fe['tooth_depth'][i] / UNIT:13.3f} {at_d / UNIT:17.3f} "
+            f"{at_d / fe['tooth_depth'][i]:5.2f} | {'':>38}"
+            f"{(fe['tooth_depth'][i] - fe['tooth_centre'][i]) / w:8.2f} "
+            f"{(at_d - sl['plane strain tooth'][i]) / w:12.2f}"
+        )
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--pairs", nargs="+", default=list(PAIRS), choices=list(PAIRS))
+    ap.add_argument("--pairs", nargs="+", default=["spur", "case03"], choices=list(PAIRS))
     ap.add_argument("--heights", type=int, default=6)
     ap.add_argument("--refine", type=float, default=0.5, help="FE mesh refinement")
     ap.add_argument("--no-extent", action="store_true", help="skip the far-field study")
