@@ -286,8 +286,9 @@ class FastCompliance:
     def describe(self) -> str:
         """One line naming the model's choices, for provenance (table attributes, the
         report)."""
+        read = "centre line" if self.contact == "centre_line" else "matching depth"
         tooth = {
-            "fe": "plane-strain FE tooth",
+            "fe": f"plane-strain FE tooth read at the {read}",
             "beam": f"slice beam read at the {self.beam_at.replace('_', ' ')}",
         }[self.tooth]
         shared = "far field shared" if self.foundation == "split" else "foundation in the slices"
