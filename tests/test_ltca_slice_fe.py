@@ -276,9 +276,9 @@ def test_plane_strain_tooth_read_at_the_matching_depth_matches_the_fe_tooth(name
     """Read at the FE level's matching depth (0.25 m_n below the flank along the load)
     instead of at the centre line, the plane-strain tooth against the 3-D FE tooth
     clamped at the root circle read at its matching points, at all six heights:
-    measured 0.991 .. 1.046 (spur) and 0.962 .. 1.030 (case 03); bounds a point
+    measured 1.000 .. 1.047 (spur) and 0.974 .. 1.030 (case 03); bounds a point
     beyond. The depth reading's mesh (slice_fe.MESH_DEPTH, graded towards the flank)
-    is within 0.5 % of meshes four times finer (measured 0.4 %), and the reading lies
+    is within 0.5 % of a mesh four times finer (measured 0.06 %), and the reading lies
     above the centre line's by the compression between the two depths."""
     from gearbox.ltca import slice_fe
     from gearbox.ltca.slice_fe import fe_tooth_compliance
