@@ -1,0 +1,358 @@
+"""The FE level's helical teeth against an independent finite-element model, and the
+fast level against the FE level over the helix angle and the face width.
+
+``--check`` (default): one tooth of the pinion of a parallel pair (z 20/40, m_n 4 mm,
+alpha_n 20 deg) with its rim sector, bore and radial cut faces clamped (the FE level
+with ``neighbours=0``, ``far_field="none"``), loaded by the FE level's own unit loads
+(a unit force along the inward normal spread over a square patch of side
+``lattice_spacing m_n``, 3 x 3 Gauss points) at the points of one contact line (the
+grid's tooth pair on that tooth at mesh position 0.25), read along the inward normal
+at the matching depth below each point. Both models give the matrix ``C_ij`` of those
+points; printed is ``e^T C e / n^2`` (the approach under a load spread evenly over the
+line, per newton) of both and their ratio, for each helix angle. The independent model
+shares only the flank geometry (``gearbox.surface.flank_points``, checked on its own
+against the involute helicoid to 1e-9 m): gmsh lofts the transverse sections of the
+tooth sector (OpenCASCADE ``ThruSections`` through nine sections) and meshes it with
+linear tetrahedra graded towards the loaded points; scikit-fem solves it with
+quadratic (P2) tetrahedra; pyamg's smoothed aggregation preconditions the conjugate
+gradients (to a relative residual of 1e-10).
+
+``--mesh-stiffness``: the mean mesh stiffness of the same pairs (8 positions, 300 N m)
+at each helix angle and face width: the FE level's segment (``far_field="none"``),
+the fast level without its shared far field (what matches the segment) and with it,
+and ISO 6336-1's c_gamma_alpha in the same (normal) convention, N/(mm um).
+
+    python3 -m pip install gmsh pyamg     # for --check only; not needed by gearbox
+    python3 benchmarks/fe_independent.py --helix-deg 0 15 30 --face-mm 12
+    python3 benchmarks/fe_independent.py --mesh-stiffness --helix-deg 0 15 30 --face-mm 12 30
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from gearbox.fe import FECompliance, FEOptions  # noqa: E402
+from gearbox.fe.compliance import gear_loads  # noqa: E402
+from gearbox.ltca import (  # noqa: E402
+    FastCompliance,
+    LTCAOptions,
+    ParallelPair,
+    iso_mesh_stiffness,
+    ltca_cycle,
+    parallel_grid,
+)
+from gearbox.surface.generation import flank_points, profile_range  # noqa: E402
+from gearbox.surface.sample import tip_parameter  # noqa: E402
+
+E, NU = 206e9, 0.3
+TORQUE = 300.0
+
+
+def pair_of(beta_deg: float, face_mm: float) -> ParallelPair:
+    return ParallelPair(
+        normal_module=4e-3,
+        normal_pressure_angle=math.radians(20),
+        helix_angle=math.radians(beta_deg),
+        teeth=(20, 40),
+        face_width=face_mm * 1e-3,
+    )
+
+
+def n_face(face_mm: float) -> int:
+    return max(6, int(round(face_mm / 2)))
+
+
+# ------------------------------------------------------------------ the FE level
+def level_line(pair: ParallelPair, position: float = 0.25):
+    """The FE level's one-tooth model: C at the contact line's points on tooth 0 (the
+    lattice responses interpolated as ``FECompliance.gear_matrix`` does), the points,
+    their frames and what the independent model needs."""
+    grid = parallel_grid(pair, position, n_face=n_face(pair.face_width * 1e3))
+    loads = gear_loads(grid, 0)
+    fe = FECompliance(FEOptions(far_field="none", neighbours=0))
+    gm = fe._model(dataclasses.replace(loads, tooth=np.zeros_like(loads.tooth)), 0, E, NU)
+    lat = fe._lattice(gm, loads.side)
+    Clat = fe._responses(gm, loads.side, 0).depth[0]
+    on = loads.tooth == 0
+    z, u = loads.z[on], loads.u[on]
+    W = fe._weights(lat, z, u)
+    C = W @ Clat @ W.T
+    P, n, t1, t2 = fe._surface(loads.blank, loads.side, 0, z, u)
+    return {
+        "C": 0.5 * (C + C.T),
+        "blank": loads.blank,
+        "side": loads.side,
+        "bore": gm.model.mesh.bore_radius,
+        "z": z,
+        "u": u,
+        "P": P,
+        "n": n,
+        "t1": t1,
+        "t2": t2,
+        "half": 0.5 * fe.options.lattice_spacing * loads.blank.normal_module,
+        "depth": fe.options.matching_depth * loads.blank.normal_module,
+    }
+
+
+# ------------------------------------------------------------ independent model
+def _polar(p):
+    return np.hypot(p[:, 0], p[:, 1]), np.arctan2(p[:, 1], p[:, 0])
+
+
+def _wrap(a):
+    return (a + np.pi) % (2 * np.pi) - np.pi
+
+
+def tooth_sector(gmsh, blank, side, bore, refine_at, h_min, h_max, sections=9):
+    """Loft of the transverse sections of tooth 0 and its rim sector (bore to the
+    middles of the tooth spaces); a linear tetrahedral mesh graded from ``h_min`` within
+    1.5 mm of the points ``refine_at`` to ``h_max`` beyond 8 mm. Returns the nodes
+    (3, n), the tetrahedra (4, m) and the cut faces' angles per section ``(z, left,
+    right)``."""
+    occ = gmsh.model.occ
+    N = blank.teeth
+    u_min = profile_range(blank)[0]
+    zs = np.linspace(blank.z_toe, blank.z_heel, sections)
+    wires, cuts = [], []
+    for z in zs:
+        prof = {}
+        for s in ("L", "R"):
+            u_tip = float(tip_parameter(blank, s, np.array([z]))[0][0])
+            u = np.concatenate([np.linspace(u_min, 0, 12)[:-1], np.linspace(0, u_tip, 40)])
+            prof[s] = flank_points(blank, s, np.full(u.shape, z), u).position
+        rL, thL = _polar(prof["L"])
+        rR, thR = _polar(prof["R"])
+        thc = thL[0] + 0.5 * _wrap(thR[0] - thL[0])
+        sg = 1.0 if _wrap(thR[0] - thc) > 0 else -1.0
+        cut_l, cut_r = thc - sg * np.pi / N, thc + sg * np.pi / N
+        cuts.append((z, cut_l, cut_r))
+        centre = occ.addPoint(0, 0, z)
+
+        def at(r, th, z=z):
+            return occ.addPoint(r * math.cos(th), r * math.sin(th), z)
+
+        pR = [occ.addPoint(*q) for q in prof["R"]]
+        pL = [occ.addPoint(*q) for q in prof["L"]]
+        a, b = at(bore, cut_r), at(rR[0], cut_r)
+        c, d = at(rL[0], cut_l), at(bore, cut_l)
+        curves = [
+            occ.addLine(a, b),
+            occ.addCircleArc(b, centre, pR[0]),
+            occ.addBSpline(pR),
+            occ.addCircleArc(pR[-1], centre, pL[-1]),
+            occ.addBSpline(pL[::-1]),
+            occ.addCircleArc(pL[0], centre, c),
+            occ.addLine(c, d),
+            occ.addCircleArc(d, centre, a),
+        ]
+        wires.append(occ.addWire(curves))
+    occ.addThruSections(wires, makeSolid=True, makeRuled=False)
+    marks = [occ.addPoint(*q) for q in refine_at]
+    occ.synchronize()
+    field = gmsh.model.mesh.field
+    field.add("Distance", 1)
+    field.setNumbers(1, "PointsList", marks)
+    field.add("Threshold", 2)
+    for key, value in (
+        ("InField", 1),
+        ("SizeMin", h_min),
+        ("SizeMax", h_max),
+        ("DistMin", 1.5e-3),
+        ("DistMax", 8e-3),
+    ):
+        field.setNumber(2, key, value)
+    field.setAsBackgroundMesh(2)
+    for key in ("MeshSizeExtendFromBoundary", "MeshSizeFromPoints", "MeshSizeFromCurvature"):
+        gmsh.option.setNumber(f"Mesh.{key}", 0)
+    gmsh.option.setNumber("Mesh.Algorithm3D", 10)
+    gmsh.model.mesh.generate(3)
+    tags, xyz, _ = gmsh.model.mesh.getNodes()
+    _, nodes = gmsh.model.mesh.getElementsByType(4)
+    index = np.full(int(tags.max()) + 1, -1)
+    index[tags.astype(int)] = np.arange(tags.size)
+    p = xyz.reshape(-1, 3).T
+    t = index[nodes.astype(int)].reshape(-1, 4).T
+    used = np.unique(t)
+    remap = np.full(p.shape[1], -1)
+    remap[used] = np.arange(used.size)
+    return p[:, used], remap[t], np.array(cuts)
+
+
+def _on_flank(blank, side, z, u, target):
+    """The flank point nearest ``target`` (Newton on (z, u) from the given start)."""
+    for _ in range(4):
+        f0 = flank_points(blank, side, np.array([z]), np.array([u])).position[0]
+        fz = flank_points(blank, side, np.array([z + 1e-6]), np.array([u])).position[0]
+        fu = flank_points(blank, side, np.array([z]), np.array([u + 1e-6])).position[0]
+        J = np.column_stack([fz - f0, fu - f0]) / 1e-6
+        dz, du = np.linalg.lstsq(J, target - f0, rcond=None)[0]
+        z, u = z + dz, u + du
+    return flank_points(blank, side, np.array([z]), np.array([u])).position[0]
+
+
+def independent(line, h_min=0.3e-3, h_max=2.0e-3):
+    """C of the same points from the gmsh / scikit-fem model (m/N) and its size."""
+    import gmsh
+    import pyamg
+    import skfem
+    from scipy.sparse.linalg import cg
+    from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+    P, n, t1, t2 = line["P"], line["n"], line["t1"], line["t2"]
+    refine = np.concatenate([P, 0.5 * (P[1:] + P[:-1])])
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Verbosity", 1)
+        p, t, cuts = tooth_sector(
+            gmsh, line["blank"], line["side"], line["bore"], refine, h_min, h_max
+        )
+    finally:
+        gmsh.finalize()
+    mesh = skfem.MeshTet(np.ascontiguousarray(p), np.ascontiguousarray(t))
+    basis = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTetP2()), intorder=4)
+    K = skfem.asm(linear_elasticity(*lame_parameters(E, NU)), basis)
+    bore = line["bore"]
+
+    def clamped(x):  # the bore and the two cut faces (angle within 1e-4 rad of the loft's)
+        r, th = np.hypot(x[0], x[1]), np.arctan2(x[1], x[0])
+        near = np.zeros(r.shape, bool)
+        for col in (1, 2):
+            near |= np.abs(_wrap(th - np.interp(x[2], cuts[:, 0], cuts[:, col]))) < 1e-4
+        return (r < bore * (1 + 1e-6)) | near
+
+    fixed = basis.get_dofs(facets=mesh.facets_satisfying(clamped, boundaries_only=True)).all()
+    free = basis.complement_dofs(fixed)
+    g = np.array([-math.sqrt(0.6), 0.0, math.sqrt(0.6)])
+    w = np.array([5.0, 8.0, 5.0]) / 9.0
+    F = np.zeros((basis.N, len(P)))
+    for k in range(len(P)):
+        pts, wts = [], []
+        for i, gi in enumerate(g):
+            for j, gj in enumerate(g):
+                target = P[k] + line["half"] * (gi * t1[k] + gj * t2[k])
+                q = _on_flank(line["blank"], line["side"], line["z"][k], line["u"][k], target)
+                pts.append(q - 3e-6 * n[k])  # just inside the faceted surface
+                wts.append(0.25 * w[i] * w[j])
+        probe = basis.probes(np.array(pts).T).tocsr()  # rows: x of every point, then y, z
+        m = len(pts)
+        for c in range(3):
+            F[:, k] -= probe[c * m : (c + 1) * m].T @ (np.array(wts) * n[k, c])
+    # the solve: conjugate gradients, smoothed aggregation with the rigid-body modes
+    Kf = K[free][:, free].tocsr()
+    comp = np.zeros(basis.N, int)
+    for c, ix in enumerate(basis.split_indices()):
+        comp[ix] = c
+    cf, (x, y, z) = comp[free], basis.doflocs[:, free]
+    B = np.zeros((free.size, 6))
+    for c in range(3):
+        B[cf == c, c] = 1.0
+    B[cf == 0, 3], B[cf == 1, 3] = -y[cf == 0], x[cf == 1]
+    B[cf == 1, 4], B[cf == 2, 4] = -z[cf == 1], y[cf == 2]
+    B[cf == 0, 5], B[cf == 2, 5] = z[cf == 0], -x[cf == 2]
+    M = pyamg.smoothed_aggregation_solver(Kf, B=B, max_coarse=500).aspreconditioner()
+    U = np.zeros_like(F)
+    for k in range(F.shape[1]):
+        sol, info = cg(Kf, F[free, k], M=M, rtol=1e-10, maxiter=3000)
+        if info != 0:
+            raise RuntimeError(f"conjugate gradients did not converge (info {info})")
+        U[free, k] = sol
+    Q = (P - line["depth"] * n).T
+    probe = basis.probes(Q).tocsr()
+    m = Q.shape[1]
+    C = np.zeros((m, len(P)))
+    for c in range(3):
+        C -= (probe[c * m : (c + 1) * m] @ U) * n[:, c][:, None]
+    return 0.5 * (C + C.T), {"vertices": mesh.p.shape[1], "dofs": int(free.size)}
+
+
+def check(helix, faces, h_min, h_max) -> None:
+    print(
+        "| helix (deg) | face (mm) | points | FE level e'Ce/n^2 (m/N) | independent | "
+        "independent / FE level | P2 unknowns | s |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for face in faces:
+        for beta in helix:
+            t0 = time.perf_counter()
+            line = level_line(pair_of(beta, face))
+            C_ind, size = independent(line, h_min, h_max)
+            e = np.ones(len(line["P"]))
+            a, b = e @ line["C"] @ e / e.size**2, e @ C_ind @ e / e.size**2
+            print(
+                f"| {beta:g} | {face:g} | {e.size} | {a:.4e} | {b:.4e} | {b / a:.4f} | "
+                f"{size['dofs']} | {time.perf_counter() - t0:.0f} |",
+                flush=True,
+            )
+
+
+@dataclasses.dataclass(frozen=True)
+class _WithoutFarField(FastCompliance):
+    """The fast level without its shared far field: what the FE segment holds."""
+
+    def body_matrix(self, grid):
+        return np.zeros((grid.size, grid.size))
+
+
+def mesh_stiffness(helix, faces) -> None:
+    print(
+        "| helix (deg) | face (mm) | FE segment | fast without far field | fast / FE | "
+        "fast (default) | ISO c_gamma_alpha (normal) |"
+    )
+    print("|---|---|---|---|---|---|---|")
+    for face in faces:
+        for beta in helix:
+            pair = pair_of(beta, face)
+            nf = n_face(face)
+
+            def grid(q, pair=pair, nf=nf):
+                return parallel_grid(pair, q, n_face=nf)
+
+            def k(comp, grid=grid, pair=pair):
+                res = ltca_cycle(grid, [TORQUE], options=LTCAOptions(positions=8), compliance=comp)
+                return float(res.stiffness[0].mean()) / pair.face_width / 1e9
+
+            fe = k(FECompliance(FEOptions(far_field="none")))
+            seg, whole = k(_WithoutFarField()), k(FastCompliance())
+            iso = (
+                iso_mesh_stiffness(
+                    teeth=pair.teeth,
+                    helix_angle=pair.helix_angle,
+                    normal_pressure_angle=pair.normal_pressure_angle,
+                    profile_shift=(0.0, 0.0),
+                    transverse_contact_ratio=pair.transverse_contact_ratio,
+                ).c_gamma_alpha
+                / math.cos(pair.base_helix_angle) ** 2
+            )
+            print(
+                f"| {beta:g} | {face:g} | {fe:.2f} | {seg:.2f} | {seg / fe:.3f} | {whole:.2f} | "
+                f"{iso / 1e9:.2f} |",
+                flush=True,
+            )
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--helix-deg", type=float, nargs="+", default=[0.0, 15.0, 30.0])
+    ap.add_argument("--face-mm", type=float, nargs="+", default=[12.0])
+    ap.add_argument("--mesh-stiffness", action="store_true", help="the fast level against the FE")
+    ap.add_argument("--h-min-mm", type=float, default=0.3, help="tetrahedra near the loads")
+    ap.add_argument("--h-max-mm", type=float, default=2.0, help="tetrahedra far from them")
+    a = ap.parse_args(argv)
+    if a.mesh_stiffness:
+        mesh_stiffness(a.helix_deg, a.face_mm)
+    else:
+        check(a.helix_deg, a.face_mm, a.h_min_mm * 1e-3, a.h_max_mm * 1e-3)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
