@@ -188,13 +188,12 @@ def tooth_sector(gmsh, blank, side, bore, refine_at, h_min, h_max, sections=9):
 
 
 def _on_flank(blank, side, z, u, target):
-    """The flank point nearest ``target`` (Newton on (z, u) from the given start)."""
+    """The flank point nearest ``target`` (Newton on (z, u) from the given start, with
+    the flank's own tangents ``dr_dz``, ``dr_du``)."""
     for _ in range(4):
-        f0 = flank_points(blank, side, np.array([z]), np.array([u])).position[0]
-        fz = flank_points(blank, side, np.array([z + 1e-6]), np.array([u])).position[0]
-        fu = flank_points(blank, side, np.array([z]), np.array([u + 1e-6])).position[0]
-        J = np.column_stack([fz - f0, fu - f0]) / 1e-6
-        dz, du = np.linalg.lstsq(J, target - f0, rcond=None)[0]
+        fp = flank_points(blank, side, np.array([z]), np.array([u]))
+        J = np.column_stack([fp.dr_dz[0], fp.dr_du[0]])
+        dz, du = np.linalg.lstsq(J, target - fp.position[0], rcond=None)[0]
         z, u = z + dz, u + du
     return flank_points(blank, side, np.array([z]), np.array([u])).position[0]
 
