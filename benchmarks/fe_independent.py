@@ -25,6 +25,20 @@ and ISO 6336-1's c_gamma_alpha in the same (normal) convention, N/(mm um).
     python3 -m pip install gmsh pyamg     # for --check only; not needed by gearbox
     python3 benchmarks/fe_independent.py --helix-deg 0 15 30 --face-mm 12
     python3 benchmarks/fe_independent.py --mesh-stiffness --helix-deg 0 15 30 --face-mm 12 30
+    python3 benchmarks/fe_independent.py --face-profile --helix-deg 0 10 20 30 --face-mm 12 30
+
+``--face-profile``: where along the face the fast level's helical tooth is too stiff.
+Each gear's tooth alone (the FE level's segment built for it, ``far_field="none"``, and
+the fast level's coupled slices, read at the same matching depth:
+``FastCompliance(contact="matching_depth")``) under a load even along a line of constant
+radius over the whole face (a line of the tooth's length, not a contact line: no
+climbing load), at 15 / 50 / 85 % of the way from the form to the tip circle. Printed:
+FE / fast for the mean deflection, the same over the spur tooth's (same face width, gear
+and height), and per slice at the obtuse face end, the middle and the acute face end
+(where the flank meets the end face at the acute angle: the end towards which that
+gear's contact lines climb). A second table: FE / fast of ``q^T C q`` at mid height for
+loads even, linear and quadratic across the face (the last two the tooth's rocking and
+bowing, which a uniform load does not show).
 """
 
 from __future__ import annotations
@@ -338,16 +352,91 @@ def mesh_stiffness(helix, faces) -> None:
             )
 
 
+def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int):
+    """A one-tooth grid (tooth 0) with n slices over the whole face, every point of
+    gear ``gear`` at the radius ``frac`` of the way from its form to its tip circle."""
+    grid = parallel_grid(pair, 0.25, n_face=n)
+    i0 = np.full(n, int(np.flatnonzero(grid.pair == 0)[0]))
+    kw = {}
+    for f in dataclasses.fields(grid):
+        v = getattr(grid, f.name)
+        if isinstance(v, np.ndarray) and v.shape[:1] == (grid.size,):
+            v = v[i0]
+        elif hasattr(v, "take"):
+            v = v.take(i0)
+        kw[f.name] = v
+    dy = pair.face_width / n
+    y = -0.5 * pair.face_width + dy * (np.arange(n) + 0.5)
+    r = pair.form_radius(gear) + frac * (pair.tip_radius(gear) - pair.form_radius(gear))
+    name = "tooth1" if gear == 0 else "tooth2"
+    kw[name] = dataclasses.replace(kw[name], radius=np.full(n, r))
+    kw["position"] = kw["position"].copy()
+    kw["position"][:, 2] = y
+    kw.update(pair=np.zeros(n, dtype=int), slot=np.arange(n), face=y)
+    return type(grid)(**kw)
+
+
+def face_profile(helix, faces, heights=(0.15, 0.5, 0.85)) -> None:
+    fast = FastCompliance(contact="matching_depth")
+    rows, modal, spur = [], [], {}
+    for face in faces:
+        n = int(round(face))  # slices of 1 mm
+        for beta in sorted(helix):
+            pair = pair_of(beta, face)
+            fe = FECompliance(FEOptions(far_field="none"))
+            for gear in (0, 1):
+                for h in heights:
+                    g = line_of_constant_radius(pair, gear, h, n)
+                    C_fe, C_fast = fe.gear_matrix(g, gear), fast.slice_matrix(g, gear)
+                    e = np.ones(n)
+                    w = (C_fe @ e) / (C_fast @ e)
+                    if gear == 1:  # the gear's lines climb towards -face
+                        w = w[::-1]
+                    mean = (e @ C_fe @ e) / (e @ C_fast @ e)
+                    spur.setdefault((face, gear, h), mean if beta == 0 else None)
+                    ref = spur[(face, gear, h)]
+                    over = f"{mean / ref:.3f}" if ref else "-"
+                    rows.append(
+                        f"| {beta:g} | {face:g} | {('pinion', 'gear')[gear]} | {h:.2f} | "
+                        f"{mean:.3f} | {over} | {w[0]:.2f} | {w[n // 2]:.2f} | {w[-1]:.2f} |"
+                    )
+                    if h == 0.5:
+                        y = g.face / (0.5 * face * 1e-3)
+                        q = (e, y, y**2 - np.mean(y**2))
+                        modal.append(
+                            f"| {beta:g} | {face:g} | {('pinion', 'gear')[gear]} | "
+                            + " | ".join(f"{(v @ C_fe @ v) / (v @ C_fast @ v):.3f}" for v in q)
+                            + " |"
+                        )
+                    print(rows[-1], flush=True)
+    print()
+    print(
+        "| helix (deg) | face (mm) | gear | height | FE / fast | over spur | obtuse end | "
+        "middle | acute end |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    print("\n".join(rows))
+    print()
+    print("| helix (deg) | face (mm) | gear | even | linear | quadratic |")
+    print("|---|---|---|---|---|---|")
+    print("\n".join(modal))
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--helix-deg", type=float, nargs="+", default=[0.0, 15.0, 30.0])
     ap.add_argument("--face-mm", type=float, nargs="+", default=[12.0])
     ap.add_argument("--mesh-stiffness", action="store_true", help="the fast level against the FE")
+    ap.add_argument(
+        "--face-profile", action="store_true", help="FE / fast along the face, constant height"
+    )
     ap.add_argument("--h-min-mm", type=float, default=0.3, help="tetrahedra near the loads")
     ap.add_argument("--h-max-mm", type=float, default=2.0, help="tetrahedra far from them")
     a = ap.parse_args(argv)
     if a.mesh_stiffness:
         mesh_stiffness(a.helix_deg, a.face_mm)
+    elif a.face_profile:
+        face_profile(a.helix_deg, a.face_mm)
     else:
         check(a.helix_deg, a.face_mm, a.h_min_mm * 1e-3, a.h_max_mm * 1e-3)
     return 0
