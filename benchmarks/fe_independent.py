@@ -39,6 +39,19 @@ and height), and per slice at the obtuse face end, the middle and the acute face
 gear's contact lines climb). A second table: FE / fast of ``q^T C q`` at mid height for
 loads even, linear and quadratic across the face (the last two the tooth's rocking and
 bowing, which a uniform load does not show).
+
+``--decompose``: the fast level's error split step by step (mean stiffness of the same
+pairs, 8 positions, 300 N m, each over the FE level's segment): the FE level with its
+couplings between tooth pairs dropped; the fast level with each pair's slices replaced
+by one FE tooth (the middle one of three meshed, its lattice responses used for every
+pair, the fast level's torsion between pairs, no far field) with the FE level's
+half-space contact, then with Weber's contact to the matching depth; the fast level
+(matching depth) without its far field. ``--decompose --cases 01:drive 03:drive``: the
+same on the paper's cases (300 N m, 24 positions; the FE segment run again and checked
+against the stored run).
+
+    python3 benchmarks/fe_independent.py --decompose --helix-deg 0 15 30 --face-mm 12 30
+    python3 benchmarks/fe_independent.py --decompose --cases 01:drive 03:drive
 """
 
 from __future__ import annotations
@@ -352,6 +365,149 @@ def mesh_stiffness(helix, faces) -> None:
             )
 
 
+class _WithinPairs(FECompliance):
+    """The FE level with the couplings between tooth pairs dropped (its blocks within
+    each pair kept): what the FE's adjacent teeth add. ``within = False``: the level
+    itself (the same factorised models and responses)."""
+
+    within = True
+
+    def gear_matrix(self, grid, gear):
+        C = super().gear_matrix(grid, gear)
+        if not self.within:
+            return C
+        same = grid.pair[:, None] == grid.pair[None, :]
+        return np.where(same, C, 0.0)
+
+
+@dataclasses.dataclass(frozen=True)
+class _ToothAlone(FastCompliance):
+    """The fast level with each tooth pair's slices replaced by one FE tooth (the middle
+    one of three meshed, ``neighbours=1``, no far field), the same responses for every
+    pair; between pairs only the fast level's shared torsion, no far field. fe_contact:
+    the FE level's half-space contact instead of Weber's to the matching depth."""
+
+    fe: FECompliance | None = dataclasses.field(default=None, compare=False)
+    fe_contact: bool = False
+
+    def slice_matrix(self, grid, gear, parts=None):
+        fe = self.fe
+        loads = fe.loads(grid, gear)
+        alone = dataclasses.replace(loads, tooth=np.zeros_like(loads.tooth))
+        gm = fe._model(alone, gear, grid.youngs_modulus, grid.poisson_ratio)
+        lat = fe._lattice(gm, loads.side)
+        Clat = fe._responses(gm, loads.side, 0).depth[0]
+        C = np.zeros((grid.size, grid.size))
+        for k in grid.pairs():
+            idx = np.flatnonzero(grid.pair == k)
+            W = fe._weights(lat, loads.z[idx], loads.u[idx])
+            C[np.ix_(idx, idx)] = W @ Clat @ W.T
+        return 0.5 * (C + C.T)
+
+    def torsion_matrix(self, grid):  # the FE tooth holds its own rim: between pairs only
+        T = super().torsion_matrix(grid)
+        return np.where(grid.pair[:, None] == grid.pair[None, :], 0.0, T)
+
+    def body_matrix(self, grid):
+        return np.zeros((grid.size, grid.size))
+
+    def tooth_matrix(self, grid):
+        C = super().tooth_matrix(grid)
+        return C + self.fe.local_matrix(grid) if self.fe_contact else C
+
+    def contact_diagonal(self, grid, line_load):
+        if self.fe_contact:
+            return self.fe.contact_diagonal(grid, line_load)
+        return super().contact_diagonal(grid, line_load)
+
+
+def decompose(helix, faces) -> None:
+    rows = []
+    for face in faces:
+        for beta in helix:
+            pair = pair_of(beta, face)
+            nf = n_face(face)
+
+            def k(comp, pair=pair, nf=nf):
+                grid = lambda q: parallel_grid(pair, q, n_face=nf)  # noqa: E731
+                res = ltca_cycle(grid, [TORQUE], options=LTCAOptions(positions=8), compliance=comp)
+                return float(res.stiffness[0].mean()) / pair.face_width / 1e9
+
+            t0 = time.perf_counter()
+            segment = FEOptions(far_field="none")
+            ks = [k(FECompliance(segment)), k(_WithinPairs(segment))]
+            t1 = time.perf_counter()
+            tooth = FECompliance(FEOptions(far_field="none", neighbours=1))
+            ks += [
+                k(_ToothAlone(contact="matching_depth", fe=tooth, fe_contact=True)),
+                k(_ToothAlone(contact="matching_depth", fe=tooth)),
+            ]
+            t2 = time.perf_counter()
+            ks.append(k(_WithoutFarField(contact="matching_depth")))
+            rows.append(
+                f"| {beta:g} | {face:g} | {ks[0]:.2f} | "
+                + " | ".join(f"{v / ks[0]:.3f}" for v in ks[1:])
+                + f" | {t1 - t0:.0f} / {t2 - t1:.0f} |"
+            )
+            print(rows[-1], flush=True)
+    print()
+    print(
+        "| helix (deg) | face (mm) | FE segment | FE within pairs | tooth alone, FE contact | "
+        "tooth alone, Weber | fast (matching depth) | FE / tooth alone (s) |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    print("\n".join(rows))
+
+
+def decompose_cases(specs) -> None:
+    """The same split on the paper's beveloid cases (``CASE:FLANK``), 300 N m, 24
+    positions: the FE level's segment run again (against the stored run of
+    ``tests/data/fe_reference_paper_cases.json``), then each level over it."""
+    from ltca_ripple import case_grids, cycle, stored_fe
+
+    from gearbox.surface import blanks_from_design
+
+    rows = []
+    for spec in specs:
+        case, flank = spec.split(":")
+        _, design, grids = case_grids(case, flank)
+        blanks = blanks_from_design(design)
+
+        def k(comp, grids=grids):
+            return float(cycle(grids, [TORQUE], comp).stiffness[0].mean())
+
+        t0 = time.perf_counter()
+        seg = _WithinPairs(FEOptions(far_field="none"), blanks=blanks)
+        seg.reserve(grids)
+        seg.within = False
+        fe = k(seg)
+        seg.within = True
+        ks = [k(seg)]
+        t1 = time.perf_counter()
+        tooth = FECompliance(FEOptions(far_field="none", neighbours=1), blanks=blanks)
+        ks += [
+            k(_ToothAlone(contact="matching_depth", fe=tooth, fe_contact=True)),
+            k(_ToothAlone(contact="matching_depth", fe=tooth)),
+        ]
+        t2 = time.perf_counter()
+        ks += [k(_WithoutFarField(contact="matching_depth")), k(_WithoutFarField())]
+        stored = stored_fe(case, flank)["mean_stiffness_N_per_m"][1]  # 300 N m
+        rows.append(
+            f"| {case} | {flank} | {fe / 1e6:.1f} | {fe / stored:.4f} | "
+            + " | ".join(f"{v / fe:.3f}" for v in ks)
+            + f" | {t1 - t0:.0f} / {t2 - t1:.0f} |"
+        )
+        print(rows[-1], flush=True)
+    print()
+    print(
+        "| case | flank | FE segment (N/um) | / stored | FE within pairs | tooth alone, FE "
+        "contact | tooth alone, Weber | fast (matching depth) | fast (default) | FE / tooth "
+        "alone (s) |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("\n".join(rows))
+
+
 def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int):
     """A one-tooth grid (tooth 0) with n slices over the whole face, every point of
     gear ``gear`` at the radius ``frac`` of the way from its form to its tip circle."""
@@ -430,6 +586,12 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--face-profile", action="store_true", help="FE / fast along the face, constant height"
     )
+    ap.add_argument(
+        "--decompose", action="store_true", help="the FE's pair couplings and one tooth"
+    )
+    ap.add_argument(
+        "--cases", nargs="+", metavar="CASE:FLANK", help="with --decompose: paper cases"
+    )
     ap.add_argument("--h-min-mm", type=float, default=0.3, help="tetrahedra near the loads")
     ap.add_argument("--h-max-mm", type=float, default=2.0, help="tetrahedra far from them")
     a = ap.parse_args(argv)
@@ -437,6 +599,10 @@ def main(argv=None) -> int:
         mesh_stiffness(a.helix_deg, a.face_mm)
     elif a.face_profile:
         face_profile(a.helix_deg, a.face_mm)
+    elif a.decompose and a.cases:
+        decompose_cases(a.cases)
+    elif a.decompose:
+        decompose(a.helix_deg, a.face_mm)
     else:
         check(a.helix_deg, a.face_mm, a.h_min_mm * 1e-3, a.h_max_mm * 1e-3)
     return 0
