@@ -421,6 +421,32 @@ class _ToothAlone(FastCompliance):
         return super().contact_diagonal(grid, line_load)
 
 
+def _split(k, blanks=None, grids=None):
+    """Mean stiffness ``k(compliance)`` of each level of the split (the module
+    docstring): the FE segment, the same within pairs (one instance: the factorised
+    models and responses reused), one FE tooth with the FE's contact and with Weber's,
+    the fast level (matching depth) without its far field; and the seconds spent on the
+    segment and on the one tooth. grids: size the segment for them first
+    (``FECompliance.reserve``, as the stored runs of the paper's cases)."""
+    t0 = time.perf_counter()
+    seg = _WithinPairs(FEOptions(far_field="none"), blanks=blanks)
+    if grids is not None:
+        seg.reserve(grids)
+    seg.within = False
+    ks = [k(seg)]
+    seg.within = True
+    ks.append(k(seg))
+    t1 = time.perf_counter()
+    tooth = FECompliance(FEOptions(far_field="none", neighbours=1), blanks=blanks)
+    ks += [
+        k(_ToothAlone(contact="matching_depth", fe=tooth, fe_contact=True)),
+        k(_ToothAlone(contact="matching_depth", fe=tooth)),
+    ]
+    t2 = time.perf_counter()
+    ks.append(k(_WithoutFarField(contact="matching_depth")))
+    return ks, (t1 - t0, t2 - t1)
+
+
 def decompose(helix, faces) -> None:
     rows = []
     for face in faces:
@@ -433,21 +459,11 @@ def decompose(helix, faces) -> None:
                 res = ltca_cycle(grid, [TORQUE], options=LTCAOptions(positions=8), compliance=comp)
                 return float(res.stiffness[0].mean()) / pair.face_width / 1e9
 
-            t0 = time.perf_counter()
-            segment = FEOptions(far_field="none")
-            ks = [k(FECompliance(segment)), k(_WithinPairs(segment))]
-            t1 = time.perf_counter()
-            tooth = FECompliance(FEOptions(far_field="none", neighbours=1))
-            ks += [
-                k(_ToothAlone(contact="matching_depth", fe=tooth, fe_contact=True)),
-                k(_ToothAlone(contact="matching_depth", fe=tooth)),
-            ]
-            t2 = time.perf_counter()
-            ks.append(k(_WithoutFarField(contact="matching_depth")))
+            ks, (t_fe, t_tooth) = _split(k)
             rows.append(
                 f"| {beta:g} | {face:g} | {ks[0]:.2f} | "
                 + " | ".join(f"{v / ks[0]:.3f}" for v in ks[1:])
-                + f" | {t1 - t0:.0f} / {t2 - t1:.0f} |"
+                + f" | {t_fe:.0f} / {t_tooth:.0f} |"
             )
             print(rows[-1], flush=True)
     print()
@@ -461,8 +477,9 @@ def decompose(helix, faces) -> None:
 
 def decompose_cases(specs) -> None:
     """The same split on the paper's beveloid cases (``CASE:FLANK``), 300 N m, 24
-    positions: the FE level's segment run again (against the stored run of
-    ``tests/data/fe_reference_paper_cases.json``), then each level over it."""
+    positions, and the default fast level: the FE level's segment run again (against
+    the stored run of ``tests/data/fe_reference_paper_cases.json``), then each level
+    over it."""
     from ltca_ripple import case_grids, cycle, stored_fe
 
     from gearbox.surface import blanks_from_design
@@ -471,31 +488,18 @@ def decompose_cases(specs) -> None:
     for spec in specs:
         case, flank = spec.split(":")
         _, design, grids = case_grids(case, flank)
-        blanks = blanks_from_design(design)
 
         def k(comp, grids=grids):
             return float(cycle(grids, [TORQUE], comp).stiffness[0].mean())
 
-        t0 = time.perf_counter()
-        seg = _WithinPairs(FEOptions(far_field="none"), blanks=blanks)
-        seg.reserve(grids)
-        seg.within = False
-        fe = k(seg)
-        seg.within = True
-        ks = [k(seg)]
-        t1 = time.perf_counter()
-        tooth = FECompliance(FEOptions(far_field="none", neighbours=1), blanks=blanks)
-        ks += [
-            k(_ToothAlone(contact="matching_depth", fe=tooth, fe_contact=True)),
-            k(_ToothAlone(contact="matching_depth", fe=tooth)),
-        ]
-        t2 = time.perf_counter()
-        ks += [k(_WithoutFarField(contact="matching_depth")), k(_WithoutFarField())]
+        ks, (t_fe, t_tooth) = _split(k, blanks_from_design(design), grids)
+        ks.append(k(_WithoutFarField()))
+        fe = ks[0]
         stored = stored_fe(case, flank)["mean_stiffness_N_per_m"][1]  # 300 N m
         rows.append(
             f"| {case} | {flank} | {fe / 1e6:.1f} | {fe / stored:.4f} | "
-            + " | ".join(f"{v / fe:.3f}" for v in ks)
-            + f" | {t1 - t0:.0f} / {t2 - t1:.0f} |"
+            + " | ".join(f"{v / fe:.3f}" for v in ks[1:])
+            + f" | {t_fe:.0f} / {t_tooth:.0f} |"
         )
         print(rows[-1], flush=True)
     print()
@@ -595,6 +599,8 @@ def main(argv=None) -> int:
     ap.add_argument("--h-min-mm", type=float, default=0.3, help="tetrahedra near the loads")
     ap.add_argument("--h-max-mm", type=float, default=2.0, help="tetrahedra far from them")
     a = ap.parse_args(argv)
+    if a.cases and not a.decompose:
+        ap.error("--cases goes with --decompose")
     if a.mesh_stiffness:
         mesh_stiffness(a.helix_deg, a.face_mm)
     elif a.face_profile:
