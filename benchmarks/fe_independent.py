@@ -447,6 +447,28 @@ def _split(k, blanks=None, grids=None):
     return ks, (t1 - t0, t2 - t1)
 
 
+def _split_row(lead: str, ks, seconds) -> str:
+    """A table row: ``lead`` cells, each level over the FE segment (``ks[0]``), times."""
+    ratios = " | ".join(f"{v / ks[0]:.3f}" for v in ks[1:])
+    return f"| {lead} | {ratios} | {seconds[0]:.0f} / {seconds[1]:.0f} |"
+
+
+def _print_table(head: list[str], rows: list[str]) -> None:
+    print()
+    print("| " + " | ".join(head) + " |")
+    print("|" + "---|" * len(head))
+    print("\n".join(rows))
+
+
+#: the split's columns after the FE segment
+_SPLIT = [
+    "FE within pairs",
+    "tooth alone, FE contact",
+    "tooth alone, Weber",
+    "fast (matching depth)",
+]
+
+
 def decompose(helix, faces) -> None:
     rows = []
     for face in faces:
@@ -459,20 +481,11 @@ def decompose(helix, faces) -> None:
                 res = ltca_cycle(grid, [TORQUE], options=LTCAOptions(positions=8), compliance=comp)
                 return float(res.stiffness[0].mean()) / pair.face_width / 1e9
 
-            ks, (t_fe, t_tooth) = _split(k)
-            rows.append(
-                f"| {beta:g} | {face:g} | {ks[0]:.2f} | "
-                + " | ".join(f"{v / ks[0]:.3f}" for v in ks[1:])
-                + f" | {t_fe:.0f} / {t_tooth:.0f} |"
-            )
+            ks, seconds = _split(k)
+            rows.append(_split_row(f"{beta:g} | {face:g} | {ks[0]:.2f}", ks, seconds))
             print(rows[-1], flush=True)
-    print()
-    print(
-        "| helix (deg) | face (mm) | FE segment | FE within pairs | tooth alone, FE contact | "
-        "tooth alone, Weber | fast (matching depth) | FE / tooth alone (s) |"
-    )
-    print("|---|---|---|---|---|---|---|---|")
-    print("\n".join(rows))
+    head = ["helix (deg)", "face (mm)", "FE segment", *_SPLIT, "FE / tooth alone (s)"]
+    _print_table(head, rows)
 
 
 def decompose_cases(specs) -> None:
@@ -492,24 +505,14 @@ def decompose_cases(specs) -> None:
         def k(comp, grids=grids):
             return float(cycle(grids, [TORQUE], comp).stiffness[0].mean())
 
-        ks, (t_fe, t_tooth) = _split(k, blanks_from_design(design), grids)
+        ks, seconds = _split(k, blanks_from_design(design), grids)
         ks.append(k(_WithoutFarField()))
-        fe = ks[0]
         stored = stored_fe(case, flank)["mean_stiffness_N_per_m"][1]  # 300 N m
-        rows.append(
-            f"| {case} | {flank} | {fe / 1e6:.1f} | {fe / stored:.4f} | "
-            + " | ".join(f"{v / fe:.3f}" for v in ks[1:])
-            + f" | {t_fe:.0f} / {t_tooth:.0f} |"
-        )
+        lead = f"{case} | {flank} | {ks[0] / 1e6:.1f} | {ks[0] / stored:.4f}"
+        rows.append(_split_row(lead, ks, seconds))
         print(rows[-1], flush=True)
-    print()
-    print(
-        "| case | flank | FE segment (N/um) | / stored | FE within pairs | tooth alone, FE "
-        "contact | tooth alone, Weber | fast (matching depth) | fast (default) | FE / tooth "
-        "alone (s) |"
-    )
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    print("\n".join(rows))
+    head = ["case", "flank", "FE segment (N/um)", "/ stored", *_SPLIT, "fast (default)"]
+    _print_table([*head, "FE / tooth alone (s)"], rows)
 
 
 def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int):
