@@ -311,6 +311,14 @@ def _fast_maxima(grids, torques) -> tuple[np.ndarray, np.ndarray]:
     return out
 
 
+def _mesh_name(mesh: dict | None) -> str:
+    """The name in :data:`MESHES` of a stored run's FE mesh ("?" if none matches)."""
+    for name, m in MESHES.items():
+        if mesh is not None and all(mesh.get(k) == v for k, v in m.to_dict().items()):
+            return name
+    return "?"
+
+
 def run_against(path: Path, positions: int) -> None:
     """The current fast level against the FE maxima stored by an earlier ``--json``."""
     stored = json.loads(path.read_text())
@@ -318,12 +326,14 @@ def run_against(path: Path, positions: int) -> None:
         f"\ncurrent fast level against the FE numbers of {path.name} ({stored['meta']['command']})"
     )
     print(
-        f"{'run':>30} {'torque':>7} {'FE MPa pinion/gear':>19} {'fast/FE-1':>17} {'slices/FE-1':>17}"
+        f"{'run':>30} {'FE mesh':>8} {'torque':>7} {'FE MPa pinion/gear':>19} {'fast/FE-1':>17} "
+        f"{'slices/FE-1':>17}"
     )
     for r in stored["runs"]:
         if "fe" not in r:
             continue
         name = r["name"]
+        mesh = _mesh_name(r.get("mesh"))
         if name in PAIRS:
             pair, torques, n_face = PAIRS[name]
             grids = [parallel_grid(pair, j / positions, n_face=n_face) for j in range(positions)]
@@ -336,7 +346,7 @@ def run_against(path: Path, positions: int) -> None:
         for t, tq in enumerate(torques):
             e, e0 = fast[t] / fe[t] - 1, slices[t] / fe[t] - 1
             print(
-                f"{name:>30} {tq:7.0f} {fe[t, 0] / 1e6:9.1f} / {fe[t, 1] / 1e6:7.1f} "
+                f"{name:>30} {mesh:>8} {tq:7.0f} {fe[t, 0] / 1e6:9.1f} / {fe[t, 1] / 1e6:7.1f} "
                 f"{e[0]:+8.1%}/{e[1]:+8.1%} {e0[0]:+8.0%}/{e0[1]:+8.0%}"
             )
 
