@@ -7,7 +7,7 @@ the file) and the coast-flank runs of tests/data/ltca_root_stress_fe_runs.json
 ``--cases 03 04``, default FE mesh, 24 positions; the largest fillet stress over the
 cycle per torque and the pinion's envelope along the face). The fast level (ISO
 6336-3 slice sections spread along the face by the moment image, gearbox.ltca.stress)
-runs here in about a second per case and flank.
+runs here in one to two seconds per case and flank.
 """
 
 import json
@@ -26,11 +26,24 @@ ROOT = Path(__file__).parent.parent
 REF = tomllib.loads((DATA / "ltca_root_stress_fe_case03.toml").read_text())
 
 
+def _flank(case, flank, torques):
+    """The fast level's loaded TCA of one paper case's flank at these torques."""
+    scene = load_scene(ROOT / "models" / f"case{case}.toml")
+    s = scene.replaced(ltca={"flanks": [flank]}, load={"torques_Nm": torques})
+    return beveloid_ltca(design_pair(PairSpec.from_scene(s)), s).flanks[flank]
+
+
+def _pinion_along_face(result, z):
+    """The pinion's per-slot envelope (largest over the cycle) at face samples z, (T, z)."""
+    a, b = result.face_range
+    n = result.root_stress_face_pinion.shape[1]
+    slots = a + (np.arange(n) + 0.5) * (b - a) / n
+    return np.array([np.interp(z, slots, row) for row in result.root_stress_face_pinion])
+
+
 @pytest.fixture(scope="module")
 def drive():
-    scene = load_scene(ROOT / "models" / "case03.toml")
-    s = scene.replaced(ltca={"flanks": ["drive"]}, load={"torques_Nm": REF["torques_Nm"]})
-    return beveloid_ltca(design_pair(PairSpec.from_scene(s)), s).flanks["drive"]
+    return _flank("03", "drive", REF["torques_Nm"])
 
 
 @pytest.mark.parametrize("gear", ["pinion", "gear"])
@@ -49,17 +62,9 @@ def test_pinion_root_stress_along_the_face_follows_fe(drive):
     # per-slot envelope interpolated there stays within 15 % of the FE maximum
     # everywhere (measured 11 to 13 %), and peaks at the same sample
     ref = REF["pinion_along_face"]
-    z = np.asarray(ref["z_m"])
-    a, b = drive.face_range
-    slots = (
-        a
-        + (np.arange(drive.root_stress_face_pinion.shape[1]) + 0.5)
-        * (b - a)
-        / (drive.root_stress_face_pinion.shape[1])
-    )
-    for t, tq in enumerate(REF["torques_Nm"]):
+    along = _pinion_along_face(drive, np.asarray(ref["z_m"]))
+    for fast, tq in zip(along, REF["torques_Nm"], strict=True):
         fe = np.asarray(ref[f"root_stress_Pa_{int(tq)}Nm"])
-        fast = np.interp(z, slots, drive.root_stress_face_pinion[t])
         assert np.max(np.abs(fast - fe)) < 0.15 * fe.max(), f"{tq} N m: {fast} vs FE {fe}"
         assert np.argmax(fast) == np.argmax(fe)
 
@@ -80,18 +85,12 @@ def test_coast_flank_root_stress_against_fe(case):
     # +3.8 .. +8.8 %; bound 12 %. Along the face (the pinion's envelope at the FE's
     # seven face samples): largest difference 8.5 .. 12.5 % of the FE maximum; bound 15 %
     run = _coast_run(case)
-    scene = load_scene(ROOT / "models" / f"case{case}.toml")
-    s = scene.replaced(ltca={"flanks": ["coast"]}, load={"torques_Nm": run["torques"]})
-    coast = beveloid_ltca(design_pair(PairSpec.from_scene(s)), s).flanks["coast"]
+    coast = _flank(case, "coast", run["torques"])
     fe = np.asarray(run["fe"])
     for k, gear in enumerate(("pinion", "gear")):
         got = getattr(coast, f"root_stress_{gear}").max(axis=1)
         np.testing.assert_allclose(got, fe[:, k], rtol=0.12, err_msg=f"case {case} coast, {gear}")
-    z = np.asarray(run["envelope_z_m"])
-    a, b = coast.face_range
-    n = coast.root_stress_face_pinion.shape[1]
-    slots = a + (np.arange(n) + 0.5) * (b - a) / n
-    for t, tq in enumerate(run["torques"]):
-        ref = np.asarray(run["envelope_fe_Pa"][t])
-        fast = np.interp(z, slots, coast.root_stress_face_pinion[t])
+    along = _pinion_along_face(coast, np.asarray(run["envelope_z_m"]))
+    for fast, tq, ref in zip(along, run["torques"], run["envelope_fe_Pa"], strict=True):
+        ref = np.asarray(ref)
         assert np.max(np.abs(fast - ref)) < 0.15 * ref.max(), f"{tq} N m: {fast} vs FE {ref}"
