@@ -67,8 +67,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from gearbox.fe import FECompliance, FEOptions  # noqa: E402
+from gearbox.fe import FECompliance, FEOptions, MeshOptions  # noqa: E402
 from gearbox.fe.compliance import gear_loads  # noqa: E402
+from gearbox.fe.stress import fillet_points, fillet_stress  # noqa: E402
 from gearbox.ltca import (  # noqa: E402
     FastCompliance,
     LTCAOptions,
@@ -77,6 +78,7 @@ from gearbox.ltca import (  # noqa: E402
     ltca_cycle,
     parallel_grid,
 )
+from gearbox.ltca.stress import RootStressModel, root_stress_profile  # noqa: E402
 from gearbox.surface.generation import flank_points, profile_range  # noqa: E402
 from gearbox.surface.sample import tip_parameter  # noqa: E402
 
@@ -99,13 +101,15 @@ def n_face(face_mm: float) -> int:
 
 
 # ------------------------------------------------------------------ the FE level
-def level_line(pair: ParallelPair, position: float = 0.25):
+def level_line(pair: ParallelPair, position: float = 0.25, mesh: MeshOptions | None = None):
     """The FE level's one-tooth model: C at the contact line's points on tooth 0 (the
     lattice responses interpolated as ``FECompliance.gear_matrix`` does), the points,
-    their frames and what the independent model needs."""
+    their frames and what the independent model needs (and, for ``--root-stress``, the
+    level's model, the grid and the line's grid indices)."""
     grid = parallel_grid(pair, position, n_face=n_face(pair.face_width * 1e3))
     loads = gear_loads(grid, 0)
-    fe = FECompliance(FEOptions(far_field="none", neighbours=0))
+    opts = FEOptions(far_field="none", neighbours=0)
+    fe = FECompliance(opts if mesh is None else dataclasses.replace(opts, mesh=mesh))
     gm = fe._model(dataclasses.replace(loads, tooth=np.zeros_like(loads.tooth)), 0, E, NU)
     lat = fe._lattice(gm, loads.side)
     Clat = fe._responses(gm, loads.side, 0).depth[0]
@@ -127,6 +131,11 @@ def level_line(pair: ParallelPair, position: float = 0.25):
         "t2": t2,
         "half": 0.5 * fe.options.lattice_spacing * loads.blank.normal_module,
         "depth": fe.options.matching_depth * loads.blank.normal_module,
+        "fe": fe,
+        "gm": gm,
+        "W": W,
+        "grid": grid,
+        "on": np.flatnonzero(on),
     }
 
 
@@ -225,8 +234,10 @@ def _on_flank(blank, side, z, u, target):
     return flank_points(blank, side, np.array([z]), np.array([u])).position[0]
 
 
-def independent(line, h_min=0.3e-3, h_max=2.0e-3):
-    """C of the same points from the gmsh / scikit-fem model (m/N) and its size."""
+def _solve_independent(line, h_min, h_max, also_refine=None):
+    """The gmsh / scikit-fem model of tooth 0 under the level's unit load at each point
+    of the line: (basis, displacement columns U (N, points), size). The mesh is graded
+    to ``h_min`` near the loads and the points ``also_refine`` (n, 3)."""
     import gmsh
     import pyamg
     import skfem
@@ -235,6 +246,8 @@ def independent(line, h_min=0.3e-3, h_max=2.0e-3):
 
     P, n, t1, t2 = line["P"], line["n"], line["t1"], line["t2"]
     refine = np.concatenate([P, 0.5 * (P[1:] + P[:-1])])
+    if also_refine is not None:
+        refine = np.concatenate([refine, also_refine])
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Verbosity", 1)
@@ -291,13 +304,20 @@ def independent(line, h_min=0.3e-3, h_max=2.0e-3):
         if info != 0:
             raise RuntimeError(f"conjugate gradients did not converge (info {info})")
         U[free, k] = sol
+    return basis, U, {"vertices": mesh.p.shape[1], "dofs": int(free.size)}
+
+
+def independent(line, h_min=0.3e-3, h_max=2.0e-3):
+    """C of the same points from the gmsh / scikit-fem model (m/N) and its size."""
+    basis, U, size = _solve_independent(line, h_min, h_max)
+    P, n = line["P"], line["n"]
     Q = (P - line["depth"] * n).T
     probe = basis.probes(Q).tocsr()
     m = Q.shape[1]
     C = np.zeros((m, len(P)))
     for c in range(3):
         C -= (probe[c * m : (c + 1) * m] @ U) * n[:, c][:, None]
-    return 0.5 * (C + C.T), {"vertices": mesh.p.shape[1], "dofs": int(free.size)}
+    return 0.5 * (C + C.T), size
 
 
 def check(helix, faces, h_min, h_max) -> None:
@@ -318,6 +338,112 @@ def check(helix, faces, h_min, h_max) -> None:
                 f"{size['dofs']} | {time.perf_counter() - t0:.0f} |",
                 flush=True,
             )
+
+
+# ------------------------------------------------------------------ root stress
+def _fillet_points(blank, side, n_z, n_u, inset=0.1e-3):
+    """Points of tooth 0's fillet on the loaded side: face samples (n_z,) and the
+    points (n_z, n_u, 3) with their outward normals, rack parameter u strictly inside
+    ``(u_min, 0)`` and the face ends ``inset`` away."""
+    u_min = profile_range(blank)[0]
+    z = np.linspace(blank.z_toe + inset, blank.z_heel - inset, n_z)
+    u = np.linspace(u_min, 0.0, n_u + 2)[1:-1]
+    Z, Uu = np.meshgrid(z, u, indexing="ij")
+    fp = flank_points(blank, side, Z, Uu)
+    return z, fp.position, fp.normal
+
+
+def _p2_principal(basis, U, pts, normals, depth=2e-6):
+    """Largest principal stress (Pa) of the displacement U at points ``depth`` inside
+    the surface (along -normal), each from the P2 element that holds it."""
+    import skfem
+
+    mesh = basis.mesh
+    finder = mesh.element_finder()
+    lam = E * NU / ((1 + NU) * (1 - 2 * NU))
+    mu = E / (2 * (1 + NU))
+    out = np.empty(len(pts))
+    for k, (p, nn) in enumerate(zip(pts, normals, strict=True)):
+        q = (p - depth * nn)[:, None]
+        try:
+            el = finder(*q)
+        except ValueError:  # outside the faceted surface: a little deeper
+            q = (p - 10 * depth * nn)[:, None]
+            el = finder(*q)
+        X = mesh.mapping().invF(q[:, :, None], tind=el)
+        b = skfem.CellBasis(mesh, basis.elem, elements=el, quadrature=(X[:, 0, :], np.ones(1)))
+        g = b.interpolate(U).grad[:, :, 0, 0]
+        eps = 0.5 * (g + g.T)
+        out[k] = np.linalg.eigvalsh(2 * mu * eps + lam * np.trace(eps) * np.eye(3))[-1]
+    return out
+
+
+def _level_fillet(line, load):
+    """The FE level's fillet stress along the face (its own sample points): face z (m)
+    and the largest principal stress over the fillet profile (Pa) under ``load`` (N)
+    at the line's points."""
+    fe, gm = line["fe"], line["gm"]
+    rows, layers, cells, X = fillet_points(fe, gm, line["side"], 0)
+    solved = fe._responses(gm, line["side"], 0)
+    U = np.zeros(gm.model.n_dofs)
+    U[solved.dofs] = solved.fillet @ (line["W"].T @ load)
+    sig = gm.model.stress(cells, X, U[:, None])[:, 0]
+    s1 = np.linalg.eigvalsh(sig)[:, -1].reshape(layers.size, rows.size)
+    return gm.model.mesh.z_layers[layers], s1.max(axis=1)
+
+
+def _fast_fillet(line, load):
+    """The fast level's root stress along the face (the slices spread by the moment
+    image) and the independent slices', at the grid's slot centres."""
+    grid = line["grid"]
+    q = np.zeros(grid.size)
+    q[line["on"]] = load
+    spread = root_stress_profile(grid, q, 0)
+    slices = root_stress_profile(grid, q, 0, RootStressModel(0.0, 0.0))
+    return spread.face, spread.stress.max(axis=0), slices.stress.max(axis=0)
+
+
+def root_stress(helix, faces, h_min, h_max, positions, refine) -> None:
+    """The fillet stress of one tooth under a contact line's load: the FE level, the
+    FE level on a finer mesh, the independent model and the fast level's stress model."""
+    print(
+        "| helix (deg) | face (mm) | position | load | FE level (MPa) | FE level "
+        f"x{refine:g} | independent | independent / FE level | fast (spread) / independent "
+        "| slices / independent | P2 unknowns | s |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for face in faces:
+        for beta in helix:
+            for pos in positions:
+                t0 = time.perf_counter()
+                pair = pair_of(beta, face)
+                line = level_line(pair, pos)
+                fine = level_line(pair, pos, MeshOptions().refined(refine))
+                z_f, P_f, n_f = _fillet_points(
+                    line["blank"], line["side"], 4 * n_face(face) + 1, 16
+                )
+                marks = P_f[:, [4, 8, 12]].reshape(-1, 3)
+                basis, U, size = _solve_independent(line, h_min, h_max, marks)
+                n = len(line["P"])
+                s = np.linspace(-1.0, 1.0, n)
+                # a line load even along the line, and one rising towards the line's
+                # upper end (the tip side of the flank): 1 kN in all
+                for name, w in (("even", np.ones(n)), ("rising", 1.0 + s)):
+                    load = 1e3 * w / w.sum()
+                    fe = _level_fillet(line, load)[1].max()
+                    fe_fine = _level_fillet(fine, load)[1].max()
+                    ind = _p2_principal(
+                        basis, U @ load, P_f.reshape(-1, 3), n_f.reshape(-1, 3)
+                    ).reshape(P_f.shape[:2])
+                    ind_max = ind.max()
+                    _, fast, slices = _fast_fillet(line, load)
+                    print(
+                        f"| {beta:g} | {face:g} | {pos:g} | {name} | {fe / 1e6:.2f} | "
+                        f"{fe_fine / 1e6:.2f} | {ind_max / 1e6:.2f} | {ind_max / fe:.3f} | "
+                        f"{fast.max() / ind_max:.3f} | {slices.max() / ind_max:.3f} | "
+                        f"{size['dofs']} | {time.perf_counter() - t0:.0f} |",
+                        flush=True,
+                    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -585,6 +711,41 @@ def face_profile(helix, faces, heights=(0.15, 0.5, 0.85)) -> None:
     print("\n".join(modal))
 
 
+def stress_profile(helix, faces, heights=(0.0, 0.25, 0.5, 0.85)) -> None:
+    """The FE level's fillet stress along the face over the fast level's (the slices
+    spread by the moment image), each tooth alone under a load even along a line of
+    constant radius: per gear, height and face sample; the helical rows over the spur
+    tooth's at the same face width, gear, height and face sample."""
+    fe = FECompliance(FEOptions(far_field="none"))
+    spur = {}
+    print("| helix (deg) | face (mm) | gear | height | FE / fast along the face (z mm: ratio) |")
+    print("|---|---|---|---|---|")
+    for face in faces:
+        n = int(round(face))  # slices of 1 mm
+        for beta in sorted(helix):
+            pair = pair_of(beta, face)
+            for gear in (0, 1):
+                for h in heights:
+                    g = line_of_constant_radius(pair, gear, h, n)
+                    load = np.full(n, 1e3 / n)
+                    fs = fillet_stress(fe, g, load, gear)
+                    prof = root_stress_profile(g, load, gear)
+                    fast = np.interp(fs.z, prof.face, prof.stress.max(axis=0))
+                    ratio = fs.root_stress.max(axis=0) / fast
+                    spur.setdefault((face, gear, h), ratio if beta == 0 else None)
+                    if beta != 0:
+                        ratio = ratio / spur[(face, gear, h)]
+                    cells = ", ".join(
+                        f"{z * 1e3:.0f}: {v:.2f}" for z, v in zip(fs.z, ratio, strict=True)
+                    )
+                    kind = "" if beta == 0 else " (over spur)"
+                    print(
+                        f"| {beta:g} | {face:g} | {('pinion', 'gear')[gear]} | {h:.2f}{kind} "
+                        f"| {cells} |",
+                        flush=True,
+                    )
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--helix-deg", type=float, nargs="+", default=[0.0, 15.0, 30.0])
@@ -599,6 +760,14 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--cases", nargs="+", metavar="CASE:FLANK", help="with --decompose: paper cases"
     )
+    ap.add_argument(
+        "--root-stress", action="store_true", help="fillet stress: FE level, independent, fast"
+    )
+    ap.add_argument(
+        "--stress-profile", action="store_true", help="FE / fast root stress along the face"
+    )
+    ap.add_argument("--positions", type=float, nargs="+", default=[0.25])
+    ap.add_argument("--refine", type=float, default=2.0, help="--root-stress: finer FE mesh")
     ap.add_argument("--h-min-mm", type=float, default=0.3, help="tetrahedra near the loads")
     ap.add_argument("--h-max-mm", type=float, default=2.0, help="tetrahedra far from them")
     a = ap.parse_args(argv)
@@ -608,6 +777,17 @@ def main(argv=None) -> int:
         mesh_stiffness(a.helix_deg, a.face_mm)
     elif a.face_profile:
         face_profile(a.helix_deg, a.face_mm)
+    elif a.stress_profile:
+        stress_profile(a.helix_deg, a.face_mm)
+    elif a.root_stress:
+        root_stress(
+            a.helix_deg,
+            a.face_mm,
+            a.h_min_mm * 1e-3,
+            a.h_max_mm * 1e-3,
+            a.positions,
+            a.refine,
+        )
     elif a.decompose and a.cases:
         decompose_cases(a.cases)
     elif a.decompose:

@@ -100,3 +100,19 @@ def test_beveloid_like_grid_is_refused_with_the_reason():
 def test_options_name_the_bad_value():
     with pytest.raises(InputError, match="fe.matching_depth"):
         FEOptions(matching_depth=2.0)
+
+
+def test_meshes_finer_across_the_tooth_place_their_matching_points():
+    # with six elements across, a matching point 0.25 m_n below the flank lies beyond
+    # the second element column near the tip: the level must still find it. The
+    # finer mesh is a little softer (the level converges from above); a misplaced
+    # point would move the compliance by far more than the 3 % allowed here
+    grid = parallel_grid(SPUR, 0.1, n_face=4)
+    q = np.full(grid.size, 3e5)
+    e = np.ones(grid.size)
+    base = FECompliance(FEOptions(far_field="none")).matrix(grid, q)
+    fine = FECompliance(
+        FEOptions(mesh=MeshOptions(across=6, profile=12, fillet=6, land=3), far_field="none")
+    ).matrix(grid, q)
+    ratio = (e @ fine @ e) / (e @ base @ e)
+    assert 1.0 <= ratio < 1.03

@@ -459,7 +459,9 @@ class FECompliance:
     def _candidates(self, mesh, tooth, side, z, u):
         """Elements that may hold points near flank ``side`` of a tooth at flank
         parameters (z, u): the layer and profile row of (z, u) and their neighbours,
-        the two tooth-block columns at the flank, and the rim's top row."""
+        the tooth-block columns of the flank's half of the tooth (at least two: a
+        matching point 0.25 m_n deep lies beyond the second column of a mesh with six
+        or more elements across), and the rim's top row."""
         zl = mesh.z_layers[0::2]
         layer = np.clip(np.searchsorted(zl, z) - 1, 0, zl.size - 2)
         ul = mesh.flank_u[side][0][0::2]
@@ -467,7 +469,8 @@ class FECompliance:
         nc = mesh.options.across
         col = mesh.element_col
         blk = mesh.element_block
-        near = (blk == 0) & ((col <= 1) if side == "L" else (col >= nc - 2))
+        k = max(2, (nc + 1) // 2)
+        near = (blk == 0) & ((col < k) if side == "L" else (col >= nc - k))
         rim = (blk == 1) & (mesh.element_row == mesh.options.rim - 1)
         base = np.flatnonzero((mesh.element_tooth == tooth) & (near | rim))
         el = mesh.element_layer[base]
