@@ -40,6 +40,24 @@ gear's contact lines climb). A second table: FE / fast of ``q^T C q`` at mid hei
 loads even, linear and quadratic across the face (the last two the tooth's rocking and
 bowing, which a uniform load does not show).
 
+``--root-stress``: the fillet stress of the same one-tooth model under 1 kN on the
+contact line (mesh positions ``--positions``), even along the line and rising linearly
+towards its upper end: the largest principal stress in the loaded side's fillet from
+the FE level (its own sample points, the default mesh and ``MeshOptions().refined(
+--refine)``), from the independent model (P2 stress at 16 x (4 n + 1) points of the
+fillet, 2 um inside it, the mesh also graded to ``--h-min-mm`` along the fillet) and
+from the fast level's stress model (the slices spread by the moment image, and the
+independent slices), all over the independent model's.
+
+    python3 benchmarks/fe_independent.py --root-stress --helix-deg 0 15 30 --face-mm 12 --positions 0.25 0.75
+
+``--stress-profile``: the FE level's fillet stress along the face over the fast level's,
+each gear's tooth alone (default mesh, ``far_field="none"``) under 1 kN even along a
+line of constant radius at 0 / 25 / 50 / 85 % of the way from the form to the tip
+circle; the helical rows over the spur tooth's at the same face sample.
+
+    python3 benchmarks/fe_independent.py --stress-profile --helix-deg 0 20 30 --face-mm 24
+
 ``--decompose``: the fast level's error split step by step (mean stiffness of the same
 pairs, 8 positions, 300 N m, each over the FE level's segment): the FE level with its
 couplings between tooth pairs dropped; the fast level with each pair's slices replaced
