@@ -87,7 +87,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from gearbox.fe import FECompliance, FEOptions, MeshOptions  # noqa: E402
 from gearbox.fe.compliance import gear_loads  # noqa: E402
-from gearbox.fe.stress import fillet_points, fillet_stress  # noqa: E402
+from gearbox.fe.stress import fillet_stress  # noqa: E402
 from gearbox.ltca import (  # noqa: E402
     FastCompliance,
     LTCAOptions,
@@ -123,7 +123,7 @@ def level_line(pair: ParallelPair, position: float = 0.25, mesh: MeshOptions | N
     """The FE level's one-tooth model: C at the contact line's points on tooth 0 (the
     lattice responses interpolated as ``FECompliance.gear_matrix`` does), the points,
     their frames and what the independent model needs (and, for ``--root-stress``, the
-    level's model, the grid and the line's grid indices)."""
+    level itself and a grid of the line's points alone)."""
     grid = parallel_grid(pair, position, n_face=n_face(pair.face_width * 1e3))
     loads = gear_loads(grid, 0)
     opts = FEOptions(far_field="none", neighbours=0)
@@ -150,11 +150,21 @@ def level_line(pair: ParallelPair, position: float = 0.25, mesh: MeshOptions | N
         "half": 0.5 * fe.options.lattice_spacing * loads.blank.normal_module,
         "depth": fe.options.matching_depth * loads.blank.normal_module,
         "fe": fe,
-        "gm": gm,
-        "W": W,
-        "grid": grid,
-        "on": np.flatnonzero(on),
+        "grid": type(grid)(**_fields(grid, np.flatnonzero(on))),
     }
+
+
+def _fields(grid, idx) -> dict:
+    """The fields of ``grid`` at its points ``idx`` (every per-point field indexed)."""
+    kw = {}
+    for f in dataclasses.fields(grid):
+        v = getattr(grid, f.name)
+        if isinstance(v, np.ndarray) and v.shape[:1] == (grid.size,):
+            v = v[idx]
+        elif hasattr(v, "take"):
+            v = v.take(idx)
+        kw[f.name] = v
+    return kw
 
 
 # ------------------------------------------------------------ independent model
@@ -396,29 +406,18 @@ def _p2_principal(basis, U, pts, normals, depth=2e-6):
     return out
 
 
-def _level_fillet(line, load):
-    """The FE level's fillet stress along the face (its own sample points): face z (m)
-    and the largest principal stress over the fillet profile (Pa) under ``load`` (N)
-    at the line's points."""
-    fe, gm = line["fe"], line["gm"]
-    rows, layers, cells, X = fillet_points(fe, gm, line["side"], 0)
-    solved = fe._responses(gm, line["side"], 0)
-    U = np.zeros(gm.model.n_dofs)
-    U[solved.dofs] = solved.fillet @ (line["W"].T @ load)
-    sig = gm.model.stress(cells, X, U[:, None])[:, 0]
-    s1 = np.linalg.eigvalsh(sig)[:, -1].reshape(layers.size, rows.size)
-    return gm.model.mesh.z_layers[layers], s1.max(axis=1)
+def _level_fillet(line, load) -> float:
+    """The FE level's largest fillet stress (Pa) under ``load`` (N) at the line's
+    points (its one-tooth model, factorised by :func:`level_line`, reused)."""
+    return fillet_stress(line["fe"], line["grid"], load, 0).max
 
 
 def _fast_fillet(line, load):
-    """The fast level's root stress along the face (the slices spread by the moment
-    image) and the independent slices', at the grid's slot centres."""
-    grid = line["grid"]
-    q = np.zeros(grid.size)
-    q[line["on"]] = load
-    spread = root_stress_profile(grid, q, 0)
-    slices = root_stress_profile(grid, q, 0, RootStressModel(0.0, 0.0))
-    return spread.face, spread.stress.max(axis=0), slices.stress.max(axis=0)
+    """The fast level's largest root stress (Pa): the slices spread by the moment
+    image, and the independent slices."""
+    spread = root_stress_profile(line["grid"], load, 0)
+    slices = root_stress_profile(line["grid"], load, 0, RootStressModel(0.0, 0.0))
+    return spread.stress.max(), slices.stress.max()
 
 
 def root_stress(helix, faces, h_min, h_max, positions, refine) -> None:
@@ -437,9 +436,7 @@ def root_stress(helix, faces, h_min, h_max, positions, refine) -> None:
                 pair = pair_of(beta, face)
                 line = level_line(pair, pos)
                 fine = level_line(pair, pos, MeshOptions().refined(refine))
-                z_f, P_f, n_f = _fillet_points(
-                    line["blank"], line["side"], 4 * n_face(face) + 1, 16
-                )
+                _, P_f, n_f = _fillet_points(line["blank"], line["side"], 4 * n_face(face) + 1, 16)
                 marks = P_f[:, [4, 8, 12]].reshape(-1, 3)
                 basis, U, size = _solve_independent(line, h_min, h_max, marks)
                 n = len(line["P"])
@@ -448,17 +445,17 @@ def root_stress(helix, faces, h_min, h_max, positions, refine) -> None:
                 # upper end (the tip side of the flank): 1 kN in all
                 for name, w in (("even", np.ones(n)), ("rising", 1.0 + s)):
                     load = 1e3 * w / w.sum()
-                    fe = _level_fillet(line, load)[1].max()
-                    fe_fine = _level_fillet(fine, load)[1].max()
+                    fe = _level_fillet(line, load)
+                    fe_fine = _level_fillet(fine, load)
                     ind = _p2_principal(
                         basis, U @ load, P_f.reshape(-1, 3), n_f.reshape(-1, 3)
                     ).reshape(P_f.shape[:2])
                     ind_max = ind.max()
-                    _, fast, slices = _fast_fillet(line, load)
+                    fast, slices = _fast_fillet(line, load)
                     print(
                         f"| {beta:g} | {face:g} | {pos:g} | {name} | {fe / 1e6:.2f} | "
                         f"{fe_fine / 1e6:.2f} | {ind_max / 1e6:.2f} | {ind_max / fe:.3f} | "
-                        f"{fast.max() / ind_max:.3f} | {slices.max() / ind_max:.3f} | "
+                        f"{fast / ind_max:.3f} | {slices / ind_max:.3f} | "
                         f"{size['dofs']} | {time.perf_counter() - t0:.0f} |",
                         flush=True,
                     )
@@ -664,14 +661,7 @@ def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int):
     gear ``gear`` at the radius ``frac`` of the way from its form to its tip circle."""
     grid = parallel_grid(pair, 0.25, n_face=n)
     i0 = np.full(n, int(np.flatnonzero(grid.pair == 0)[0]))
-    kw = {}
-    for f in dataclasses.fields(grid):
-        v = getattr(grid, f.name)
-        if isinstance(v, np.ndarray) and v.shape[:1] == (grid.size,):
-            v = v[i0]
-        elif hasattr(v, "take"):
-            v = v.take(i0)
-        kw[f.name] = v
+    kw = _fields(grid, i0)
     dy = pair.face_width / n
     y = -0.5 * pair.face_width + dy * (np.arange(n) + 0.5)
     r = pair.form_radius(gear) + frac * (pair.tip_radius(gear) - pair.form_radius(gear))
