@@ -35,14 +35,27 @@ slice's load, the decay length c whose image (free ends) best fits the FE fillet
 stress along the face (least squares), and the rule ``c = a h_F + b m_n`` through
 the three (:class:`gearbox.ltca.stress.RootStressModel`'s defaults).
 
+``--helix-ends`` fits the factor of a helical tooth's face ends
+(:class:`gearbox.ltca.stress.HelixEnds`) on the FE level: one tooth (z 20/40, m_n
+4 mm, helix 0, 10, 20 and 30 deg, b = 4 and 6 m_n, the ``face-fine`` mesh, no far
+field) under unit loads at every 1 mm face slice of a line of constant radius at
+three load heights (0.15, 0.5 and 0.85 of the way from the form to the tip circle);
+per load, the scale that fits the fast level's stress along the face (spread, no
+helix-end factor) to the FE fillet stress (least squares), over the spur tooth's
+at the same slice, gear and height; then the factor's coefficients (least squares
+in the logarithm) and the worst fit per helix angle, face and height. About four
+minutes.
+
 ``--mesh coarse`` is ``MeshOptions(across=2, profile=4, fillet=2, land=1, rim=2,
-face_length=1.0)``; ``default`` is ``MeshOptions()``. Timings on a shared machine
+face_length=1.0)``; ``default`` is ``MeshOptions()``; ``face-fine`` is
+``MeshOptions(face_length=0.5)``. Timings on a shared machine
 vary: compare ratios measured in the same run.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -59,7 +72,9 @@ from gearbox.geometry import PairSpec, design_pair  # noqa: E402
 from gearbox.ltca import FastCompliance, ParallelPair, parallel_grid, solve_contact  # noqa: E402
 from gearbox.ltca.beveloid import scene_grids  # noqa: E402
 from gearbox.ltca.stress import (  # noqa: E402
+    HelixEnds,
     RootStressModel,
+    acute_end,
     grid_root_stress,
     iso_pair_root_stress,
     root_stress_profile,
@@ -70,6 +85,9 @@ from gearbox.surface import blanks_from_design  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 MESHES = {
     "default": MeshOptions(),
+    # the default with elements half as long along the face: a helical tooth's fillet
+    # stress converges slower along the face (docs/ltca.md, "Root stress")
+    "face-fine": MeshOptions(face_length=0.5),
     "coarse": MeshOptions(across=2, profile=4, fillet=2, land=1, rim=2, face_length=1.0),
 }
 DEG = math.pi / 180
@@ -96,8 +114,9 @@ PAIRS = {
         (300.0,),
         20,
     ),
+    "helical 30 deg z20/40 m4 b60": (_pair((20, 40), 30, 60), (400.0,), 40),
 }
-NO_SPREAD = RootStressModel(spread_height=0.0, spread_module=0.0)
+NO_SPREAD = RootStressModel(spread_height=0.0, spread_module=0.0, helix_ends=None)
 
 
 # ``--iso``: fast level only, against ISO 6336-3 (tests/test_ltca_stress.py holds two)
@@ -226,7 +245,6 @@ def run_case(case: str, side: str, mesh: MeshOptions, positions: int) -> dict:
 
 def run_kernel() -> dict:
     """Decay length of the moment image fitted on FE unit loads (see the module doc)."""
-    import dataclasses
 
     from scipy.optimize import minimize_scalar
 
@@ -282,6 +300,141 @@ def run_kernel() -> dict:
     A = np.array([[r["h_F_m"], mn] for r in rows])
     coef = np.linalg.lstsq(A, np.array([r["decay_m"] for r in rows]), rcond=None)[0]
     return {"name": "moment-image decay length", "rows": rows, "rule": coef.tolist()}
+
+
+HEIGHTS = (0.15, 0.5, 0.85)  # from the form (0) to the tip circle (1)
+
+
+def _unit_load_scales(fe, grid, gear: int) -> np.ndarray:
+    """Per slice of a one-tooth grid: the scale that fits the fast level's stress
+    along the face under a unit load there (spread, no helix-end factor) to the FE
+    fillet stress (least squares over the FE face samples), shape (n,)."""
+    plain = RootStressModel(helix_ends=None)
+    out = np.zeros(grid.size)
+    for j in range(grid.size):
+        unit = np.zeros(grid.size)
+        unit[j] = 1.0
+        fs = fillet_stress(fe, grid, unit, gear)
+        f = fs.root_stress.max(axis=0)
+        prof = root_stress_profile(grid, unit, gear, plain)
+        q = np.interp(fs.z, prof.face, prof.stress.max(axis=0))
+        out[j] = (f @ q) / (q @ q)
+    return out
+
+
+def run_helix_ends(faces_mm=(16.0, 24.0)) -> dict:
+    """:class:`HelixEnds` fitted on the FE level (see the module doc)."""
+    from fe_independent import line_of_constant_radius, pair_of
+    from scipy.optimize import least_squares
+
+    mn = 4e-3
+    samples = []  # tan beta, height node, eta, u_acute, u_obtuse, ln(scale / spur), face / m_n
+    for face in faces_mm:
+        n = int(round(face))
+        spur = {}
+        for beta in (0.0, 10.0, 20.0, 30.0):
+            pair = pair_of(beta, face)
+            fe = FECompliance(FEOptions(far_field="none", mesh=MESHES["face-fine"]))
+            lines = parallel_grid(pair, 0.3, n_face=n)
+            for gear in (0, 1):
+                sign = acute_end(lines, lines.tooth1 if gear == 0 else lines.tooth2)
+                for k, h in enumerate(HEIGHTS):
+                    g = line_of_constant_radius(pair, gear, h, n)
+                    scale = _unit_load_scales(fe, g, gear)
+                    if beta == 0:
+                        spur[gear, h] = scale
+                        continue
+                    teeth = g.tooth1 if gear == 0 else g.tooth2
+                    eta = (teeth.radius - teeth.root_radius) / (
+                        teeth.tip_radius - teeth.root_radius
+                    )
+                    to_high = (0.5 * pair.face_width - g.face) / mn
+                    to_low = face * 1e-3 / mn - to_high
+                    ua, uo = (to_high, to_low) if sign > 0 else (to_low, to_high)
+                    for j in range(n):
+                        samples.append(
+                            (
+                                math.tan(beta * DEG),
+                                k,
+                                eta[j],
+                                ua[j],
+                                uo[j],
+                                math.log(scale[j] / spur[gear, h][j]),
+                                face * 1e-3 / mn,
+                                beta,
+                            )
+                        )
+                print(f"  b {face:g} mm, {beta:g} deg: unit loads done", flush=True)
+    S = np.array(samples)
+    t, node, eta, ua, uo, lg, bw, beta = S.T
+    K = len(HEIGHTS)
+
+    def ln_factor(p):
+        out = np.zeros_like(t)
+        for k in range(K):
+            a, b, la, lo, mid = p[1 + 5 * k : 6 + 5 * k]
+            m = node == k
+            x = a * np.exp(-ua[m] / la) - b * np.exp(-uo[m] / lo) + mid
+            out[m] = (t[m] + p[0] * t[m] ** 2) * x
+        return out
+
+    p0 = [1.0] + [0.6, 0.3, 1.5, 1.5, 0.1] * K
+    lo_b = [0.0] + [0.0, 0.0, 0.1, 0.1, -1.0] * K
+    hi_b = [5.0] + [5.0, 5.0, 10.0, 10.0, 1.0] * K
+    p = least_squares(lambda q: ln_factor(q) - lg, p0, bounds=(lo_b, hi_b)).x
+    res = ln_factor(p) - lg
+    per = [p[1 + 5 * k : 6 + 5 * k] for k in range(K)]
+    fit = HelixEnds(
+        height=tuple(round(float(np.mean(eta[node == k])), 2) for k in range(K)),
+        acute=tuple(round(float(q[0]), 3) for q in per),
+        obtuse=tuple(round(float(q[1]), 3) for q in per),
+        acute_decay=tuple(round(float(q[2]), 3) for q in per),
+        obtuse_decay=tuple(round(float(q[3]), 3) for q in per),
+        middle=tuple(round(float(q[4]), 3) for q in per),
+        quadratic=round(float(p[0]), 3),
+    )
+    worst = []
+    for f in np.unique(bw):
+        for b in np.unique(beta):
+            for k in range(K):
+                m = (bw == f) & (beta == b) & (node == k)
+                i = np.flatnonzero(m)[np.argmax(np.abs(res[m]))]
+                worst.append(
+                    {
+                        "face_mn": float(f),
+                        "helix_deg": float(b),
+                        "height": HEIGHTS[k],
+                        "fe_over_spur_max": float(np.exp(lg[m]).max()),
+                        "fe_over_spur_min": float(np.exp(lg[m]).min()),
+                        "worst_fit": math.expm1(float(res[i])),
+                        "worst_at_u_acute": float(ua[i]),
+                    }
+                )
+    return {
+        "name": "helix ends",
+        "fit": fit,
+        "rms_ln": float(np.sqrt(np.mean(res**2))),
+        "rows": worst,
+    }
+
+
+def _print_helix_ends(r: dict) -> None:
+    print(
+        "\nhelical face ends fitted on FE unit loads (z 20/40, m_n 4 mm, face-fine mesh): "
+        "FE / fast over spur, per slice load"
+    )
+    print(
+        f"{'face/m_n':>8} {'helix':>6} {'height':>6} {'min':>6} {'max':>6} "
+        f"{'worst fit':>9} {'at u_a':>7}"
+    )
+    for w in r["rows"]:
+        print(
+            f"{w['face_mn']:8.0f} {w['helix_deg']:6.0f} {w['height']:6.2f} "
+            f"{w['fe_over_spur_min']:6.2f} {w['fe_over_spur_max']:6.2f} "
+            f"{w['worst_fit']:+9.1%} {w['worst_at_u_acute']:7.2f}"
+        )
+    print(f"rms of the fit (ln): {r['rms_ln']:.4f}")
+    print(f"fit: {r['fit']!r}")
 
 
 def _print_kernel(r: dict) -> None:
@@ -389,9 +542,18 @@ def _print(r: dict) -> None:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--pairs", action="store_true", help="the parallel-axis reference pairs")
+    ap.add_argument(
+        "--pairs",
+        nargs="*",
+        choices=sorted(PAIRS),
+        metavar="NAME",
+        help="the parallel-axis reference pairs (all without names)",
+    )
     ap.add_argument("--kernel", action="store_true", help="fit the moment image on FE unit loads")
     ap.add_argument("--iso", action="store_true", help="fast level against ISO 6336-3 only")
+    ap.add_argument(
+        "--helix-ends", action="store_true", help="fit the helical face ends on FE unit loads"
+    )
     ap.add_argument(
         "--against", type=Path, nargs="+", help="fast level against stored --json FE numbers"
     )
@@ -414,8 +576,12 @@ def main(argv=None) -> int:
     if a.kernel:
         runs.append(run_kernel())
         _print_kernel(runs[-1])
-    if a.pairs:
-        for name in PAIRS:
+    if a.helix_ends:
+        r = run_helix_ends()
+        _print_helix_ends(r)
+        runs.append({**r, "fit": dataclasses.asdict(r["fit"])})
+    if a.pairs is not None:
+        for name in a.pairs or PAIRS:
             runs.append(run_pair(name, mesh, a.positions))
             _print(runs[-1])
     for case in a.cases:

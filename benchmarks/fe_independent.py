@@ -76,6 +76,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import math
 import sys
 import time
@@ -416,7 +417,7 @@ def _fast_fillet(line, load):
     """The fast level's largest root stress (Pa): the slices spread by the moment
     image, and the independent slices."""
     spread = root_stress_profile(line["grid"], load, 0)
-    slices = root_stress_profile(line["grid"], load, 0, RootStressModel(0.0, 0.0))
+    slices = root_stress_profile(line["grid"], load, 0, RootStressModel(0.0, 0.0, helix_ends=None))
     return spread.stress.max(), slices.stress.max()
 
 
@@ -719,13 +720,20 @@ def face_profile(helix, faces, heights=(0.15, 0.5, 0.85)) -> None:
     print("\n".join(modal))
 
 
-def stress_profile(helix, faces, heights=(0.0, 0.25, 0.5, 0.85)) -> None:
+def stress_profile(
+    helix, faces, heights=(0.0, 0.25, 0.5, 0.85), refine=1.0, face_length=None, out=None
+) -> None:
     """The FE level's fillet stress along the face over the fast level's (the slices
     spread by the moment image), each tooth alone under a load even along a line of
     constant radius: per gear, height and face sample; the helical rows over the spur
-    tooth's at the same face width, gear, height and face sample."""
-    fe = FECompliance(FEOptions(far_field="none"))
-    spur = {}
+    tooth's at the same face width, gear, height and face sample. ``refine``: the FE
+    mesh refined by this factor; ``face_length``: its element length along the face
+    (over m_n) instead; ``out``: a JSON file for the rows."""
+    mesh = MeshOptions().refined(refine)
+    if face_length is not None:
+        mesh = dataclasses.replace(mesh, face_length=face_length)
+    fe = FECompliance(FEOptions(far_field="none", mesh=mesh))
+    spur, rows = {}, []
     print("| helix (deg) | face (mm) | gear | height | FE / fast along the face (z mm: ratio) |")
     print("|---|---|---|---|---|")
     for face in faces:
@@ -743,6 +751,18 @@ def stress_profile(helix, faces, heights=(0.0, 0.25, 0.5, 0.85)) -> None:
                     spur.setdefault((face, gear, h), ratio if beta == 0 else None)
                     if beta != 0:
                         ratio = ratio / spur[(face, gear, h)]
+                    rows.append(
+                        {
+                            "helix_deg": beta,
+                            "face_mm": face,
+                            "gear": gear,
+                            "height": h,
+                            "z_m": fs.z.tolist(),
+                            "fe_Pa": fs.root_stress.max(axis=0).tolist(),
+                            "fast_Pa": fast.tolist(),
+                            "ratio": ratio.tolist(),
+                        }
+                    )
                     cells = ", ".join(
                         f"{z * 1e3:.0f}: {v:.2f}" for z, v in zip(fs.z, ratio, strict=True)
                     )
@@ -752,6 +772,9 @@ def stress_profile(helix, faces, heights=(0.0, 0.25, 0.5, 0.85)) -> None:
                         f"| {cells} |",
                         flush=True,
                     )
+    if out:
+        with open(out, "w") as f:
+            json.dump({"mesh": mesh.to_dict(), "rows": rows}, f, indent=1)
 
 
 def main(argv=None) -> int:
@@ -775,7 +798,20 @@ def main(argv=None) -> int:
         "--stress-profile", action="store_true", help="FE / fast root stress along the face"
     )
     ap.add_argument("--positions", type=float, nargs="+", default=[0.25])
-    ap.add_argument("--refine", type=float, default=2.0, help="--root-stress: finer FE mesh")
+    ap.add_argument(
+        "--refine", type=float, default=None, help="finer FE mesh (--root-stress: 2 by default)"
+    )
+    ap.add_argument(
+        "--heights",
+        type=float,
+        nargs="+",
+        default=[0.0, 0.25, 0.5, 0.85],
+        help="--stress-profile: load heights, form (0) to tip circle (1)",
+    )
+    ap.add_argument(
+        "--face-length-mn", type=float, help="--stress-profile: FE element length along the face"
+    )
+    ap.add_argument("--json", help="--stress-profile: write the rows to this file")
     ap.add_argument("--h-min-mm", type=float, default=0.3, help="tetrahedra near the loads")
     ap.add_argument("--h-max-mm", type=float, default=2.0, help="tetrahedra far from them")
     a = ap.parse_args(argv)
@@ -786,7 +822,9 @@ def main(argv=None) -> int:
     elif a.face_profile:
         face_profile(a.helix_deg, a.face_mm)
     elif a.stress_profile:
-        stress_profile(a.helix_deg, a.face_mm)
+        stress_profile(
+            a.helix_deg, a.face_mm, tuple(a.heights), a.refine or 1.0, a.face_length_mn, a.json
+        )
     elif a.root_stress:
         root_stress(
             a.helix_deg,
@@ -794,7 +832,7 @@ def main(argv=None) -> int:
             a.h_min_mm * 1e-3,
             a.h_max_mm * 1e-3,
             a.positions,
-            a.refine,
+            2.0 if a.refine is None else a.refine,
         )
     elif a.decompose and a.cases:
         decompose_cases(a.cases)

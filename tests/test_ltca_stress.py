@@ -23,8 +23,11 @@ from gearbox.ltca import (
 )
 from gearbox.ltca.compliance import CALIBRATED_BEAM
 from gearbox.ltca.stress import (
+    HelixEnds,
     RootStressModel,
+    acute_end,
     grid_root_stress,
+    helix_end_factor,
     iso_pair_root_stress,
     moment_image,
     root_stress_profile,
@@ -116,8 +119,40 @@ def test_spur_line_load_gives_the_slice_stress():
 def test_no_spread_is_the_slice_model():
     g = parallel_grid(HELICAL, 0.7, n_face=20)
     sol = solve_contact(g, FastCompliance(), 400.0)
-    s1, _ = grid_root_stress(g, sol.load, RootStressModel(spread_height=0, spread_module=0))
+    s1, _ = grid_root_stress(
+        g, sol.load, RootStressModel(spread_height=0, spread_module=0, helix_ends=None)
+    )
     np.testing.assert_allclose(s1, slice_root_stress(g.tooth1, sol.load / g.width))
+
+
+def test_acute_end_follows_the_contact_lines():
+    # the pinion's contact lines climb towards +face, the gear's towards -face; the FE
+    # level puts the helical tooth's rise at those ends (bench_root_stress.py
+    # --helix-ends); a spur pair's lines stay at one height: no factor
+    g = parallel_grid(HELICAL, 0.3, n_face=20)
+    assert acute_end(g, g.tooth1) == 1.0
+    assert acute_end(g, g.tooth2) == -1.0
+    s = parallel_grid(SPUR, 0.3, n_face=20)
+    np.testing.assert_allclose(helix_end_factor(s, s.tooth1, RootStressModel()), 1.0)
+
+
+def test_helix_end_factor_rises_towards_the_acute_end():
+    ends = HelixEnds()
+    u = np.linspace(0.1, 5.9, 30)  # a 6 m_n face, acute end at u = 0
+    for eta in (0.2, 0.6, 0.95):
+        np.testing.assert_allclose(ends.factor(0.0, eta, u, 6.0 - u), 1.0)
+        f20 = ends.factor(math.tan(math.radians(20)), eta, u, 6.0 - u)
+        f30 = ends.factor(math.tan(math.radians(30)), eta, u, 6.0 - u)
+        assert np.all(np.diff(f20) < 0) and f20[0] > 1.1 and f20[-1] < 0.95
+        assert f30[0] > f20[0] and f30[-1] < f20[-1]
+    g = parallel_grid(HELICAL, 0.3, n_face=20)
+    f = helix_end_factor(g, g.tooth1, RootStressModel())
+    near = g.face > g.face_range[1] - 2 * HELICAL.normal_module
+    far = g.face < g.face_range[0] + 2 * HELICAL.normal_module
+    assert f[near].min() > f[far].max()
+    np.testing.assert_allclose(
+        helix_end_factor(g, g.tooth1, RootStressModel(helix_ends=None)), 1.0
+    )
 
 
 def test_profile_covers_every_slot_and_matches_the_grid_points():

@@ -49,6 +49,7 @@ from ..errors import Problems
 from ..geometry.involute import inv
 
 __all__ = [
+    "HelixEnds",
     "IsoRootStress",
     "RootSection",
     "RootStressModel",
@@ -56,6 +57,8 @@ __all__ = [
     "grid_root_stress",
     "iso_nominal_root_stress",
     "iso_pair_root_stress",
+    "acute_end",
+    "helix_end_factor",
     "iso_root_section",
     "moment_image",
     "root_stress_profile",
@@ -65,6 +68,46 @@ __all__ = [
 #: Moment-image decay length per unit bending arm h_F and per m_n (RootStressModel)
 SPREAD_HEIGHT = 0.35
 SPREAD_MODULE = 0.87
+
+
+@dataclass(frozen=True)
+class HelixEnds:
+    """Root stress of a load on a helical tooth by its distance to the face ends.
+
+    A load near the acute end of a helical flank (where the flank meets the end face
+    at 90 deg - beta) bends the tooth more than the same load in a transverse slice of
+    a spur tooth, one near the obtuse end less (measured on the FE level,
+    docs/ltca.md "Root stress"). Each slice's stress is multiplied, before the spread
+    along the face, by ``exp((t + quadratic t^2) (acute e^(-u_a / acute_decay) -
+    obtuse e^(-u_o / obtuse_decay) + middle))``, t = tan|beta|, u_a and u_o the
+    distances to the acute and the obtuse face end over m_n; the five coefficients
+    are given at the load heights ``height`` (eta = (r - r_root) / (r_tip - r_root))
+    and interpolated linearly between them (held beyond). The defaults are the least
+    squares fit of ``python3 benchmarks/bench_root_stress.py --helix-ends``.
+    """
+
+    height: tuple[float, ...] = (0.34, 0.61, 0.88)
+    acute: tuple[float, ...] = (1.168, 0.667, 0.421)
+    obtuse: tuple[float, ...] = (0.839, 0.521, 0.355)
+    acute_decay: tuple[float, ...] = (0.715, 1.544, 1.742)
+    obtuse_decay: tuple[float, ...] = (0.899, 1.387, 1.683)
+    middle: tuple[float, ...] = (0.311, 0.089, 0.078)
+    quadratic: float = 0.801
+
+    def factor(self, tan_beta, eta, u_acute, u_obtuse) -> np.ndarray:
+        """The factor on the slice stress, shape of the broadcast inputs."""
+        eta = np.asarray(eta, dtype=float)
+
+        def at(v):
+            return np.interp(eta, self.height, v)
+
+        t = np.abs(np.asarray(tan_beta, dtype=float))
+        x = (
+            at(self.acute) * np.exp(-np.asarray(u_acute) / at(self.acute_decay))
+            - at(self.obtuse) * np.exp(-np.asarray(u_obtuse) / at(self.obtuse_decay))
+            + at(self.middle)
+        )
+        return np.exp((t + self.quadratic * t**2) * x)
 
 
 @dataclass(frozen=True)
@@ -198,12 +241,15 @@ class RootStressModel:
     0 turns the spread off (independent slices, :func:`slice_root_stress`).
     free_ends: mirror images of the loads about the face ends (free plate edges);
     False lets the root moment beyond the ends go (an infinitely long tooth).
+    helix_ends: the factor of a helical tooth's acute and obtuse face ends on each
+    slice's stress (:class:`HelixEnds`); None leaves it out.
     The defaults are fitted on the FE level (docs/ltca.md, "Root stress").
     """
 
     spread_height: float = SPREAD_HEIGHT
     spread_module: float = SPREAD_MODULE
     free_ends: bool = True
+    helix_ends: HelixEnds | None = HelixEnds()
 
     def __post_init__(self):
         p = Problems()
@@ -218,6 +264,38 @@ class RootStressModel:
     def decay_length(self, h_F, normal_module) -> np.ndarray:
         """Decay length c (m) of the moment image, shape of the broadcast inputs."""
         return self.spread_height * np.asarray(h_F) + self.spread_module * np.asarray(normal_module)
+
+
+def acute_end(grid, teeth) -> float:
+    """The face direction (+1 or -1, 0 if none) of the acute end of gear ``teeth``'s
+    loaded flanks in ``grid``: the end towards which the load height rises along the
+    contact lines (on a helical flank the contact line climbs towards the end where
+    the flank meets the end face at an acute angle)."""
+    eta = (teeth.radius - teeth.root_radius) / (teeth.tip_radius - teeth.root_radius)
+    slope = 0.0
+    for k in np.unique(grid.pair):
+        idx = np.flatnonzero(grid.pair == k)
+        if idx.size < 2:
+            continue
+        f = grid.face[idx] - grid.face[idx].mean()
+        slope += float(f @ (eta[idx] - eta[idx].mean()))
+    return float(np.sign(slope))
+
+
+def helix_end_factor(grid, teeth, model: RootStressModel, *, sign=None) -> np.ndarray:
+    """:class:`HelixEnds` factor of the slices of gear ``teeth`` in ``grid``, shape (n,)
+    (ones without ``model.helix_ends``); ``sign``: the face direction of the acute
+    end, by default :func:`acute_end` of the grid's contact lines."""
+    if model.helix_ends is None:
+        return np.ones(grid.size)
+    sign = acute_end(grid, teeth) if sign is None else sign
+    face = grid.face
+    a, b = grid.face_range
+    to_high, to_low = (b - face) / teeth.normal_module, (face - a) / teeth.normal_module
+    u_acute, u_obtuse = (to_high, to_low) if sign >= 0 else (to_low, to_high)
+    eta = (teeth.radius - teeth.root_radius) / (teeth.tip_radius - teeth.root_radius)
+    t = np.tan(teeth.helix_angle) if sign != 0 else np.zeros(grid.size)
+    return model.helix_ends.factor(t, eta, u_acute, u_obtuse)
 
 
 def _gd(t):
@@ -291,7 +369,7 @@ def grid_root_stress(grid, load, model: RootStressModel | None = None):
     out = []
     for teeth in (grid.tooth1, grid.tooth2):
         sec = _slice_sections(teeth)
-        s = _slice_stress(teeth, q, sec)
+        s = _slice_stress(teeth, q, sec) * helix_end_factor(grid, teeth, model)
         if not model.spreads:
             out.append(s)
             continue
@@ -327,7 +405,7 @@ def root_stress_profile(grid, load, gear: int, model: RootStressModel | None = N
     teeth = grid.tooth1 if gear == 0 else grid.tooth2
     load = np.asarray(load, dtype=float)
     sec = _slice_sections(teeth)
-    s = _slice_stress(teeth, load / grid.width, sec)
+    s = _slice_stress(teeth, load / grid.width, sec) * helix_end_factor(grid, teeth, model)
     a, b = grid.face_range
     S = grid.n_slots
     face = a + (np.arange(S) + 0.5) * (b - a) / S
