@@ -77,6 +77,7 @@ from gearbox.ltca.stress import (  # noqa: E402
     acute_end,
     grid_root_stress,
     iso_pair_root_stress,
+    load_height,
     root_stress_profile,
 )
 from gearbox.scene import load_scene  # noqa: E402
@@ -344,10 +345,7 @@ def run_helix_ends(faces_mm=(16.0, 24.0)) -> dict:
                     if beta == 0:
                         spur[gear, h] = scale
                         continue
-                    teeth = g.tooth1 if gear == 0 else g.tooth2
-                    eta = (teeth.radius - teeth.root_radius) / (
-                        teeth.tip_radius - teeth.root_radius
-                    )
+                    eta = load_height(g.tooth1 if gear == 0 else g.tooth2)
                     to_high = (0.5 * pair.face_width - g.face) / mn
                     to_low = face * 1e-3 / mn - to_high
                     ua, uo = (to_high, to_low) if sign > 0 else (to_low, to_high)
@@ -364,7 +362,7 @@ def run_helix_ends(faces_mm=(16.0, 24.0)) -> dict:
                                 beta,
                             )
                         )
-                print(f"  b {face:g} mm, {beta:g} deg: unit loads done", flush=True)
+                print(f"  b {face:g} mm, {beta:g} deg, gear {gear}: unit loads done", flush=True)
     S = np.array(samples)
     t, node, eta, ua, uo, lg, bw, beta = S.T
     K = len(HEIGHTS)

@@ -88,6 +88,10 @@ def test_invalid_model_and_image_are_named():
         moment_image(Y, Y, W, 1e-3, (0.02, -0.02))
     with pytest.raises(InputError, match="decay"):
         moment_image(Y, Y, W, 0.0, FACE)
+    with pytest.raises(InputError, match=r"helix_ends\.height = \(0\.6, 0\.3, 0\.9\)"):
+        HelixEnds(height=(0.6, 0.3, 0.9))
+    with pytest.raises(InputError, match=r"helix_ends\.acute_decay .* must be > 0"):
+        HelixEnds(acute_decay=(0.7, 0.0, 1.7))
 
 
 SPUR = ParallelPair(

@@ -32,6 +32,12 @@ beyond them); the decay length c grows with the load height, and its rule
 under unit loads (docs/ltca.md, "Root stress"). A uniform line load at a uniform
 height gives the slice stress unchanged.
 
+A load on a helical tooth near the acute end of its flank bends the tooth more than
+the same load in a slice of a spur tooth, one near the obtuse end less; each slice's
+stress is multiplied by a factor of its distances to both face ends, its load height
+and the helix angle before the spread (:class:`HelixEnds`, fitted on the FE level's
+unit loads; docs/ltca.md "Root stress").
+
 Without the spread, a load concentrated at the end of an oblique (helical) or
 localised (beveloid) contact line, where a few slices carry about twice the mean line
 load, was read as if those slices carried it alone: under the same contact loads, 2
@@ -60,6 +66,7 @@ __all__ = [
     "acute_end",
     "helix_end_factor",
     "iso_root_section",
+    "load_height",
     "moment_image",
     "root_stress_profile",
     "slice_root_stress",
@@ -93,6 +100,23 @@ class HelixEnds:
     obtuse_decay: tuple[float, ...] = (0.899, 1.387, 1.683)
     middle: tuple[float, ...] = (0.311, 0.089, 0.078)
     quadratic: float = 0.801
+
+    def __post_init__(self):
+        p = Problems()
+        n = len(self.height)
+        p.check(
+            n >= 1 and bool(np.all(np.diff(self.height) > 0)),
+            "root_stress.helix_ends.height",
+            self.height,
+            "must be one or more increasing load heights",
+        )
+        for name in ("acute", "obtuse", "acute_decay", "obtuse_decay", "middle"):
+            v = getattr(self, name)
+            p.check(len(v) == n, f"root_stress.helix_ends.{name}", v, f"must have {n} values")
+        for name in ("acute_decay", "obtuse_decay"):
+            v = getattr(self, name)
+            p.check(min(v) > 0, f"root_stress.helix_ends.{name}", v, "must be > 0 (m_n)")
+        p.raise_if_any("invalid helix-end factor")
 
     def factor(self, tan_beta, eta, u_acute, u_obtuse) -> np.ndarray:
         """The factor on the slice stress, shape of the broadcast inputs."""
@@ -266,12 +290,17 @@ class RootStressModel:
         return self.spread_height * np.asarray(h_F) + self.spread_module * np.asarray(normal_module)
 
 
+def load_height(teeth) -> np.ndarray:
+    """The load's height on the tooth, (r - r_root) / (r_tip - r_root), shape (n,)."""
+    return (teeth.radius - teeth.root_radius) / (teeth.tip_radius - teeth.root_radius)
+
+
 def acute_end(grid, teeth) -> float:
     """The face direction (+1 or -1, 0 if none) of the acute end of gear ``teeth``'s
     loaded flanks in ``grid``: the end towards which the load height rises along the
     contact lines (on a helical flank the contact line climbs towards the end where
     the flank meets the end face at an acute angle)."""
-    eta = (teeth.radius - teeth.root_radius) / (teeth.tip_radius - teeth.root_radius)
+    eta = load_height(teeth)
     slope = 0.0
     for k in np.unique(grid.pair):
         idx = np.flatnonzero(grid.pair == k)
@@ -293,7 +322,7 @@ def helix_end_factor(grid, teeth, model: RootStressModel, *, sign=None) -> np.nd
     a, b = grid.face_range
     to_high, to_low = (b - face) / teeth.normal_module, (face - a) / teeth.normal_module
     u_acute, u_obtuse = (to_high, to_low) if sign >= 0 else (to_low, to_high)
-    eta = (teeth.radius - teeth.root_radius) / (teeth.tip_radius - teeth.root_radius)
+    eta = load_height(teeth)
     t = np.tan(teeth.helix_angle) if sign != 0 else np.zeros(grid.size)
     return model.helix_ends.factor(t, eta, u_acute, u_obtuse)
 
