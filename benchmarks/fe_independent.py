@@ -726,7 +726,10 @@ def stress_profile(
     """The FE level's fillet stress along the face over the fast level's (the slices
     spread by the moment image), each tooth alone under a load even along a line of
     constant radius: per gear, height and face sample; the helical rows over the spur
-    tooth's at the same face width, gear, height and face sample. ``refine``: the FE
+    tooth's at the same face width, gear, height and face sample. The fast level here
+    has no helical face-end factor: a line of constant radius does not show the acute
+    end (``gearbox.ltca.stress.acute_end``), so these rows are what the factor is
+    for (``bench_root_stress.py --helix-ends`` fits it). ``refine``: the FE
     mesh refined by this factor; ``face_length``: its element length along the face
     (over m_n) instead; ``out``: a JSON file for the rows."""
     mesh = MeshOptions().refined(refine)

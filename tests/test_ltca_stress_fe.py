@@ -62,7 +62,7 @@ def test_largest_root_stress_within_15_percent_of_fe(drive, gear):
 def test_pinion_root_stress_along_the_face_follows_fe(drive):
     # the largest root stress over the cycle at each FE face sample: the fast level's
     # per-slot envelope interpolated there stays within 15 % of the FE maximum
-    # everywhere (measured 8.1 to 8.6 %; 11 to 13 % before the helical face-end
+    # everywhere (measured 8.1 to 8.6 %; 9.7 to 10.9 % without the helical face-end
     # factor), and peaks at the same sample
     ref = REF["pinion_along_face"]
     along = _pinion_along_face(drive, np.asarray(ref["z_m"]))

@@ -64,6 +64,7 @@ __all__ = [
     "iso_nominal_root_stress",
     "iso_pair_root_stress",
     "acute_end",
+    "end_distances",
     "helix_end_factor",
     "iso_root_section",
     "load_height",
@@ -311,20 +312,26 @@ def acute_end(grid, teeth) -> float:
     return float(np.sign(slope))
 
 
-def helix_end_factor(grid, teeth, model: RootStressModel, *, sign=None) -> np.ndarray:
-    """:class:`HelixEnds` factor of the slices of gear ``teeth`` in ``grid``, shape (n,)
-    (ones without ``model.helix_ends``); ``sign``: the face direction of the acute
-    end, by default :func:`acute_end` of the grid's contact lines."""
+def end_distances(grid, teeth, sign: float) -> tuple[np.ndarray, np.ndarray]:
+    """Distances of the grid's slices to the acute and the obtuse face end over the
+    normal module of gear ``teeth``, two arrays of shape (n,), the acute end lying in
+    face direction ``sign`` (+1 or -1; 0 counts as +1)."""
+    a, b = grid.face_range
+    to_high = (b - grid.face) / teeth.normal_module
+    to_low = (grid.face - a) / teeth.normal_module
+    return (to_high, to_low) if sign >= 0 else (to_low, to_high)
+
+
+def helix_end_factor(grid, teeth, model: RootStressModel) -> np.ndarray:
+    """:class:`HelixEnds` factor of the slices of gear ``teeth`` in ``grid``, shape (n,),
+    the acute end by :func:`acute_end` (ones without ``model.helix_ends`` or where the
+    contact lines do not show it: a spur tooth's, or one-point lines)."""
     if model.helix_ends is None:
         return np.ones(grid.size)
-    sign = acute_end(grid, teeth) if sign is None else sign
-    face = grid.face
-    a, b = grid.face_range
-    to_high, to_low = (b - face) / teeth.normal_module, (face - a) / teeth.normal_module
-    u_acute, u_obtuse = (to_high, to_low) if sign >= 0 else (to_low, to_high)
-    eta = load_height(teeth)
+    sign = acute_end(grid, teeth)
+    u_acute, u_obtuse = end_distances(grid, teeth, sign)
     t = np.tan(teeth.helix_angle) if sign != 0 else np.zeros(grid.size)
-    return model.helix_ends.factor(t, eta, u_acute, u_obtuse)
+    return model.helix_ends.factor(t, load_height(teeth), u_acute, u_obtuse)
 
 
 def _gd(t):
