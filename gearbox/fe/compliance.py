@@ -530,6 +530,16 @@ class FECompliance:
         )
         return (Op.T @ S).tocsc()
 
+    def _lattice_unit_loads(self, gm: _GearModel, side: str, tooth: int):
+        """Nodal loads of all lattice unit loads on one tooth, sparse (n_dofs, n_lat);
+        cached on the gear model."""
+        key = ("unit", side, tooth)
+        if key not in gm.responses:
+            lat = self._lattice(gm, side)
+            Z, U = np.meshgrid(lat.z, lat.u, indexing="ij")
+            gm.responses[key] = self._unit_loads(gm, side, tooth, Z.ravel(), U.ravel())
+        return gm.responses[key]
+
     def _responses(self, gm: _GearModel, side: str, tooth: int) -> _Solved:
         """Responses to the lattice unit loads on one tooth (one solve per load)."""
         key = (side, tooth)
@@ -542,10 +552,8 @@ class FECompliance:
         t0 = time.perf_counter()
         model = gm.model
         mesh = model.mesh
-        lat = self._lattice(gm, side)
-        Z, U = np.meshgrid(lat.z, lat.u, indexing="ij")
-        Z, U = Z.ravel(), U.ravel()
-        F = self._unit_loads(gm, side, tooth, Z, U)
+        F = self._lattice_unit_loads(gm, side, tooth)
+        n_lat = F.shape[1]
         # only what the compliance and the fillet stresses need is kept: the depth
         # responses on every loadable tooth and the unknowns of the fillet elements
         from .stress import fillet_points
@@ -556,9 +564,9 @@ class FECompliance:
         Dall = sp.vstack(D).tocsr()
         fil = [fillet_points(self, gm, side, tb) for tb in loadable]
         union = np.unique(np.concatenate([model.element_dofs(f[2]).ravel() for f in fil]))
-        depth = np.empty((Dall.shape[0], Z.size))
-        usub = np.empty((union.size, Z.size))
-        for j in range(Z.size):
+        depth = np.empty((Dall.shape[0], n_lat))
+        usub = np.empty((union.size, n_lat))
+        for j in range(n_lat):
             u = model.solve(F[:, [j]].toarray()[:, 0])
             depth[:, j] = Dall @ u
             usub[:, j] = u[union]
@@ -569,7 +577,7 @@ class FECompliance:
             fillet=usub,
         )
         gm.responses[key] = solved
-        self.stats["solves"] += Z.size
+        self.stats["solves"] += n_lat
         self.stats["solve_s"] += time.perf_counter() - t0
         return solved
 

@@ -115,10 +115,9 @@ def fillet_stress(
         import time
 
         t0 = time.perf_counter()
-        Z, Ul = np.meshgrid(lat.z, lat.u, indexing="ij")
         F = np.zeros(gm.model.n_dofs)
         for ta, w in lattice_load.items():
-            F += fe._unit_loads(gm, loads.side, ta, Z.ravel(), Ul.ravel()) @ w
+            F += fe._lattice_unit_loads(gm, loads.side, ta) @ w
         U = gm.model.solve(F[:, None])[:, 0]
         fe.stats["solves"] += 1
         fe.stats["solve_s"] += time.perf_counter() - t0
