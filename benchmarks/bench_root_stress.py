@@ -200,8 +200,8 @@ def _cycle(grids, torques, fe, stress_only: bool = False) -> dict:
                 fs[c, gear] = fo[gear]
             else:
                 se = solve_contact(g, fe, torques[t])
-                fo = {k: fillet_stress(fe, g, load, k) for k in (0, 1)}
-                fs.update({(c, k): fillet_stress(fe, g, se.load, k) for k in (0, 1)})
+                fo = {k: _stress_under(fe, g, load, k) for k in (0, 1)}
+                fs.update({(c, k): _stress_under(fe, g, se.load, k) for k in (0, 1)})
             for k, f in fo.items():
                 mx["fe_on_fast"][t, k] = max(mx["fe_on_fast"][t, k], f.max)
         if stress_only:
@@ -237,13 +237,43 @@ class _ThreeTeeth(FECompliance):
 
     centre = 0
 
-    def __init__(self, options: FEOptions):
-        super().__init__(dataclasses.replace(options, neighbours=0), teeth={0: (-1, 1), 1: (-1, 1)})
+    def __init__(self, options: FEOptions, blanks=None):
+        super().__init__(
+            dataclasses.replace(options, neighbours=0),
+            blanks=blanks,
+            teeth={0: (-1, 1), 1: (-1, 1)},
+        )
 
     def loads(self, grid, gear):
         gl = super().loads(grid, gear)
         t = gl.tooth - self.centre
         return dataclasses.replace(gl, tooth=np.where(np.abs(t) <= 1, t, 0))
+
+    def gear_matrix(self, grid, gear):
+        """The FE compliance from the middle tooth's lattice responses alone: the
+        block of loads on tooth a read on tooth b is the middle tooth's response on
+        tooth b - a (zero beyond the next tooth). The far field is left out: a
+        constant compliance of all points moves them together and does not change
+        the load distribution under a given torque."""
+        gl = FECompliance.loads(self, grid, gear)
+        gm = self._model(
+            dataclasses.replace(gl, tooth=np.zeros_like(gl.tooth)),
+            gear,
+            grid.youngs_modulus,
+            grid.poisson_ratio,
+        )
+        lat = self._lattice(gm, gl.side)
+        solved = self._responses(gm, gl.side, 0)
+        C = np.zeros((grid.size, grid.size))
+        W = {}
+        for t in np.unique(gl.tooth):
+            sel = gl.tooth == t
+            W[t] = (np.flatnonzero(sel), self._weights(lat, gl.z[sel], gl.u[sel]))
+        for ta, (ia, Wa) in W.items():
+            for tb, (ib, Wb) in W.items():
+                if abs(tb - ta) <= 1:
+                    C[np.ix_(ib, ia)] = Wb @ solved.depth[int(tb - ta)] @ Wa.T
+        return 0.5 * (C + C.T)
 
 
 def _stress_under(fe, grid, load, gear: int):
@@ -261,27 +291,35 @@ def _stress_under(fe, grid, load, gear: int):
     return dataclasses.replace(fs, teeth=np.unique(tooth[load > 0]), sigma1=np.array(rows))
 
 
+def _fe_run(grids, torques, mesh, stress_only, three, blanks=None) -> dict:
+    """One cycle against the FE level (see ``_cycle``), the FE reference's kind noted."""
+    if three:
+        fe = _ThreeTeeth(FEOptions(mesh=mesh), blanks)
+    else:
+        fe = FECompliance(FEOptions(mesh=mesh), blanks=blanks)
+        fe.reserve(grids)
+    r = _cycle(grids, torques, fe, stress_only)
+    r["mesh"] = mesh.to_dict()
+    r["stress_only"] = stress_only
+    r["three_teeth"] = three
+    return r
+
+
+def _label(name: str, stress_only: bool, three: bool) -> str:
+    notes = ["FE stress under the fast loads"] if stress_only else []
+    notes += ["three teeth at a time"] if three else []
+    return name + (f" ({', '.join(notes)})" if notes else "")
+
+
 def run_pair(
     name: str, mesh: MeshOptions, positions: int, stress_only: bool = False, three=False
 ) -> dict:
     pair, torques, n_face = PAIRS[name]
     grids = [parallel_grid(pair, j / positions, n_face=n_face) for j in range(positions)]
-    if three:
-        fe = _ThreeTeeth(FEOptions(mesh=mesh))
-    else:
-        fe = FECompliance(FEOptions(mesh=mesh))
-        fe.reserve(grids)
-    r = _cycle(grids, torques, fe, stress_only)
+    r = _fe_run(grids, torques, mesh, stress_only, three)
     r["iso"] = [[_iso(pair, tq, gear) for gear in (0, 1)] for tq in torques]
-    r["name"] = name + (
-        " (FE stress under the fast loads" + (", three teeth at a time)" if three else ")")
-        if stress_only
-        else ""
-    )
+    r["name"] = _label(name, stress_only, three)
     r["pair"] = name
-    r["mesh"] = mesh.to_dict()
-    r["stress_only"] = stress_only
-    r["three_teeth"] = three
     return r
 
 
@@ -293,15 +331,16 @@ def _case_grids(case: str, side: str, positions: int):
     return grids, scene["load"]["torques_Nm"]
 
 
-def run_case(case: str, side: str, mesh: MeshOptions, positions: int) -> dict:
+def run_case(
+    case: str, side: str, mesh: MeshOptions, positions: int, stress_only=False, three=False
+) -> dict:
     scene = load_scene(ROOT / "models" / f"case{case}.toml")
     design = design_pair(PairSpec.from_scene(scene))
     grids, torques = _case_grids(case, side, positions)
-    fe = FECompliance(FEOptions(mesh=mesh), blanks=blanks_from_design(design))
-    fe.reserve(grids)
-    r = _cycle(grids, torques, fe)
-    r["name"] = f"case {case} {'drive' if side == 'R' else 'coast'}"
-    r["mesh"] = mesh.to_dict()
+    r = _fe_run(grids, torques, mesh, stress_only, three, blanks_from_design(design))
+    name = f"case {case} {'drive' if side == 'R' else 'coast'}"
+    r["name"] = _label(name, stress_only, three)
+    r["pair"] = name
     return r
 
 
@@ -546,8 +585,7 @@ def run_against(path: Path, positions: int) -> None:
             continue
         name = r.get("pair", r["name"])
         mesh = _mesh_name(r.get("mesh"))
-        if r.get("stress_only"):
-            mesh += "*3" if r.get("three_teeth") else "*"  # see the table's foot
+        mesh += ("*" if r.get("stress_only") else "") + ("/3" if r.get("three_teeth") else "")
         if name in PAIRS:
             pair, torques, n_face = PAIRS[name]
             grids = [parallel_grid(pair, j / positions, n_face=n_face) for j in range(positions)]
@@ -563,10 +601,10 @@ def run_against(path: Path, positions: int) -> None:
                 f"{name:>30} {mesh:>8} {tq:7.0f} {fe[t, 0] / 1e6:9.1f} / {fe[t, 1] / 1e6:7.1f} "
                 f"{e[0]:+8.1%}/{e[1]:+8.1%} {e0[0]:+8.0%}/{e0[1]:+8.0%}"
             )
-    if any(r.get("stress_only") for r in stored["runs"]):
+    if any(r.get("stress_only") or r.get("three_teeth") for r in stored["runs"]):
         print(
             "  *: the FE stress under the fast level's loads (--stress-only); "
-            "*3: three teeth meshed at a time (--three-teeth)"
+            "/3: three teeth meshed at a time (--three-teeth)"
         )
 
 
@@ -630,12 +668,12 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--three-teeth",
         action="store_true",
-        help="--stress-only: three teeth meshed at a time (each loaded tooth and its neighbours)",
+        help="three teeth meshed at a time (each loaded tooth and its neighbours)",
     )
     ap.add_argument(
         "--stress-only",
         action="store_true",
-        help="--pairs: the FE stress under the fast level's loads only (no FE contact)",
+        help="the FE stress under the fast level's loads only (no FE contact solve)",
     )
     ap.add_argument("--json", type=Path, help="write every run's numbers to this JSON file")
     a = ap.parse_args(argv)
@@ -658,13 +696,11 @@ def main(argv=None) -> int:
         runs.append({**r, "fit": dataclasses.asdict(r["fit"])})
     if a.pairs is not None:
         for name in a.pairs or PAIRS:
-            if a.three_teeth and not a.stress_only:
-                ap.error("--three-teeth needs --stress-only")
             runs.append(run_pair(name, mesh, a.positions, a.stress_only, a.three_teeth))
             _print(runs[-1])
     for case in a.cases:
         for side in a.flanks:
-            runs.append(run_case(case, side, mesh, a.positions))
+            runs.append(run_case(case, side, mesh, a.positions, a.stress_only, a.three_teeth))
             _print(runs[-1])
     if a.json is not None:
         meta = {

@@ -187,16 +187,18 @@ HELICAL_WIDE = ParallelPair(
 # gear, default / CALIBRATED_BEAM compliance: 15 deg b 30 (eps_beta 0.62) -3.3 / -5.6 %
 # and -8.7 / -8.1 %; 30 deg b 60 (eps_beta 2.4, Y_beta 0.75) +48.1 / +42.0 % and
 # +37.9 / +34.5 % (+13.8 / +10.3 % and +8.7 / +9.1 % without the face-end factor).
-# The 15 deg pair: within 12 %. The 30 deg pair: the FE level, under the same loads on
-# a mesh fine along the face, reads +45.1 / +50.0 % above ISO too
-# (tests/data/ltca_root_stress_fe_wide_helical.json, held against the loaded TCA in
-# tests/test_ltca_stress_fe.py): ISO's Y_beta misses the acute face end of a wide,
-# unrelieved 30 deg tooth. Bound +25 .. +60 %.
+# The 15 deg pair: within 12 %. The 30 deg pair: the FE level (three teeth at a time,
+# elements 0.5 m_n along the face; tests/data/ltca_root_stress_fe_three_teeth.json)
+# reads +45 / +50 % above ISO under the fast level's loads, and under its own +59 /
+# +84 %, but there from a peak within 2 mm of the acute face end (the pinion's
+# envelope 76 MPa 3 mm from the end, +8 % over ISO, 112 MPa 1 mm from it); the
+# default mesh, which does not resolve that corner, +15 / +17 %. The loaded TCA's
+# +48 / +42 % lies between: at or above ISO and within +60 %.
 # The independent slices (no spread) give 2.7 to 3.2 times ISO on these pairs.
 @pytest.mark.parametrize("gear", [0, 1], ids=["pinion", "gear"])
 @pytest.mark.parametrize(
     "pair, low, high",
-    [(HELICAL, -0.12, 0.12), (HELICAL_WIDE, 0.25, 0.60)],
+    [(HELICAL, -0.12, 0.12), (HELICAL_WIDE, 0.0, 0.60)],
     ids=["15deg_b30", "30deg_b60"],
 )
 def test_helical_pair_root_stress_against_iso_6336_3(pair, low, high, gear):

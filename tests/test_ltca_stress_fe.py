@@ -107,24 +107,38 @@ def test_flank_root_stress_against_fe(case, flank):
         assert np.max(np.abs(fast - ref)) < 0.15 * ref.max(), f"{tq} N m: {fast} vs FE {ref}"
 
 
-WIDE = json.loads((DATA / "ltca_root_stress_fe_wide_helical.json").read_text())["runs"]
+THREE = json.loads((DATA / "ltca_root_stress_fe_three_teeth.json").read_text())["runs"]
 
 
-def test_wide_30_deg_helical_pair_against_fe_fine_along_the_face():
+def _three_teeth_run(pair, face_length, stress_only):
+    (run,) = [
+        r
+        for r in THREE
+        if r["pair"] == pair
+        and r["three_teeth"]
+        and r["mesh"]["face_length"] == face_length
+        and r["stress_only"] == stress_only
+    ]
+    return run
+
+
+def test_wide_30_deg_helical_pair_stress_model_against_fe_fine_along_the_face():
     # z 20/40, m_n 4, b 60 mm (15 m_n, eps_beta 2.39), 400 N m: a face 2.5 times the
-    # widest the helical face-end factor was fitted on. Reference: the FE stress under
-    # the fast level's loads, elements 0.5 m_n long along the face, three teeth meshed
-    # at a time (bench_root_stress.py --stress-only --three-teeth --mesh face-fine; the
-    # whole loaded segment cannot be factorised at that mesh in 23 GB). On the default
-    # mesh three teeth at a time read -1.8 / +0.2 % against the whole segment (stored
-    # beside it); halving the face elements again (0.25 m_n) moves a 30 deg tooth's
-    # fillet stress under a line load by 1 % or less (fe_independent.py --stress-profile
-    # --face-length-mn 0.5 / 0.25). Measured fast / FE - 1: pinion +1.3 %, gear -5.3 %
-    # (default FE mesh: +11.4 / +14.3 %, its acute-end peak under-resolved); bound 8 %.
-    # Along the face (the pinion's envelope at the FE's 30 face samples) the largest
-    # difference is 12.6 % of the FE maximum, at the obtuse end (FE 58, fast 71 MPa);
-    # bound 15 %.
-    (run,) = [r for r in WIDE if r["three_teeth"] and r["mesh"]["face_length"] == 0.5]
+    # widest the helical face-end factor was fitted on. The stress model alone: the FE
+    # stress under the fast level's loads, elements 0.5 m_n long along the face, three
+    # teeth meshed at a time (bench_root_stress.py --stress-only --three-teeth --mesh
+    # face-fine; the whole loaded segment cannot be factorised at that mesh in 23 GB).
+    # On the default mesh three teeth at a time read -1.8 / +0.2 % against the whole
+    # segment (stored beside it); halving the face elements again (0.25 m_n) moves a
+    # 30 deg tooth's fillet stress under a line load by 1 % or less
+    # (fe_independent.py --stress-profile --face-length-mn 0.5 / 0.25). Measured fast /
+    # FE - 1: pinion +1.3 %, gear -5.3 % (default FE mesh: +11.4 / +14.3 %, its
+    # acute-end peak under-resolved); bound 8 %. Along the face (the pinion's envelope
+    # at the FE's 30 face samples) the largest difference is 12.6 % of the FE maximum,
+    # at the obtuse end (FE 58, fast 71 MPa); bound 15 %. Under the FE's own loads the
+    # acute end carries less (docs/ltca.md, "The wide 30 deg pair against the FE"):
+    # that is the fast compliance's error, not held here.
+    run = _three_teeth_run("helical 30 deg z20/40 m4 b60", 0.5, True)
     pair = ParallelPair(
         normal_module=4e-3,
         normal_pressure_angle=math.radians(20),
@@ -143,3 +157,27 @@ def test_wide_30_deg_helical_pair_against_fe_fine_along_the_face():
     assert np.max(np.abs(along - ref)) < 0.15 * ref.max(), f"{along} vs FE {ref}"
     # the peak at the acute end (+z on the pinion) in both
     assert np.argmax(along) == np.argmax(ref) == ref.size - 1
+
+
+@pytest.mark.parametrize("flank", ["drive", "coast"])
+def test_case03_root_stress_against_fe_fine_along_the_face(flank):
+    # The FE's own contact solution, three teeth at a time, elements 0.5 m_n long along
+    # the face (bench_root_stress.py --cases 03 --three-teeth --mesh face-fine): its
+    # maxima are within 0.4 % of the whole segment's on the default mesh (drive; the
+    # three-teeth default-mesh run stored beside it within 0.4 % too), so the default
+    # mesh's references hold on case 03. Measured fast / FE - 1 over 150 / 300 / 450
+    # N m: drive pinion +2.5 .. +3.2 %, gear +4.9 .. +5.8 %; coast pinion +2.9 ..
+    # +5.2 %, gear +6.8 .. +9.4 %; bound 12 %, the pinion no more than 3 % below.
+    # Along the face (the pinion's envelope at the FE's 14 face samples): largest
+    # difference 9.2 .. 14.1 % of the FE maximum; bound 15 %.
+    run = _three_teeth_run(f"case 03 {flank}", 0.5, False)
+    result = _flank("03", flank, run["torques"])
+    fe = np.asarray(run["fe"])
+    for k, gear in enumerate(("pinion", "gear")):
+        got = getattr(result, f"root_stress_{gear}").max(axis=1)
+        np.testing.assert_allclose(got, fe[:, k], rtol=0.12, err_msg=f"case 03 {flank}, {gear}")
+    assert np.all(result.root_stress_pinion.max(axis=1) > 0.97 * fe[:, 0])
+    along = _pinion_along_face(result, np.asarray(run["envelope_z_m"]))
+    for fast, tq, ref in zip(along, run["torques"], run["envelope_fe_Pa"], strict=True):
+        ref = np.asarray(ref)
+        assert np.max(np.abs(fast - ref)) < 0.15 * ref.max(), f"{tq} N m: {fast} vs FE {ref}"
