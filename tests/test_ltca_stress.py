@@ -191,7 +191,7 @@ HELICAL_WIDE = ParallelPair(
 # elements 0.5 m_n along the face; tests/data/ltca_root_stress_fe_three_teeth.json)
 # reads +45 / +50 % above ISO under the fast level's loads, and under its own +59 /
 # +84 %, but there from a peak within 2 mm of the acute face end (the pinion's
-# envelope 76 MPa 3 mm from the end, +8 % over ISO, 112 MPa 1 mm from it); the
+# envelope 75.5 MPa 3 mm from the end, +7 % over ISO, 112 MPa 1 mm from it); the
 # default mesh, which does not resolve that corner, +15 / +17 %. The loaded TCA's
 # +48 / +42 % lies between: at or above ISO and within +60 %.
 # The independent slices (no spread) give 2.7 to 3.2 times ISO on these pairs.
