@@ -14,6 +14,7 @@ principal stress along the fillet profile, per face position.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -111,9 +112,8 @@ def fillet_stress(
             U[solved.dofs] += solved.fillet @ w
     else:
         # one solve under the same lattice loads: the same displacements without the
-        # lattice's hundreds of solves per tooth (a wide face has 4 / m_n^2 per mm^2)
-        import time
-
+        # lattice's solve per point (one every 0.25 m_n over the flank by default: 549
+        # per tooth on a 60 mm face at m_n 4 mm)
         t0 = time.perf_counter()
         F = np.zeros(gm.model.n_dofs)
         for ta, w in lattice_load.items():
