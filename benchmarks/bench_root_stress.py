@@ -61,8 +61,8 @@ the whole segment's; with it a wide face (the 30 deg pair's 60 mm) fits the
 
 ``--mesh coarse`` is ``MeshOptions(across=2, profile=4, fillet=2, land=1, rim=2,
 face_length=1.0)``; ``default`` is ``MeshOptions()``; ``face-fine`` is
-``MeshOptions(face_length=0.5)``. Timings on a shared machine
-vary: compare ratios measured in the same run.
+``MeshOptions(face_length=0.5)``, ``face-finer`` ``MeshOptions(face_length=0.25)``.
+Timings on a shared machine vary: compare ratios measured in the same run.
 """
 
 from __future__ import annotations
@@ -103,6 +103,8 @@ MESHES = {
     # the default with elements half as long along the face: a helical tooth's fillet
     # stress converges slower along the face (docs/ltca.md, "Root stress")
     "face-fine": MeshOptions(face_length=0.5),
+    # halved again: the convergence of a face end's peak (with --three-teeth)
+    "face-finer": MeshOptions(face_length=0.25),
     "coarse": MeshOptions(across=2, profile=4, fillet=2, land=1, rim=2, face_length=1.0),
 }
 DEG = math.pi / 180
