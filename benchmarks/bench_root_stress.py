@@ -260,6 +260,8 @@ class _ThreeTeeth(FECompliance):
         )
 
     def loads(self, grid, gear):
+        # teeth beyond the neighbours go onto tooth 0 too: their loads are zeroed by
+        # _stress_under, so only the meshed three carry any
         gl = super().loads(grid, gear)
         t = gl.tooth - self.centre
         return dataclasses.replace(gl, tooth=np.where(np.abs(t) <= 1, t, 0))
@@ -277,17 +279,13 @@ class _ThreeTeeth(FECompliance):
             grid.youngs_modulus,
             grid.poisson_ratio,
         )
-        lat = self._lattice(gm, gl.side)
         solved = self._responses(gm, gl.side, 0)
         C = np.zeros((grid.size, grid.size))
-        W = {}
-        for t in np.unique(gl.tooth):
-            sel = gl.tooth == t
-            W[t] = (np.flatnonzero(sel), self._weights(lat, gl.z[sel], gl.u[sel]))
+        W = self._tooth_weights(self._lattice(gm, gl.side), gl)
         for ta, (ia, Wa) in W.items():
             for tb, (ib, Wb) in W.items():
                 if abs(tb - ta) <= 1:
-                    C[np.ix_(ib, ia)] = Wb @ solved.depth[int(tb - ta)] @ Wa.T
+                    C[np.ix_(ib, ia)] = Wb @ solved.depth[tb - ta] @ Wa.T
         return 0.5 * (C + C.T)
 
 
@@ -298,12 +296,13 @@ def _stress_under(fe, grid, load, gear: int):
     if not isinstance(fe, _ThreeTeeth):
         return fillet_stress(fe, grid, load, gear)
     tooth = FECompliance.loads(fe, grid, gear).tooth
+    loaded = np.unique(tooth[load > 0])
     rows = []
-    for c in np.unique(tooth[load > 0]):
+    for c in loaded:
         fe.centre = int(c)
         fs = fillet_stress(fe, grid, np.where(np.abs(tooth - c) <= 1, load, 0.0), gear)
         rows.append(fs.sigma1[list(fs.teeth).index(0)])
-    return dataclasses.replace(fs, teeth=np.unique(tooth[load > 0]), sigma1=np.array(rows))
+    return dataclasses.replace(fs, teeth=loaded, sigma1=np.array(rows))
 
 
 def _fe_run(grids, torques, mesh, stress_only, three, blanks=None) -> dict:

@@ -745,6 +745,15 @@ class FECompliance:
         self.stats["far_field_s"] += ff.seconds
         return ff
 
+    def _tooth_weights(self, lat: _Lattice, loads: GearLoads) -> dict:
+        """Per loaded tooth: the indices of its grid points and their interpolation
+        weights onto the lattice, ``{tooth: (idx, W (n_t, n_lat))}``."""
+        out = {}
+        for t in np.unique(loads.tooth):
+            idx = np.flatnonzero(loads.tooth == t)
+            out[int(t)] = (idx, self._weights(lat, loads.z[idx], loads.u[idx]))
+        return out
+
     def _weights(self, lat: _Lattice, z, u):
         """Bilinear interpolation weights onto the lattice, shape (n, n_lat)."""
         nz, nu = lat.z.size, lat.u.size
@@ -783,17 +792,11 @@ class FECompliance:
         lat = self._lattice(gm, loads.side)
         n = grid.size
         C = np.zeros((n, n))
-        teeth = np.unique(loads.tooth)
-        W = {}
-        for t in teeth:
-            sel = loads.tooth == t
-            W[t] = (np.flatnonzero(sel), self._weights(lat, loads.z[sel], loads.u[sel]))
-        for ta in teeth:
-            solved = self._responses(gm, loads.side, int(ta))
-            ia, Wa = W[ta]
-            for tb in teeth:
-                ib, Wb = W[tb]
-                Clat = solved.depth[int(tb)]  # (n_lat responses on tb, n_lat loads on ta)
+        W = self._tooth_weights(lat, loads)
+        for ta, (ia, Wa) in W.items():
+            solved = self._responses(gm, loads.side, ta)
+            for tb, (ib, Wb) in W.items():
+                Clat = solved.depth[tb]  # (n_lat responses on tb, n_lat loads on ta)
                 C[np.ix_(ib, ia)] = Wb @ Clat @ Wa.T
         if self.options.far_field == "extrapolated":
             # rank one: a series compliance of the gear body, the same for every pair

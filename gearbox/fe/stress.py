@@ -98,12 +98,7 @@ def fillet_stress(
     loads = fe.loads(grid, gear)
     gm = fe._model(loads, gear, grid.youngs_modulus, grid.poisson_ratio)
     lat = fe._lattice(gm, loads.side)
-    teeth = np.unique(loads.tooth)
-    lattice_load = {}
-    for t in teeth:
-        sel = loads.tooth == t
-        W = fe._weights(lat, loads.z[sel], loads.u[sel])
-        lattice_load[int(t)] = W.T @ load[sel]
+    lattice_load = {t: W.T @ load[idx] for t, (idx, W) in fe._tooth_weights(lat, loads).items()}
     if all((loads.side, ta) in gm.responses for ta in lattice_load) or not direct:
         # superposed lattice responses (computed once per loaded tooth, then reused)
         U = np.zeros(gm.model.n_dofs)
@@ -118,9 +113,10 @@ def fillet_stress(
         F = np.zeros(gm.model.n_dofs)
         for ta, w in lattice_load.items():
             F += fe._lattice_unit_loads(gm, loads.side, ta) @ w
-        U = gm.model.solve(F[:, None])[:, 0]
+        U = gm.model.solve(F)
         fe.stats["solves"] += 1
         fe.stats["solve_s"] += time.perf_counter() - t0
+    teeth = np.unique(loads.tooth)
     out = []
     rows = None
     for tb in teeth:
