@@ -84,6 +84,7 @@ from gearbox.fe.stress import fillet_stress  # noqa: E402
 from gearbox.geometry import PairSpec, design_pair  # noqa: E402
 from gearbox.ltca import FastCompliance, ParallelPair, parallel_grid, solve_contact  # noqa: E402
 from gearbox.ltca.beveloid import scene_grids  # noqa: E402
+from gearbox.ltca.compliance import HELIX_ENDS  # noqa: E402
 from gearbox.ltca.stress import (  # noqa: E402
     HelixEnds,
     RootStressModel,
@@ -134,6 +135,9 @@ PAIRS = {
     "helical 30 deg z20/40 m4 b60": (_pair((20, 40), 30, 60), (400.0,), 40),
 }
 NO_SPREAD = RootStressModel(spread_height=0.0, spread_module=0.0, helix_ends=None)
+
+#: the fast level's compliance (``--face-ends``: with its helical face ends)
+FAST = FastCompliance()
 
 
 # ``--iso``: fast level only, against ISO 6336-3 (tests/test_ltca_stress.py holds two)
@@ -197,7 +201,7 @@ def _cycle(grids, torques, fe, stress_only: bool = False) -> dict:
     for g in grids:
         for t, tq in enumerate(torques):
             t0 = time.perf_counter()
-            sf = solve_contact(g, FastCompliance(), tq)
+            sf = solve_contact(g, FAST, tq)
             s_fast = grid_root_stress(g, sf.load)
             prof = root_stress_profile(g, sf.load, 0)
             t_fast += time.perf_counter() - t0
@@ -569,7 +573,7 @@ def _fast_maxima(grids, torques) -> tuple[np.ndarray, np.ndarray]:
     out = np.zeros((len(torques), 2)), np.zeros((len(torques), 2))
     for g in grids:
         for t, tq in enumerate(torques):
-            load = solve_contact(g, FastCompliance(), tq).load
+            load = solve_contact(g, FAST, tq).load
             for k, model in enumerate((None, NO_SPREAD)):
                 s = grid_root_stress(g, load, model)
                 out[k][t] = np.maximum(out[k][t], (s[0].max(), s[1].max()))
@@ -675,6 +679,11 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--against", type=Path, nargs="+", help="fast level against stored --json FE numbers"
     )
+    ap.add_argument(
+        "--face-ends",
+        action="store_true",
+        help="the fast compliance with its helical face ends (HELIX_ENDS)",
+    )
     ap.add_argument("--cases", nargs="*", default=[])
     ap.add_argument("--flanks", nargs="+", default=["R", "L"])
     ap.add_argument("--mesh", choices=sorted(MESHES), default="default")
@@ -691,6 +700,9 @@ def main(argv=None) -> int:
     )
     ap.add_argument("--json", type=Path, help="write every run's numbers to this JSON file")
     a = ap.parse_args(argv)
+    if a.face_ends:
+        global FAST
+        FAST = FastCompliance(helix_ends=HELIX_ENDS)
     mesh = MESHES[a.mesh]
     print(
         f"root stress, fast level against FE ({a.mesh} mesh), {a.positions} positions; "

@@ -22,7 +22,9 @@ body coefficient (default: none with the shared far field, the calibrated one wi
 ``--foundation normal``), ``--coupling-length`` the slices'
 coupling along the face (``FastCompliance(coupling_length=...)``), ``--foundation``
 the split of the fillet foundation (``FastCompliance(foundation=...)``: all in the
-slices, or the body's far field shared by the whole gear). ``--fit-body`` fits the body coefficient for it (the
+slices, or the body's far field shared by the whole gear), ``--face-ends`` the helical
+face ends in the slices (``FastCompliance(helix_ends=HELIX_ENDS)``). ``--fit-body`` fits
+the body coefficient for it (the
 minimax rule of ``tests/test_ltca_calibration.py`` over the stored whole-gear FE mean
 stiffness, cases 01-04, both flanks, three torques) and prints the errors at the fit
 rounded to two decimals. ``--parallel`` compares the mean stiffness of three parallel
@@ -56,7 +58,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from gearbox.geometry import PairSpec, design_pair  # noqa: E402
 from gearbox.ltca import FastCompliance, LTCAOptions, ltca_cycle, solve_contact  # noqa: E402
 from gearbox.ltca.beveloid import scene_grids  # noqa: E402
-from gearbox.ltca.compliance import CALIBRATED_BEAM  # noqa: E402
+from gearbox.ltca.compliance import CALIBRATED_BEAM, HELIX_ENDS  # noqa: E402
 from gearbox.scene import load_scene  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -444,6 +446,7 @@ def main(argv=None) -> int:
         type=float,
         help="body coefficient (default: 0 with the split foundation, else the calibrated one)",
     )
+    ap.add_argument("--face-ends", action="store_true", help="the helical face ends (HELIX_ENDS)")
     ap.add_argument("--fit-body", action="store_true", help="fit the body coefficient")
     ap.add_argument("--parallel", action="store_true", help="parallel pairs against the FE")
     ap.add_argument("--json", type=Path)
@@ -456,6 +459,7 @@ def main(argv=None) -> int:
         body_compliance=a.body,
         coupling_length=a.coupling_length,
         foundation=a.foundation,
+        helix_ends=HELIX_ENDS if a.face_ends else None,
     )
     # the column to compare with: the previous default (the slice beam, Sainsot's
     # foundation in the slices, body coefficient 0.24) for the default contact term,

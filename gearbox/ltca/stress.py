@@ -80,18 +80,23 @@ SPREAD_MODULE = 0.87
 
 @dataclass(frozen=True)
 class HelixEnds:
-    """Root stress of a load on a helical tooth by its distance to the face ends.
+    """A factor on a load on a helical tooth by its distance to the face ends.
 
     A load near the acute end of a helical flank (where the flank meets the end face
     at 90 deg - beta) bends the tooth more than the same load in a transverse slice of
     a spur tooth, one near the obtuse end less (measured on the FE level,
-    docs/ltca.md "Root stress"). Each slice's stress is multiplied, before the spread
-    along the face, by ``exp((t + quadratic t^2) (acute e^(-u_a / acute_decay) -
-    obtuse e^(-u_o / obtuse_decay) + middle))``, t = tan|beta|, u_a and u_o the
-    distances to the acute and the obtuse face end over m_n; the five coefficients
-    are given at the load heights ``height`` (eta = (r - r_root) / (r_tip - r_root))
-    and interpolated linearly between them (held beyond). The defaults are the least
-    squares fit of ``python3 benchmarks/bench_root_stress.py --helix-ends``.
+    docs/ltca.md "Root stress"). The factor is ``exp((t + quadratic t^2) (acute
+    e^(-u_a / acute_decay) - obtuse e^(-u_o / obtuse_decay) + middle + narrow / b))``,
+    t = tan|beta|, u_a and u_o the distances to the acute and the obtuse face end and b
+    the face width, all over m_n; the coefficients are given at the load heights
+    ``height`` (eta = (r - r_root) / (r_tip - r_root)) and interpolated linearly
+    between them (held beyond). ``key`` names the instance in error messages.
+
+    The defaults are the root stress's (each slice's stress multiplied before the
+    spread along the face), the least squares fit of ``python3
+    benchmarks/bench_root_stress.py --helix-ends`` (no ``narrow`` term);
+    :data:`gearbox.ltca.compliance.HELIX_ENDS` is the fast compliance's (each slice's
+    compliance multiplied before the coupling along the face).
     """
 
     height: tuple[float, ...] = (0.34, 0.61, 0.88)
@@ -101,26 +106,33 @@ class HelixEnds:
     obtuse_decay: tuple[float, ...] = (0.899, 1.387, 1.683)
     middle: tuple[float, ...] = (0.311, 0.089, 0.078)
     quadratic: float = 0.801
+    narrow: tuple[float, ...] | None = None
+    key: str = "root_stress.helix_ends"
 
     def __post_init__(self):
         p = Problems()
         n = len(self.height)
         p.check(
             n >= 1 and bool(np.all(np.diff(self.height) > 0)),
-            "root_stress.helix_ends.height",
+            f"{self.key}.height",
             self.height,
             "must be one or more increasing load heights",
         )
         for name in ("acute", "obtuse", "acute_decay", "obtuse_decay", "middle"):
             v = getattr(self, name)
-            p.check(len(v) == n, f"root_stress.helix_ends.{name}", v, f"must have {n} values")
+            p.check(len(v) == n, f"{self.key}.{name}", v, f"must have {n} values")
+        if self.narrow is not None:
+            p.check(
+                len(self.narrow) == n, f"{self.key}.narrow", self.narrow, f"must have {n} values"
+            )
         for name in ("acute_decay", "obtuse_decay"):
             v = getattr(self, name)
-            p.check(min(v) > 0, f"root_stress.helix_ends.{name}", v, "must be > 0 (m_n)")
+            p.check(min(v) > 0, f"{self.key}.{name}", v, "must be > 0 (m_n)")
         p.raise_if_any("invalid helix-end factor")
 
-    def factor(self, tan_beta, eta, u_acute, u_obtuse) -> np.ndarray:
-        """The factor on the slice stress, shape of the broadcast inputs."""
+    def factor(self, tan_beta, eta, u_acute, u_obtuse, face=np.inf) -> np.ndarray:
+        """The factor at a point, shape of the broadcast inputs (``face``: the face
+        width over m_n, for the ``narrow`` term)."""
         eta = np.asarray(eta, dtype=float)
 
         def at(v):
@@ -132,7 +144,29 @@ class HelixEnds:
             - at(self.obtuse) * np.exp(-np.asarray(u_obtuse) / at(self.obtuse_decay))
             + at(self.middle)
         )
+        if self.narrow is not None:
+            x = x + at(self.narrow) / np.asarray(face, dtype=float)
         return np.exp((t + self.quadratic * t**2) * x)
+
+    def slot_factor(self, tan_beta, eta, u_acute, u_obtuse, width, face=np.inf, n=8):
+        """The factor on the compliance of a slot ``width`` wide (over m_n) centred at
+        ``u_acute``, ``u_obtuse``: the slot's ``n`` thin slices side by side, as springs
+        in parallel (the harmonic mean of the factor across the slot), so that a factor
+        that changes within a slot's width at a face end gives the same stiffness
+        whatever the slot width."""
+        s = (np.arange(n) + 0.5) / n - 0.5
+        inv = sum(
+            1.0
+            / self.factor(
+                tan_beta,
+                eta,
+                np.asarray(u_acute) + d * width,
+                np.asarray(u_obtuse) - d * width,
+                face,
+            )
+            for d in s
+        )
+        return n / inv
 
 
 @dataclass(frozen=True)
