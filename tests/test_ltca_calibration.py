@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _benchmarks import benchmark
 
 from gearbox.errors import InputError
 from gearbox.fe.extent import aitken_limit, extent_limit
@@ -150,13 +151,7 @@ def test_contact_to_the_matching_depth_calibrated_within_5_percent(case, flank):
 def _parallel_errors(compliance):
     """benchmarks/ltca_ripple.py's comparison with the stored whole-gear FE level on
     parallel pairs (tests/data/fe_parallel_whole_gear.json), fast / FE - 1 per pair."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(
-        "ltca_ripple", ROOT / "benchmarks" / "ltca_ripple.py"
-    )
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+    bench = benchmark("ltca_ripple")
     return np.asarray(list(bench.parallel_errors(compliance).values()))
 
 

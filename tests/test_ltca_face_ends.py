@@ -10,15 +10,14 @@ benchmarks/fe_independent.py --fit-face-ends --helix-deg 10 20 30 --face-mm 12 2
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
-import sys
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
+from _benchmarks import benchmark
 
 from gearbox.errors import InputError
 from gearbox.ltca import FastCompliance, ParallelPair, parallel_grid
@@ -29,16 +28,6 @@ ROOT = Path(__file__).resolve().parents[1]
 DATA = json.loads((ROOT / "tests" / "data" / "fe_face_ends.json").read_text())
 
 
-def _bench():
-    spec = importlib.util.spec_from_file_location(
-        "fe_independent", ROOT / "benchmarks" / "fe_independent.py"
-    )
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod  # its dataclasses look their module up
-    spec.loader.exec_module(mod)
-    return mod
-
-
 def test_face_ends_against_the_fe_tooth():
     # The fit's own measure, recomputed from the package's HELIX_ENDS (rounded to the
     # printed digits): rms 0.037 in ln over the 54 sets, each set's mean deflection
@@ -46,7 +35,7 @@ def test_face_ends_against_the_fe_tooth():
     # margin for another machine's round-off. Without the factor the slices miss the
     # FE's profile by an rms of 0.18 in ln and their mean is up to 38 % below the FE's
     # (narrow 30 deg teeth): the factor is what brings them near it.
-    bench = _bench()
+    bench = benchmark("fe_independent")
     fast = FastCompliance(contact="matching_depth")
     with_ends = replace(fast, helix_ends=HELIX_ENDS)
     res, plain_res, means, plain_means = [], [], [], []

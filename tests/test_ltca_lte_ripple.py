@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _benchmarks import benchmark
 
 from gearbox.geometry import PairSpec, design_pair
 from gearbox.ltca import FastCompliance, LTCAOptions, ParallelPair, ltca_cycle, parallel_grid
@@ -285,13 +286,7 @@ def test_load_along_the_contact_lines_against_the_fe_level(position):
     # load shares of the tooth pairs within 0.004, the main pair's contact zone one
     # slice / one and two slices longer than the FE's. Bounds: the measured values
     # plus about half again, so that the zone stays as near the FE's as now
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(
-        "ltca_load_distribution", ROOT / "benchmarks" / "ltca_load_distribution.py"
-    )
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+    bench = benchmark("ltca_load_distribution")
     _, grids = _grids(LOADS["case"], LOADS["flank"])
     fe = LOADS["fe"][str(position)]
     fast = bench.compare(grids[position], fe, FastCompliance(), LOADS["torque_Nm"])

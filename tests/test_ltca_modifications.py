@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _benchmarks import benchmark
 
 from gearbox import load_scene
 from gearbox.errors import InputError
@@ -34,12 +35,7 @@ DATA = Path(__file__).parent / "data"
 
 def _benchmark(name: str):
     """A script of benchmarks/ as a module (it holds the comparisons' set-ups)."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return benchmark(name)
 
 
 #: spur, m 4 mm, z 30/45, b 30 mm: the pair of benchmarks/ltca_misalignment.py

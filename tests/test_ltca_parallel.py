@@ -6,6 +6,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import pytest
+from _benchmarks import benchmark
 
 from gearbox.errors import InputError
 from gearbox.ltca import (
@@ -89,14 +90,7 @@ def test_contact_flattening_stiffens_with_load():
 def _iso_ratio(pair, torque):
     """benchmarks/ltca_ripple.py's mean stiffness over ISO 6336-1's c_gamma_alpha (the
     transverse convention), with the cycle result."""
-    import importlib.util
-    from pathlib import Path
-
-    path = Path(__file__).resolve().parents[1] / "benchmarks" / "ltca_ripple.py"
-    spec = importlib.util.spec_from_file_location("ltca_ripple", path)
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    return bench.iso_ratio(pair, torque)
+    return benchmark("ltca_ripple").iso_ratio(pair, torque)
 
 
 def test_mean_mesh_stiffness_against_iso_6336_1_spur():

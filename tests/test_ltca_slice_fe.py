@@ -7,7 +7,6 @@ segments of growing extent (``python benchmarks/ltca_slice_vs_fe.py --refine 1.0
 case 03's pinion as a cylindrical helical gear, six load heights each.
 """
 
-import importlib.util
 import json
 import math
 from dataclasses import replace
@@ -15,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _benchmarks import benchmark
 
 from gearbox.fe import MeshOptions
 from gearbox.fe.compliance import gear_loads
@@ -33,12 +33,7 @@ DATA = json.loads((ROOT / "tests" / "data" / "fe_slice_line_load.json").read_tex
 
 
 def _bench():
-    spec = importlib.util.spec_from_file_location(
-        "ltca_slice_vs_fe", ROOT / "benchmarks" / "ltca_slice_vs_fe.py"
-    )
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return benchmark("ltca_slice_vs_fe")
 
 
 def _run(name, beam_at="load_point"):
