@@ -440,9 +440,15 @@ class FastCompliance:
         given face slots, each with the helix angle and load height of the given grid
         point (its own, or the nearest loaded one's), shape of ``slots``; ones without
         the factor or where the contact lines show no acute end."""
+
+        def ones(points, slots):
+            return np.ones(np.shape(slots))
+
+        if self.helix_ends is None:
+            return ones
         sign = acute_end(grid, teeth) if acute is None else float(np.sign(acute))
-        if self.helix_ends is None or sign == 0.0:
-            return lambda points, slots: np.ones(np.shape(slots))
+        if sign == 0.0:
+            return ones
         a, b = grid.face_range
         w = (b - a) / grid.n_slots
         eta, t, mn = load_height(teeth), np.tan(teeth.helix_angle), teeth.normal_module
