@@ -47,7 +47,7 @@ slices): per set (helix angle over the spur tooth, face width, gear, height) the
 deflection along the face over the plain slices', taken over the spur tooth's
 (``fe_over_slices``), against the slices with the factor; least squares in ln over all
 sets, the coefficients per height and one quadratic. ``--cache FILE.npz`` keeps the FE
-blocks (about 6 minutes for b 12 / 24 / 40 mm alone on this machine), ``--json`` writes
+blocks (about 6 minutes for b 12 / 24 / 40 mm on this machine, shared with other runs), ``--json`` writes
 the sets for ``tests/test_ltca_face_ends.py``. ``--mesh-stiffness --face-ends``: the
 fast level with that factor.
 

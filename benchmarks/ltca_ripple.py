@@ -472,7 +472,7 @@ def main(argv=None) -> int:
     print(
         f"contact {a.contact}, root {a.root}, beam at the {a.beam_at}, tooth {a.tooth}, "
         f"coupling length {a.coupling_length}, foundation {a.foundation}, body coefficient "
-        f"{fast.body_compliance}"
+        f"{fast.body_compliance}, face ends {'on' if a.face_ends else 'off'}"
     )
     print("LTE peak-to-peak (um) at 150 / 300 / 450 N m; fast / FE - 1")
     print(

@@ -76,7 +76,7 @@ from .slice_model import (
     slice_compliance,
     weber_approach,
 )
-from .stress import HelixEnds, acute_end, load_height
+from .stress import HelixEnds, acute_end, end_distances, load_height
 
 __all__ = [
     "BODY_COMPLIANCE",
@@ -456,8 +456,7 @@ class FastCompliance:
         def f(points, slots):
             centre = a + (np.asarray(slots) + 0.5) * w
             m = mn[points]
-            up, down = (b - centre) / m, (centre - a) / m
-            u_a, u_o = (up, down) if sign > 0 else (down, up)
+            u_a, u_o = end_distances(grid, teeth, sign, centre, m)
             return self.helix_ends.slot_factor(t[points], eta[points], u_a, u_o, w / m, (b - a) / m)
 
         return f

@@ -346,13 +346,18 @@ def acute_end(grid, teeth) -> float:
     return float(np.sign(slope))
 
 
-def end_distances(grid, teeth, sign: float) -> tuple[np.ndarray, np.ndarray]:
+def end_distances(
+    grid, teeth, sign: float, face=None, normal_module=None
+) -> tuple[np.ndarray, np.ndarray]:
     """Distances of the grid's slices to the acute and the obtuse face end over the
     normal module of gear ``teeth``, two arrays of shape (n,), the acute end lying in
-    face direction ``sign`` (+1 or -1; 0 counts as +1)."""
+    face direction ``sign`` (+1 or -1; 0 counts as +1). ``face``, ``normal_module``:
+    other face coordinates (m) and their normal modules instead of the grid points'
+    (the compliance's face slots)."""
     a, b = grid.face_range
-    to_high = (b - grid.face) / teeth.normal_module
-    to_low = (grid.face - a) / teeth.normal_module
+    z = grid.face if face is None else np.asarray(face)
+    mn = teeth.normal_module if normal_module is None else normal_module
+    to_high, to_low = (b - z) / mn, (z - a) / mn
     return (to_high, to_low) if sign >= 0 else (to_low, to_high)
 
 
