@@ -83,6 +83,20 @@ against the stored run).
 
     python3 benchmarks/fe_independent.py --decompose --helix-deg 0 15 30 --face-mm 12 30
     python3 benchmarks/fe_independent.py --decompose --cases 01:drive 03:drive
+
+``--pair-couplings``: what one tooth's load does to its neighbours. Each gear's teeth
+-1, 0 and +1 (the FE level's segment for them, ``far_field="none"``: five teeth, cut
+faces clamped) with n slices over the whole face at one height (``--heights``, form
+to tip circle); per unit face width under a load even along tooth 0's line: the
+approach of tooth 0 itself, of the tooth in front of its loaded flank (the side its
+outward normal points to) and of the one behind it, read at the same height. Beside
+them the plane-strain whole gear of the normal section (bore clamped, its number of
+teeth rounded: :func:`gearbox.ltca.slice_fe.whole_gear_influence`, read at the centre
+line) and what the fast level puts between tooth pairs: the body torsion and the far
+field (``FAR_FIELD`` grown with the helix angle), each per gear. About a minute of FE
+per row on the 2-core machine.
+
+    python3 benchmarks/fe_independent.py --pair-couplings --helix-deg 0 15 30 --face-mm 30 --heights 0.2 0.5 0.8
 """
 
 from __future__ import annotations
@@ -672,21 +686,80 @@ def decompose_cases(specs) -> None:
     _print_table([*head, "FE / tooth alone (s)"], rows)
 
 
-def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int):
-    """A one-tooth grid (tooth 0) with n slices over the whole face, every point of
-    gear ``gear`` at the radius ``frac`` of the way from its form to its tip circle."""
+def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int, teeth=(0,)):
+    """A grid with n slices over the whole face on each of ``teeth`` (tooth-pair
+    indices; tooth 0 alone by default), every point of gear ``gear`` at the radius
+    ``frac`` of the way from its form to its tip circle."""
     grid = parallel_grid(pair, 0.25, n_face=n)
-    i0 = np.full(n, int(np.flatnonzero(grid.pair == 0)[0]))
-    kw = _fields(grid, i0)
+    m = n * len(teeth)
+    kw = _fields(grid, np.full(m, int(np.flatnonzero(grid.pair == 0)[0])))
     dy = pair.face_width / n
-    y = -0.5 * pair.face_width + dy * (np.arange(n) + 0.5)
+    y = np.tile(-0.5 * pair.face_width + dy * (np.arange(n) + 0.5), len(teeth))
     r = pair.form_radius(gear) + frac * (pair.tip_radius(gear) - pair.form_radius(gear))
     name = "tooth1" if gear == 0 else "tooth2"
-    kw[name] = dataclasses.replace(kw[name], radius=np.full(n, r))
+    kw[name] = dataclasses.replace(kw[name], radius=np.full(m, r))
     kw["position"] = kw["position"].copy()
     kw["position"][:, 2] = y
-    kw.update(pair=np.zeros(n, dtype=int), slot=np.arange(n), face=y)
+    kw.update(pair=np.repeat(np.asarray(teeth, int), n), slot=np.tile(np.arange(n), len(teeth)))
+    kw["face"] = y
     return type(grid)(**kw)
+
+
+def pair_couplings(helix, faces, heights) -> None:
+    """What one tooth's load does to its neighbours, per unit face width under loads
+    even along lines of constant radius (the module docstring), 1e-11 m^2/N."""
+    from gearbox.ltca.compliance import FAR_FIELD, _far_growth
+    from gearbox.ltca.slice_fe import whole_gear_influence
+    from gearbox.ltca.slice_model import body_torsion, normal_section
+
+    rows = []
+    for face in faces:
+        n = n_face(face)
+        for beta in helix:
+            pair = pair_of(beta, face)
+            fe = FECompliance(FEOptions(far_field="none"))
+            for gear in (0, 1):
+                # pair +1 is the tooth ahead in the gear's rotation: in front of the
+                # driving pinion's loaded flank, behind the driven gear's
+                front = 1 if gear == 0 else -1
+                for h in heights:
+                    g = line_of_constant_radius(pair, gear, h, n, teeth=(-1, 0, 1))
+                    C = fe.gear_matrix(g, gear)
+                    b = pair.face_width
+
+                    def even(a, c, C=C, g=g, b=b, n=n):  # per unit width, even line loads
+                        blk = C[np.ix_(g.pair == a, g.pair == c)]
+                        return float(blk.sum()) / n**2 * b / 1e-11
+
+                    teeth = (g.tooth1 if gear == 0 else g.tooth2).take(np.array([0]))
+                    v, factor = normal_section(teeth)
+                    zv = int(round(float(v.teeth[0])))
+                    plane = whole_gear_influence(v, E, NU, zv, v.radius, (-1, 0, 1)).ravel()
+                    plane = plane * float(np.ravel(factor)[0]) / 1e-11
+                    tors = float(body_torsion(v, E / (2 * (1 + NU)))[0] * np.ravel(factor)[0])
+                    far = FAR_FIELD * _far_growth(teeth) / E
+                    rows.append(
+                        f"| {beta:g} | {face:g} | {('pinion', 'gear')[gear]} | {h:.2f} | "
+                        f"{even(0, 0):.3f} | {even(front, 0):.3f} | {even(-front, 0):.3f} | "
+                        f"{plane[1]:.3f} | {plane[2]:.3f} | {plane[0]:.3f} | "
+                        f"{tors / 1e-11:.3f} | {far / 1e-11:.3f} |"
+                    )
+                    print(rows[-1], flush=True)
+    head = [
+        "helix (deg)",
+        "face (mm)",
+        "gear",
+        "height",
+        "FE own",
+        "FE front",
+        "FE back",
+        "2-D own",
+        "2-D front",
+        "2-D back",
+        "fast torsion",
+        "fast far field",
+    ]
+    _print_table(head, rows)
 
 
 def face_profile(helix, faces, heights=(0.15, 0.5, 0.85)) -> None:
@@ -951,6 +1024,9 @@ def main(argv=None) -> int:
         "--cases", nargs="+", metavar="CASE:FLANK", help="with --decompose: paper cases"
     )
     ap.add_argument(
+        "--pair-couplings", action="store_true", help="one tooth's load on its neighbours"
+    )
+    ap.add_argument(
         "--root-stress", action="store_true", help="fillet stress: FE level, independent, fast"
     )
     ap.add_argument(
@@ -965,7 +1041,7 @@ def main(argv=None) -> int:
         type=float,
         nargs="+",
         default=[0.0, 0.25, 0.5, 0.85],
-        help="--stress-profile: load heights, form (0) to tip circle (1)",
+        help="--stress-profile, --pair-couplings: load heights, form (0) to tip circle (1)",
     )
     ap.add_argument(
         "--face-length-mn", type=float, help="--stress-profile: FE element length along the face"
@@ -995,6 +1071,8 @@ def main(argv=None) -> int:
             a.positions,
             2.0 if a.refine is None else a.refine,
         )
+    elif a.pair_couplings:
+        pair_couplings(a.helix_deg, a.face_mm, a.heights)
     elif a.decompose and a.cases:
         decompose_cases(a.cases)
     elif a.decompose:

@@ -28,7 +28,12 @@ import numpy as np
 
 from .slice_model import _fillet_points, _half_angle, fillet_root
 
-__all__ = ["fe_tooth_compliance", "section_outline", "whole_gear_compliance"]
+__all__ = [
+    "fe_tooth_compliance",
+    "section_outline",
+    "whole_gear_compliance",
+    "whole_gear_influence",
+]
 
 _G3 = np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
 _W3 = np.array([5.0, 8.0, 5.0]) / 9.0
@@ -168,6 +173,29 @@ def _stiffness(xy, conn, E, nu):
     return coo_matrix((Ke.ravel(), (rows, cols)), shape=(n, n)).tocsc()
 
 
+def _line_loads(n_dofs, tooth, rho_nodes, sections, i0, radii):
+    """Unit line loads on the flank ``t = +1`` of the tooth whose node grid is
+    ``tooth``, along the transverse line of action at ``radii`` (clipped to the tooth):
+    the load vectors, shape (n_dofs, n), the radii, the half-angles there and the
+    loads' angles to the centre line's normal."""
+    n_along = (tooth.shape[0] - 1) // 2
+    rb = float(sections.base_radius[i0])
+    psi_b = float(sections.base_half_angle[i0])
+    rL = np.clip(np.asarray(radii, float), rho_nodes[0], rho_nodes[-1])
+    psi_L = _half_angle(rL, rb, psi_b)
+    a1 = np.arccos(np.clip(rb / rL, -1.0, 1.0)) - psi_L
+    F = np.zeros((n_dofs, rL.size))
+    edge = tooth[:, -1]  # the flank t = +1, nodes along s
+    s_L = np.sqrt((rL - rho_nodes[0]) / (rho_nodes[-1] - rho_nodes[0]))
+    for k, (sl, a) in enumerate(zip(s_L, a1, strict=True)):
+        e = min(int(sl * n_along), n_along - 1)
+        w, _ = _lagrange3(np.array(2.0 * (sl * n_along - e) - 1.0))
+        nodes = edge[2 * e : 2 * e + 3]
+        F[2 * nodes, k] = -np.cos(a) * w
+        F[2 * nodes + 1, k] = -np.sin(a) * w
+    return F, rL, psi_L, a1
+
+
 def _read_loads(K, fixed, xy, tooth, grid, sections, i0, radii, depth=None) -> np.ndarray:
     """Unit line loads on the flank ``t = +1`` of the tooth whose node grid (rows along
     s, columns across t) is ``tooth``, along the transverse line of action at
@@ -179,23 +207,9 @@ def _read_loads(K, fixed, xy, tooth, grid, sections, i0, radii, depth=None) -> n
     from scipy.sparse.linalg import splu
 
     rho_nodes, t_nodes, psi_nodes = grid
-    n_along = (tooth.shape[0] - 1) // 2
     free = np.setdiff1d(np.arange(K.shape[0]), fixed)
     lu = splu(K[free][:, free].tocsc())
-    rb = float(sections.base_radius[i0])
-    psi_b = float(sections.base_half_angle[i0])
-    rL = np.clip(np.asarray(radii, float), rho_nodes[0], rho_nodes[-1])
-    psi_L = _half_angle(rL, rb, psi_b)
-    a1 = np.arccos(np.clip(rb / rL, -1.0, 1.0)) - psi_L
-    F = np.zeros((K.shape[0], rL.size))
-    edge = tooth[:, -1]  # the flank t = +1, nodes along s
-    s_L = np.sqrt((rL - rho_nodes[0]) / (rho_nodes[-1] - rho_nodes[0]))
-    for k, (sl, a) in enumerate(zip(s_L, a1, strict=True)):
-        e = min(int(sl * n_along), n_along - 1)
-        w, _ = _lagrange3(np.array(2.0 * (sl * n_along - e) - 1.0))
-        nodes = edge[2 * e : 2 * e + 3]
-        F[2 * nodes, k] = -np.cos(a) * w
-        F[2 * nodes + 1, k] = -np.sin(a) * w
+    F, rL, psi_L, a1 = _line_loads(K.shape[0], tooth, rho_nodes, sections, i0, radii)
     U = np.zeros_like(F)
     U[free] = lu.solve(F[free])
     px, py = rL * np.sin(psi_L), rL * np.cos(psi_L)  # the loaded flank points
@@ -237,25 +251,12 @@ def _solve_section(
     return _read_loads(K, fixed, xy, idx, grid, sections, i0, radii, depth)
 
 
-def whole_gear_compliance(
-    sections,
-    youngs_modulus: float,
-    poisson_ratio: float,
-    teeth: int,
-    *,
-    normal: bool = True,
-    i0: int = 0,
-    n_along: int = 24,
-    n_across: int = 6,
-    n_gap: int = 6,
-    n_rim: int = 8,
-) -> np.ndarray:
-    """The whole gear of section ``i0`` as a plane-strain FE body: ``teeth`` teeth on a
-    rim from the bore (clamped) to the root circle, tooth 0 loaded at each of
-    ``sections.radius`` in turn, read as :func:`fe_tooth_compliance` (m per N/m),
-    shape (n,). For checks of the foundation (the slices' Sainsot term) against the
-    3-D FE level (``benchmarks/ltca_slice_vs_fe.py``); ``teeth`` must be an integer,
-    so a helical gear's virtual spur gear is rounded by the caller."""
+def _whole_gear(sections, E, nu, teeth, normal, i0, n_along, n_across, n_gap, n_rim):
+    """The plane-strain whole gear of section ``i0`` (:func:`whole_gear_compliance`):
+    its stiffness, the fixed dofs (the bore), the nodes, the node grid of every tooth
+    (tooth k turned by ``k`` pitches towards ``+x``, the side the loaded flank ``t = +1``
+    of tooth 0 faces) and the tooth mesh's node radii, across-coordinates and
+    half-angles."""
     rho_o, psi_o = section_outline(sections, int(i0), normal=normal)
     xy_t, conn_t, idx_t, rho_nodes, t_nodes, psi_nodes = _mesh(rho_o, psi_o, n_along, n_across)
     rf, theta_f = float(rho_o[0]), float(psi_o[0])
@@ -284,7 +285,7 @@ def whole_gear_compliance(
         np.stack([ridx[2 * ii + a, (2 * jj + b) % na] for a in range(3) for b in range(3)], axis=1)
     ]
     count = ridx.size
-    tooth0 = None
+    tooth_ids = []
     for k in range(z):
         gid = np.empty_like(idx_t)
         gid[0] = ridx[-1, (k * per.size + np.arange(nt)) % na]  # on the rim's root circle
@@ -296,13 +297,86 @@ def whole_gear_compliance(
         local = np.empty(xy_t.shape[0], int)
         local[idx_t.ravel()] = gid.ravel()
         conn.append(local[conn_t])
-        if k == 0:
-            tooth0 = gid
+        tooth_ids.append(gid)
     xy = np.concatenate(xy)
-    K = _stiffness(xy, np.concatenate(conn), youngs_modulus, poisson_ratio)
+    K = _stiffness(xy, np.concatenate(conn), E, nu)
     fixed = np.concatenate([2 * ridx[0], 2 * ridx[0] + 1])  # the bore
-    grid = (rho_nodes, t_nodes, psi_nodes)
-    return _read_loads(K, fixed, xy, tooth0, grid, sections, i0, sections.radius)
+    return K, fixed, xy, tooth_ids, (rho_nodes, t_nodes, psi_nodes)
+
+
+def whole_gear_compliance(
+    sections,
+    youngs_modulus: float,
+    poisson_ratio: float,
+    teeth: int,
+    *,
+    normal: bool = True,
+    i0: int = 0,
+    n_along: int = 24,
+    n_across: int = 6,
+    n_gap: int = 6,
+    n_rim: int = 8,
+) -> np.ndarray:
+    """The whole gear of section ``i0`` as a plane-strain FE body: ``teeth`` teeth on a
+    rim from the bore (clamped) to the root circle, tooth 0 loaded at each of
+    ``sections.radius`` in turn, read as :func:`fe_tooth_compliance` (m per N/m),
+    shape (n,). For checks of the foundation (the slices' Sainsot term) against the
+    3-D FE level (``benchmarks/ltca_slice_vs_fe.py``); ``teeth`` must be an integer,
+    so a helical gear's virtual spur gear is rounded by the caller."""
+    K, fixed, xy, tooth_ids, grid = _whole_gear(
+        sections, youngs_modulus, poisson_ratio, teeth, normal, i0, n_along, n_across, n_gap, n_rim
+    )
+    return _read_loads(K, fixed, xy, tooth_ids[0], grid, sections, i0, sections.radius)
+
+
+def whole_gear_influence(
+    sections,
+    youngs_modulus: float,
+    poisson_ratio: float,
+    teeth: int,
+    radii,
+    offsets=(-2, -1, 0, 1, 2),
+    *,
+    normal: bool = True,
+    i0: int = 0,
+    n_along: int = 24,
+    n_across: int = 6,
+    n_gap: int = 6,
+    n_rim: int = 8,
+) -> np.ndarray:
+    """Influence of a unit line load on tooth 0 of the plane-strain whole gear
+    (:func:`whole_gear_compliance`) on the same flank of its neighbours (m per N/m),
+    shape ``(len(offsets), n_read, n_load)``: entry ``[o, i, j]`` is the displacement of
+    tooth ``offsets[o]`` along its own load line at ``radii[i]``, read where that line
+    crosses its centre line, under the load on tooth 0 at ``radii[j]``. Offset +1 is
+    the tooth the loaded flank faces (across the tooth space its outward normal points
+    into); offset 0 is :func:`whole_gear_compliance`'s reading."""
+    from scipy.sparse.linalg import splu
+
+    E, nu = float(youngs_modulus), float(poisson_ratio)
+    K, fixed, xy, tooth_ids, (rho_nodes, _, _) = _whole_gear(
+        sections, E, nu, teeth, normal, i0, n_along, n_across, n_gap, n_rim
+    )
+    z = len(tooth_ids)
+    pitch = 2.0 * np.pi / z
+    F, rL, psi_L, a1 = _line_loads(K.shape[0], tooth_ids[0], rho_nodes, sections, i0, radii)
+    free = np.setdiff1d(np.arange(K.shape[0]), fixed)
+    U = np.zeros_like(F)
+    U[free] = splu(K[free][:, free].tocsc()).solve(F[free])
+    ca, sa = np.cos(a1), np.sin(a1)
+    # where each load's line crosses the centre line (the radius there)
+    centre_radius = rL * np.cos(psi_L) - rL * np.sin(psi_L) / ca * sa
+    out = np.empty((len(offsets), rL.size, rL.size))
+    for o, off in enumerate(offsets):
+        gid = tooth_ids[int(off) % z]
+        centre = gid[:, gid.shape[1] // 2]
+        c, s = np.cos(pitch * off), np.sin(pitch * off)
+        for j in range(rL.size):  # the load; read at every radius of tooth off
+            ux = np.interp(centre_radius, rho_nodes, U[2 * centre, j])
+            uy = np.interp(centre_radius, rho_nodes, U[2 * centre + 1, j])
+            lx, ly = c * ux - s * uy, s * ux + c * uy  # into the tooth's own frame
+            out[o, :, j] = -(lx * ca + ly * sa)
+    return out
 
 
 #: Tables of solved sections: key (the section's shape, rounded; Poisson's ratio; mesh) ->
