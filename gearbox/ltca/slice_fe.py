@@ -339,10 +339,7 @@ def whole_gear_influence(
     *,
     normal: bool = True,
     i0: int = 0,
-    n_along: int = 24,
-    n_across: int = 6,
-    n_gap: int = 6,
-    n_rim: int = 8,
+    **mesh,
 ) -> np.ndarray:
     """Influence of a unit line load on tooth 0 of the plane-strain whole gear
     (:func:`whole_gear_compliance`) on the same flank of its neighbours (m per N/m),
@@ -350,12 +347,14 @@ def whole_gear_influence(
     tooth ``offsets[o]`` along its own load line at ``radii[i]``, read where that line
     crosses its centre line, under the load on tooth 0 at ``radii[j]``. Offset +1 is
     the tooth the loaded flank faces (across the tooth space its outward normal points
-    into); offset 0 is :func:`whole_gear_compliance`'s reading."""
+    into); offset 0 is :func:`whole_gear_compliance`'s reading. ``mesh``: its
+    ``n_along``, ``n_across``, ``n_gap`` and ``n_rim`` (the same defaults)."""
     from scipy.sparse.linalg import splu
 
     E, nu = float(youngs_modulus), float(poisson_ratio)
+    mesh = {"n_along": 24, "n_across": 6, "n_gap": 6, "n_rim": 8} | mesh
     K, fixed, xy, tooth_ids, (rho_nodes, _, _) = _whole_gear(
-        sections, E, nu, teeth, normal, i0, n_along, n_across, n_gap, n_rim
+        sections, E, nu, teeth, normal, i0, **mesh
     )
     z = len(tooth_ids)
     pitch = 2.0 * np.pi / z
