@@ -93,7 +93,8 @@ outward normal points to) and of the one behind it, read at the same height. Bes
 them the plane-strain whole gear of the normal section (bore clamped, its number of
 teeth rounded: :func:`gearbox.ltca.slice_fe.whole_gear_influence`, read at the centre
 line) and what the fast level puts between tooth pairs: the body torsion and the far
-field (``FAR_FIELD`` grown with the helix angle), each per gear. About a minute of FE
+field (``FAR_FIELD`` grown with the helix angle), each per gear (the torsion read
+from ``FastCompliance.torsion_matrix`` as the FE's columns). About a minute of FE
 per row on the 2-core machine.
 
     python3 benchmarks/fe_independent.py --pair-couplings --helix-deg 0 15 30 --face-mm 30 --heights 0.2 0.5 0.8
@@ -710,7 +711,7 @@ def pair_couplings(helix, faces, heights) -> None:
     even along lines of constant radius (the module docstring), 1e-11 m^2/N."""
     from gearbox.ltca.compliance import FAR_FIELD, _far_growth
     from gearbox.ltca.slice_fe import whole_gear_influence
-    from gearbox.ltca.slice_model import body_torsion, normal_section
+    from gearbox.ltca.slice_model import normal_section
 
     rows = []
     for face in faces:
@@ -736,7 +737,7 @@ def pair_couplings(helix, faces, heights) -> None:
                     zv = int(round(float(v.teeth[0])))
                     plane = whole_gear_influence(v, E, NU, zv, v.radius, (-1, 0, 1)).ravel()
                     plane = plane * float(np.ravel(factor)[0]) / 1e-11
-                    tors = float(body_torsion(v, E / (2 * (1 + NU)))[0] * np.ravel(factor)[0])
+                    tors = even(front, 0, FastCompliance().torsion_matrix(g, gear)) * 1e-11
                     far = FAR_FIELD * _far_growth(teeth) / E
                     rows.append(
                         f"| {beta:g} | {face:g} | {('pinion', 'gear')[gear]} | {h:.2f} | "

@@ -115,6 +115,9 @@ def test_torsion_leaves_the_slices_and_is_one_rotation_per_gear():
         / (g.tooth2.bore_radius[0] ** -2 - g.tooth2.root_radius[0] ** -2)
     )
     assert T == pytest.approx(np.outer(rho1, rho1) / kt1 + np.outer(rho2, rho2) / kt2, rel=1e-9)
+    # each gear's term alone (what benchmarks/fe_independent.py --pair-couplings reads)
+    assert shared.torsion_matrix(g, 0) == pytest.approx(np.outer(rho1, rho1) / kt1, rel=1e-9)
+    assert shared.torsion_matrix(g, 1) == pytest.approx(np.outer(rho2, rho2) / kt2, rel=1e-9)
     assert not own.torsion_matrix(g).any()
 
 

@@ -378,22 +378,24 @@ class FastCompliance:
             out.append(c * factor)
         return tuple(out)
 
-    def torsion_matrix(self, grid: ContactGrid) -> np.ndarray:
+    def torsion_matrix(self, grid: ContactGrid, gear: int | None = None) -> np.ndarray:
         """The bodies' torsion, shared by all loaded points of each gear (m/N), shape
         (n, n): ``rho_i rho_j (1/r_i^2 - 1/r_f^2) / (4 pi G b)`` per gear, rho the base
         radius times the cosine between the normal and the gear's transverse plane
         (the arm of the normal about the gear's axis), r_i, r_f the mean bore and
         root radii and b the face width along that gear's axis; zero when
-        ``shared_torsion`` is off."""
+        ``shared_torsion`` is off. gear: 0 or 1 for the pinion's or the gear's term
+        alone, None for both."""
         n = grid.size
         C = np.zeros((n, n))
         if not self.shared_torsion:
             return C
         G = grid.youngs_modulus / (2.0 * (1.0 + grid.poisson_ratio))
-        for teeth, proj, widths in (
+        both = (
             (grid.tooth1, grid.transverse_projection, grid.width),
             (grid.tooth2, grid.transverse_projection2, grid.width2),
-        ):
+        )
+        for teeth, proj, widths in both if gear is None else both[gear : gear + 1]:
             rho = teeth.base_radius * proj
             ri, rf = float(np.mean(teeth.bore_radius)), float(np.mean(teeth.root_radius))
             face = float(grid.n_slots * np.mean(widths))

@@ -251,7 +251,7 @@ def _solve_section(
     return _read_loads(K, fixed, xy, idx, grid, sections, i0, radii, depth)
 
 
-def _whole_gear(sections, E, nu, teeth, normal, i0, n_along, n_across, n_gap, n_rim):
+def _whole_gear(sections, E, nu, teeth, normal, i0, n_along=24, n_across=6, n_gap=6, n_rim=8):
     """The plane-strain whole gear of section ``i0`` (:func:`whole_gear_compliance`):
     its stiffness, the fixed dofs (the bore), the nodes, the node grid of every tooth
     (tooth k turned by ``k`` pitches towards ``+x``, the side the loaded flank ``t = +1``
@@ -352,7 +352,6 @@ def whole_gear_influence(
     from scipy.sparse.linalg import splu
 
     E, nu = float(youngs_modulus), float(poisson_ratio)
-    mesh = {"n_along": 24, "n_across": 6, "n_gap": 6, "n_rim": 8} | mesh
     K, fixed, xy, tooth_ids, (rho_nodes, _, _) = _whole_gear(
         sections, E, nu, teeth, normal, i0, **mesh
     )
