@@ -121,11 +121,12 @@ def test_mean_mesh_stiffness_against_iso_6336_1_spur():
 
 def test_mean_mesh_stiffness_against_iso_6336_1_helical():
     ratio, _ = _iso_ratio(HELICAL, 400.0)
-    # measured: 0.904 for this helical pair with the default (+4.6 % against the
-    # whole-gear FE level); CALIBRATED_BEAM 0.796 (0.807 with the torsion in the slices
+    # measured: 0.888 for this helical pair with the default (+2.8 % against the
+    # whole-gear FE level; 0.904 and +4.6 % with the earlier growth cos(beta)^-4.5 of the
+    # far field); CALIBRATED_BEAM 0.796 (0.807 with the torsion in the slices
     # and the earlier body term, 0.864 without the body term, 0.920 with transverse
     # slices; docs/ltca.md)
-    assert 0.89 < ratio < 0.92, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
+    assert 0.875 < ratio < 0.905, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
 
 
 def test_integer_overlap_ratio_flattens_the_stiffness():
