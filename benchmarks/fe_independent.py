@@ -84,20 +84,24 @@ against the stored run).
     python3 benchmarks/fe_independent.py --decompose --helix-deg 0 15 30 --face-mm 12 30
     python3 benchmarks/fe_independent.py --decompose --cases 01:drive 03:drive
 
-``--pair-couplings``: what one tooth's load does to its neighbours. Each gear's teeth
--1, 0 and +1 (the FE level's segment for them, ``far_field="none"``: five teeth, cut
-faces clamped) with n slices over the whole face at one height (``--heights``, form
-to tip circle); per unit face width under a load even along tooth 0's line: the
-approach of tooth 0 itself, of the tooth in front of its loaded flank (the side its
-outward normal points to) and of the one behind it, read at the same height. Beside
-them the plane-strain whole gear of the normal section (bore clamped, its number of
-teeth rounded: :func:`gearbox.ltca.slice_fe.whole_gear_influence`, read at the centre
-line) and what the fast level puts between tooth pairs: the body torsion and the far
-field (``FAR_FIELD`` grown with the helix angle), each per gear (the torsion read
-from ``FastCompliance.torsion_matrix`` as the FE's columns). About a minute of FE
-per row on the 2-core machine.
+``--pair-couplings``: what the FE level shares between tooth pairs, against the fast
+level. Each gear's FE level (its segment, cut faces clamped, and the far field it adds
+to every entry: ``FECompliance.far_field``) built for five loadable teeth -2 .. 2 and
+for three; unit loads on tooth 0's lattice, read on every loadable tooth at its lattice
+depth points; per unit face width, E times it, under a load even along the face at each
+lattice height (``--heights``: the nearest lattice rows, form 0 to tip 1), read as the
+face mean at the same height: tooth 0 itself, the tooth in front of its loaded flank
+(the side its outward normal points to) and the one behind it, the mean of the two
+teeth two pitches away, the front and back teeth of the three-tooth segment, the two
+far fields. Beside them what the fast level puts between pairs: the rim torsion
+(``FastCompliance.torsion_matrix``), ``FAR_FIELD`` and the body's tilt
+(``body_tilt``, :data:`BODY_TILT`), and the plane-strain whole gear's front and back
+neighbours (:func:`gearbox.ltca.slice_fe.whole_gear_influence`, the normal section,
+bore clamped, read at the centre line). About 3.5 minutes of FE per helix angle on the
+2-core machine; ``--json`` keeps the rows (``tests/data/fe_pair_couplings.json``, read
+by ``tests/test_ltca_slice_fe.py``).
 
-    python3 benchmarks/fe_independent.py --pair-couplings --helix-deg 0 15 30 --face-mm 30 --heights 0.2 0.5 0.8
+    python3 benchmarks/fe_independent.py --pair-couplings --helix-deg 0 15 30 --face-mm 30 --heights 0.35 0.55 0.8 --json tests/data/fe_pair_couplings.json
 """
 
 from __future__ import annotations
@@ -706,44 +710,105 @@ def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int, 
     return type(grid)(**kw)
 
 
-def pair_couplings(helix, faces, heights) -> None:
-    """What one tooth's load does to its neighbours, per unit face width under loads
-    even along lines of constant radius (the module docstring), 1e-11 m^2/N."""
-    from gearbox.ltca.compliance import FAR_FIELD, _far_growth
+def _level_couplings(pair: ParallelPair, gear: int, teeth, n: int) -> dict:
+    """The FE level's response of each loadable tooth to unit loads on tooth 0's
+    lattice (``far_field="none"``, the segment built for ``teeth``), the lattice's load
+    heights and the segment's far field (``FECompliance.far_field``, what the level adds
+    to every entry)."""
+    fe = FECompliance(FEOptions())
+    g = line_of_constant_radius(pair, gear, 0.5, n, teeth=teeth)
+    loads = fe.loads(g, gear)
+    gm = fe._model(loads, gear, E, NU)
+    lat = fe._lattice(gm, loads.side)
+    solved = fe._responses(gm, loads.side, 0)
+    z, u = (a.ravel() for a in np.meshgrid(lat.z, lat.u, indexing="ij"))
+    r = np.hypot(*fe._surface(loads.blank, loads.side, 0, z, u)[0][:, :2].T)
+    t = g.tooth1 if gear == 0 else g.tooth2
+    eta = (r - t.root_radius[0]) / (t.tip_radius[0] - t.root_radius[0])
+    return {
+        "depth": solved.depth,
+        "shape": (lat.z.size, lat.u.size),
+        "dz": float(lat.z[1] - lat.z[0]),
+        "height": eta.reshape(lat.z.size, lat.u.size).mean(axis=0),
+        "far": fe.far_field(g, gear).compliance,
+    }
+
+
+def _even(level: dict, tooth: int) -> np.ndarray:
+    """E times the approach per unit face width of ``tooth`` (the face mean at each
+    lattice height) under a load per unit width even along tooth 0's face (at each
+    lattice height), the level's far field included: shape (read, load) heights."""
+    nz, nu = level["shape"]
+    w = np.full(nz, level["dz"])
+    w[[0, -1]] *= 0.5  # the trapezoidal rule over the lattice's face positions
+    D = level["depth"][tooth].reshape(nz, nu, nz, nu)
+    return E * (np.einsum("i,iajb,j->ab", w, D, w) / w.sum() + level["far"] * w.sum())
+
+
+def pair_couplings(helix, faces, heights, out=None) -> None:
+    """What the FE level shares between tooth pairs against the fast level (the module
+    docstring), E times m^2/N."""
+    from gearbox.ltca.compliance import FAR_FIELD, body_tilt
     from gearbox.ltca.slice_fe import whole_gear_influence
     from gearbox.ltca.slice_model import normal_section
 
-    rows = []
+    rows, data = [], []
     for face in faces:
         n = n_face(face)
         for beta in helix:
             pair = pair_of(beta, face)
-            fe = FECompliance(FEOptions(far_field="none"))
             for gear in (0, 1):
                 # pair +1 is the tooth ahead in the gear's rotation: in front of the
                 # driving pinion's loaded flank, behind the driven gear's
                 front = 1 if gear == 0 else -1
+                wide = _level_couplings(pair, gear, (-2, -1, 0, 1, 2), n)
+                narrow = _level_couplings(pair, gear, (-1, 0, 1), n)
+                g = line_of_constant_radius(pair, gear, 0.5, n, teeth=(-1, 0, 1))
+                b = pair.face_width
+                T = FastCompliance().torsion_matrix(g, gear)
+                tors = E * float(T[np.ix_(g.pair == front, g.pair == 0)].sum()) / n**2 * b
+                tilt = body_tilt(g, gear)
+                teeth = (g.tooth1 if gear == 0 else g.tooth2).take(np.array([0]))
+                ev = {k: _even(wide, k) for k in (-2, -1, 0, 1, 2)}
+                ev5 = {k: _even(narrow, k) for k in (-1, 1)}
                 for h in heights:
-                    g = line_of_constant_radius(pair, gear, h, n, teeth=(-1, 0, 1))
-                    C = fe.gear_matrix(g, gear)
-                    b = pair.face_width
-
-                    def even(a, c, C=C, g=g, b=b, n=n):  # per unit width, even line loads
-                        blk = C[np.ix_(g.pair == a, g.pair == c)]
-                        return float(blk.sum()) / n**2 * b / 1e-11
-
-                    teeth = (g.tooth1 if gear == 0 else g.tooth2).take(np.array([0]))
-                    v, factor = normal_section(teeth)
+                    a = int(np.argmin(np.abs(wide["height"] - h)))
+                    r = teeth.root_radius + wide["height"][a] * (
+                        teeth.tip_radius - teeth.root_radius
+                    )
+                    v, factor = normal_section(dataclasses.replace(teeth, radius=r))
                     zv = int(round(float(v.teeth[0])))
                     plane = whole_gear_influence(v, E, NU, zv, v.radius, (-1, 0, 1)).ravel()
-                    plane = plane * float(np.ravel(factor)[0]) / 1e-11
-                    tors = even(front, 0, FastCompliance().torsion_matrix(g, gear)) * 1e-11
-                    far = FAR_FIELD * _far_growth(teeth) / E
+                    plane = plane * float(np.ravel(factor)[0]) * E
+                    row = {
+                        "helix_deg": beta,
+                        "face_mm": face,
+                        "gear": gear,
+                        "height": float(wide["height"][a]),
+                        "own": float(ev[0][a, a]),
+                        "front": float(ev[front][a, a]),
+                        "back": float(ev[-front][a, a]),
+                        "two_away": float(0.5 * (ev[2][a, a] + ev[-2][a, a])),
+                        "front_narrow": float(ev5[front][a, a]),
+                        "back_narrow": float(ev5[-front][a, a]),
+                        "far_wide": float(wide["far"] * E * b),
+                        "far_narrow": float(narrow["far"] * E * b),
+                        "fast_torsion": tors,
+                        "fast_far_field": FAR_FIELD,
+                        "fast_tilt": tilt,
+                        "plane_front": float(plane[2]),
+                        "plane_back": float(plane[0]),
+                    }
+                    data.append(row)
+                    fast = tors + FAR_FIELD + tilt
                     rows.append(
-                        f"| {beta:g} | {face:g} | {('pinion', 'gear')[gear]} | {h:.2f} | "
-                        f"{even(0, 0):.3f} | {even(front, 0):.3f} | {even(-front, 0):.3f} | "
-                        f"{plane[1]:.3f} | {plane[2]:.3f} | {plane[0]:.3f} | "
-                        f"{tors / 1e-11:.3f} | {far / 1e-11:.3f} |"
+                        f"| {beta:g} | {face:g} | {('pinion', 'gear')[gear]} | "
+                        f"{row['height']:.2f} | {row['own']:.2f} | {row['front']:.2f} / "
+                        f"{row['back']:.2f} | {row['two_away']:.2f} | "
+                        f"{row['front_narrow']:.2f} / {row['back_narrow']:.2f} | "
+                        f"{row['far_wide']:.2f} / {row['far_narrow']:.2f} | "
+                        f"{tors:.2f} + {FAR_FIELD:.2f} + {tilt:.2f} = {fast:.2f} | "
+                        f"{row['plane_front']:.2f} / {row['plane_back']:.2f} |"
                     )
                     print(rows[-1], flush=True)
     head = [
@@ -752,15 +817,16 @@ def pair_couplings(helix, faces, heights) -> None:
         "gear",
         "height",
         "FE own",
-        "FE front",
-        "FE back",
-        "2-D own",
-        "2-D front",
-        "2-D back",
-        "fast torsion",
-        "fast far field",
+        "FE front / back",
+        "FE two away",
+        "FE front / back, 3 loadable",
+        "FE far field, 5 / 3 loadable",
+        "fast torsion + far field + tilt",
+        "2-D front / back",
     ]
     _print_table(head, rows)
+    if out:
+        Path(out).write_text(json.dumps({"command": " ".join(sys.argv), "rows": data}, indent=1))
 
 
 def face_profile(helix, faces, heights=(0.15, 0.5, 0.85)) -> None:
@@ -1047,7 +1113,9 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--face-length-mn", type=float, help="--stress-profile: FE element length along the face"
     )
-    ap.add_argument("--json", help="--stress-profile, --fit-face-ends: write the rows here")
+    ap.add_argument(
+        "--json", help="--stress-profile, --fit-face-ends, --pair-couplings: write the rows here"
+    )
     ap.add_argument("--h-min-mm", type=float, default=0.3, help="tetrahedra near the loads")
     ap.add_argument("--h-max-mm", type=float, default=2.0, help="tetrahedra far from them")
     a = ap.parse_args(argv)
@@ -1073,7 +1141,7 @@ def main(argv=None) -> int:
             2.0 if a.refine is None else a.refine,
         )
     elif a.pair_couplings:
-        pair_couplings(a.helix_deg, a.face_mm, a.heights)
+        pair_couplings(a.helix_deg, a.face_mm, a.heights, a.json)
     elif a.decompose and a.cases:
         decompose_cases(a.cases)
     elif a.decompose:
