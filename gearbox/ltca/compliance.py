@@ -83,11 +83,11 @@ from .stress import HelixEnds, acute_end, end_distances, load_height
 __all__ = [
     "BODY_COMPLIANCE",
     "BODY_COMPLIANCE_MATCHING_DEPTH",
+    "BODY_TILT",
     "CALIBRATED_BEAM",
     "CONTACT_DEPTH",
     "COUPLING_LENGTH",
     "FAR_FIELD",
-    "BODY_TILT",
     "HELIX_ENDS",
     "Compliance",
     "FastCompliance",
@@ -477,8 +477,8 @@ class FastCompliance:
     def body_matrix(self, grid: ContactGrid) -> np.ndarray:
         """The terms every loaded point of a gear shares, in every entry (m/N), shape
         (n, n): ``body_compliance / (E b)`` per gear and, for ``foundation="split"``, the
-        far field ``FAR_FIELD g(beta) / (E b)`` (b the face width along that gear's
-        axis)."""
+        far field and the body's tilt ``(FAR_FIELD + body_tilt) / (E b)`` (b the face
+        width along that gear's axis: :func:`body_tilt`)."""
         c = 0.0
         for gear in (0, 1):
             k, face = self.body_compliance, _face(grid, gear)
