@@ -89,7 +89,8 @@ level. Each gear's FE level (its segment, cut faces clamped, and the far field i
 to every entry: ``FECompliance.far_field``) built for five loadable teeth -2 .. 2 and
 for three; unit loads on tooth 0's lattice, read on every loadable tooth at its lattice
 depth points; per unit face width, E times it, under a load even along the face at each
-lattice height (``--heights``: the nearest lattice rows, form 0 to tip 1), read as the
+lattice height (``--heights``: the nearest lattice rows, root circle 0 to tip 1, not
+form to tip as for ``--stress-profile``), read as the
 face mean at the same height: tooth 0 itself, the tooth in front of its loaded flank
 (the side its outward normal points to) and the one behind it, the mean of the two
 teeth two pitches away, the front and back teeth of the three-tooth segment, the two
@@ -711,9 +712,9 @@ def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int, 
 
 
 def _level_couplings(pair: ParallelPair, gear: int, teeth, n: int) -> dict:
-    """The FE level's response of each loadable tooth to unit loads on tooth 0's
-    lattice (``far_field="none"``, the segment built for ``teeth``), the lattice's load
-    heights and the segment's far field (``FECompliance.far_field``, what the level adds
+    """The FE level's segment built for ``teeth``: the response of each loadable tooth
+    to unit loads on tooth 0's lattice (the segment alone), the lattice's load heights
+    (root circle 0, tip 1) and the segment's far field (``FECompliance.far_field``, what the level adds
     to every entry)."""
     fe = FECompliance(FEOptions())
     g = line_of_constant_radius(pair, gear, 0.5, n, teeth=teeth)
