@@ -415,25 +415,17 @@ def write_netcdf_atomic(ds, path: str | Path) -> Path:
 
     Uses the netCDF4 engine where installed, else h5netcdf (which needs h5py).
     """
-    import os
-    import tempfile
+    from .commands._common import atomic_target
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
     try:
-        try:
-            import netCDF4  # noqa: F401
+        import netCDF4  # noqa: F401
 
-            engine = "netcdf4"
-        except ImportError:
-            engine = "h5netcdf"
+        engine = "netcdf4"
+    except ImportError:
+        engine = "h5netcdf"
+    path = Path(path)
+    with atomic_target(path) as tmp:
         ds.to_netcdf(tmp, engine=engine)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 

@@ -8,7 +8,9 @@ implementation of the same equations (numpy vs the generated C).
 
 from __future__ import annotations
 
+import os
 import shutil
+import stat
 import subprocess
 import xml.etree.ElementTree as ET
 import zipfile
@@ -72,6 +74,10 @@ def test_build_is_warning_free_and_fmu_is_complete(built):
         assert "modelDescription.xml" in names
         assert f"binaries/linux64/{b.identifier}.so" in names
         assert {"sources/fmi2_runtime.c", "sources/model.c", "sources/config.h"} <= names
+        # readable by whoever may read a file created here, not by its owner alone
+        umask = os.umask(0)
+        os.umask(umask)
+        assert stat.S_IMODE(os.stat(b.fmu).st_mode) == 0o666 & ~umask
     names = set(zipfile.ZipFile(built["drivetrain"].fmu).namelist())
     assert {
         "resources/mesh_meta.txt",

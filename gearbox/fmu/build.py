@@ -27,7 +27,7 @@ from dataclasses import asdict, dataclass
 from importlib import resources as ilr
 from pathlib import Path
 
-from ..commands._common import write_atomic
+from ..commands._common import atomic_target, write_atomic
 from ..errors import InputError, Problem
 from .codegen import (
     config_h,
@@ -228,9 +228,7 @@ def build_folder(
         if proc.returncode != 0:
             raise RuntimeError(f"compiling {ident} failed ({' '.join(cmd)}):\n{proc.stderr}")
         fmu_path = out_dir / (f"{ident}.fmu" if fmi_version == 2 else f"{ident}_fmi3.fmu")
-        fd, tmp_zip = tempfile.mkstemp(dir=out_dir, prefix=f".{ident}.", suffix=".fmu.tmp")
-        os.close(fd)
-        try:
+        with atomic_target(fmu_path) as tmp_zip:
             with zipfile.ZipFile(tmp_zip, "w", zipfile.ZIP_DEFLATED) as z:
                 z.writestr("modelDescription.xml", xml.read_text(encoding="utf-8"))
                 z.write(binary, f"binaries/{plat}/{binary.name}")
@@ -240,10 +238,6 @@ def build_folder(
                     z.write(f, f"resources/{f.name}")
                 if (src / "readme.md").exists():
                     z.write(src / "readme.md", "documentation/readme.md")
-            os.replace(tmp_zip, fmu_path)
-        except BaseException:
-            Path(tmp_zip).unlink(missing_ok=True)
-            raise
     return FmuBuild(
         identifier=ident,
         guid=root.get("guid"),
