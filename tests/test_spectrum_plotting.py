@@ -8,6 +8,7 @@ matplotlib.use("Agg")
 
 import numpy as np
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from gearbox.spectrum import (
@@ -95,6 +96,35 @@ def test_campbell_plot_marks_crossings(tmp_path):
     _png(ax, tmp_path / "campbell.png")
     ax = plot_campbell(cd, log=True)
     assert ax.get_yscale() == "log" and ax.get_ylim()[0] == pytest.approx(22.5)
+
+
+@pytest.mark.parametrize("log", [False, True])
+def test_campbell_labels_do_not_overlap_and_stay_inside(log):
+    """Two modes close together and many order lines ending near one another: the
+    labels drawn (extents from the renderer, not the estimate that placed them) overlap
+    neither each other nor the axes' border, and every mode is named once."""
+    cd = campbell(
+        {"shaft 1": 51.0, "shaft 2": 86.0, "mesh mode": lambda n: 1600 + 0.1 * n},
+        EX,
+        (1000, 3500),
+        operating_range_rpm=(1000, 3500),
+    )
+    fig = Figure(figsize=(5.5, 4.4))
+    ax = fig.add_subplot()
+    plot_campbell(cd, ax, log=log)
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    frame = ax.get_window_extent(renderer)
+    texts = [t for t in ax.texts if t.get_text()]
+    boxes = [t.get_window_extent(renderer) for t in texts]
+    assert len(texts) >= 6
+    for t, b in zip(texts, boxes, strict=True):
+        assert frame.x0 - 1 <= b.x0 and b.x1 <= frame.x1 + 1, t.get_text()
+        assert frame.y0 - 1 <= b.y0 and b.y1 <= frame.y1 + 1, t.get_text()
+    for i in range(len(boxes)):
+        for j in range(i):
+            assert not boxes[i].overlaps(boxes[j]), (texts[i].get_text(), texts[j].get_text())
+    names = [t.get_text() for t in texts]
+    assert all(names.count(m) == 1 for m in cd.mode_names), names
 
 
 def test_spectrum_package_does_not_import_matplotlib():

@@ -215,16 +215,38 @@ def plot_campbell(
             if inside.size:
                 i = inside[-1]
                 ends.append((float(n[i]), float(f[i]), e.label))
-    # Label each order line at its end, skipping labels that would overlap.
-    placed: list[tuple[float, float]] = []
-    dx, dy = 0.04 * float(n[-1] - n[0]), 0.03 * top
-    for x_end, y_end, label in ends:
-        if all(abs(x_end - px) > dx or abs(y_end - py) > dy for px, py in placed):
-            ax.annotate(label, (x_end, y_end), fontsize=6, ha="right", va="bottom")
-            placed.append((x_end, y_end))
+    # Label each mode at its left (else right) end, then each order line at its end,
+    # inside the axes, skipping labels that would overlap one already placed.
+    span = (float(n[0]), float(n[-1]))
+    positive = cd.mode_frequencies_hz[cd.mode_frequencies_hz > 0]
+    bottom = 0.5 * float(positive.min()) if log and positive.size else 1.0
+
+    def frac(y: float) -> float:  # height in axes fractions
+        return float(np.log(max(y, bottom) / bottom) / np.log(top / bottom)) if log else y / top
+
+    boxes: list[tuple[float, float, float, float]] = []
     for j, name in enumerate(cd.mode_names):
-        ax.plot(n, cd.mode_frequencies_hz[j], lw=1.6, color="k")
-        ax.annotate(name, (n[0], cd.mode_frequencies_hz[j, 0]), fontsize=7, va="bottom")
+        f = cd.mode_frequencies_hz[j]
+        ax.plot(n, f, lw=1.6, color="k")
+        for x, y, ha in ((n[0], f[0], "left"), (n[-1], f[-1], "right")):
+            if not 0 < y <= top:
+                continue
+            box = _text_box(ax, name, 7, (float(x), float(y)), span, frac, ha, "bottom")
+            if box[3] <= 1.0 and not any(_overlap(box, b) for b in boxes):
+                ax.annotate(name, (x, y), fontsize=7, ha=ha, va="bottom")
+                boxes.append(box)
+                break
+    for x_end, y_end, label in ends:
+        at_top = y_end >= 0.97 * top
+        va = "top" if at_top else "bottom"
+        ha = "right"
+        box = _text_box(ax, label, 6, (x_end, y_end), span, frac, ha, va)
+        if box[0] < 0:  # a line that leaves through the top near the left edge
+            ha = "left"
+            box = _text_box(ax, label, 6, (x_end, y_end), span, frac, ha, va)
+        if not any(_overlap(box, b) for b in boxes):
+            ax.annotate(label, (x_end, y_end), fontsize=6, ha=ha, va=va)
+            boxes.append(box)
     shown = [c for c in cd.crossings if c.frequency_hz <= top]
     styles = (
         (False, {"mfc": "none", "mec": "k", "label": "crossing"}),
@@ -236,12 +258,29 @@ def plot_campbell(
             ax.plot(*np.array(pts).T, "o", ms=5, **style)
     ax.set_xlim(n[0], n[-1])
     if log:
-        positive = cd.mode_frequencies_hz[cd.mode_frequencies_hz > 0]
         ax.set_yscale("log")
-        ax.set_ylim(0.5 * float(positive.min()) if positive.size else 1.0, top)
+        ax.set_ylim(bottom, top)
     else:
         ax.set_ylim(0.0, top)
     ax.set_xlabel("pinion (engine) speed (rpm)")
     ax.set_ylabel("frequency (Hz)")
     ax.legend(loc="best", fontsize=7)
     return ax
+
+
+def _text_box(ax, text, fontsize, xy, span, frac, ha, va):
+    """The box (x0, y0, x1, y1) in axes fractions that ``text`` at the data point
+    ``xy`` takes (``frac``: a height in axes fractions), its size estimated from the
+    font size and the axes' size in inches (0.6 em per character, 1.2 em high), for
+    labels that must not overlap."""
+    w_in, h_in = ax.get_position().size * ax.figure.get_size_inches()
+    w = 0.6 * fontsize / 72 * len(text) / w_in
+    h = 1.2 * fontsize / 72 / h_in
+    x = (xy[0] - span[0]) / (span[1] - span[0])
+    x0 = x - w if ha == "right" else x
+    y0 = frac(xy[1]) - h if va == "top" else frac(xy[1])
+    return (x0, y0, x0 + w, y0 + h)
+
+
+def _overlap(a, b) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
