@@ -1,0 +1,196 @@
+"""Why the fast level's drive flanks are stiffer than its coast flanks, against the FE.
+
+    python3 benchmarks/ltca_flank_gap.py [--cases 01 02 03 04]
+
+The fast level's mean mesh stiffness against the whole-gear FE level (stored:
+``tests/data/fe_reference_paper_cases.json``, as ``benchmarks/ltca_ripple.py``) is
+higher on the drive flank than on the coast flank of every paper case. This script
+tries the candidate causes as variants of :class:`~gearbox.ltca.FastCompliance` and
+prints, per variant, the error per case and flank at 150 / 300 / 450 N m, the drive
+minus coast gap at 300 N m, the parallel pairs against their whole-gear FE
+(``tests/data/fe_parallel_whole_gear.json``) and K_Hbeta of the misaligned spur pair
+of ``benchmarks/ltca_misalignment.py`` against its whole-gear FE
+(``tests/data/fe_khbeta_spur.json``), which measures the load's spread along the face:
+
+- ``default``: the fast level as it is;
+- ``face ends``: with the helical face ends (``helix_ends=HELIX_ENDS``);
+- ``foundation L``: the slices' foundation (Sainsot's term less the shared torsion and
+  far field) coupled along the face over L tooth depths, the tooth above the root
+  circle over the default 0.6 (two shear layers in place of one);
+- ``rocking c``: each gear's body rocking about the radial axis under the tangential
+  load's offset along the face, ``c (y_i t_i)(y_j t_j) / (E b^3)`` added to the
+  pinion's block (y the face coordinate from the face middle, t the normal's
+  tangential component); zero for a load even along the face.
+
+Then the split at 300 N m into what the FE's segment holds and its far field
+(``1/k_whole - 1/k_segment``), against the fast level without its shared terms and
+what its far field and tilt add, in 1e-10 m/N of mesh compliance. About two minutes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+import ltca_misalignment as mis  # noqa: E402
+import ltca_ripple as rip  # noqa: E402
+
+from gearbox.ltca import FastCompliance  # noqa: E402
+from gearbox.ltca import compliance as cm  # noqa: E402
+from gearbox.ltca.slice_fe import fe_tooth_compliance  # noqa: E402
+from gearbox.ltca.slice_model import normal_section  # noqa: E402
+
+KHBETA = ROOT / "tests" / "data" / "fe_khbeta_spur.json"
+FLANKS = ("drive", "coast")
+
+
+@dataclass(frozen=True)
+class FoundationCoupled(FastCompliance):
+    """The slices' tooth coupled over ``coupling_length``, their foundation over
+    ``foundation_length`` tooth depths (normal section, plane-strain tooth, the shared
+    far field: the default's other options)."""
+
+    foundation_length: float = 0.6
+
+    def _split_parts(self, grid):
+        E, nu = grid.youngs_modulus, grid.poisson_ratio
+        G = E / (2.0 * (1.0 + nu))
+        out = []
+        for teeth in (grid.tooth1, grid.tooth2):
+            section, factor = normal_section(teeth)
+            tooth = fe_tooth_compliance(section, E, nu, normal=True, depth=None)
+            found = cm.foundation_compliance(section, E, root=self.root, normal=True)
+            found = found - cm.body_torsion(section, G) - cm.FAR_FIELD / (E * factor)
+            out.append((tooth * factor, found * factor))
+        return out
+
+    def slice_matrix(self, grid, gear, parts=None, acute=None):
+        C = np.zeros((grid.size, grid.size))
+        tooth, found = self._split_parts(grid)[gear]
+        teeth, widths = (grid.tooth1, grid.width) if gear == 0 else (grid.tooth2, grid.width2)
+        depth = teeth.tip_radius - teeth.root_radius
+        for k in grid.pairs():
+            idx = np.flatnonzero(grid.pair == k)
+            idx = idx[np.argsort(grid.slot[idx])]
+            slots = grid.slot[idx]
+            if idx.size == 1:
+                C[idx, idx] += (tooth[idx] + found[idx]) / widths[idx]
+                continue
+            # every slot of the face carries the nearest loaded slice's compliance
+            nearest = np.abs(np.arange(grid.n_slots)[:, None] - slots[None, :]).argmin(axis=1)
+            width, d = float(np.mean(widths[idx])), float(np.mean(depth[idx]))
+            block = cm._pasternak_block(tooth[idx][nearest], width, self.coupling_length * d)
+            block += cm._pasternak_block(found[idx][nearest], width, self.foundation_length * d)
+            C[np.ix_(idx, idx)] += block[np.ix_(slots, slots)]
+        return C
+
+
+@dataclass(frozen=True)
+class Rocking(FastCompliance):
+    """The pinion body's rocking under the tangential load's offset along the face."""
+
+    rocking: float = 0.0
+
+    def body_matrix(self, grid):
+        b = cm._face(grid, 0)
+        v = grid.face * grid.arm / grid.tooth1.radius  # y times the tangential component
+        return super().body_matrix(grid) + self.rocking / (grid.youngs_modulus * b**3) * np.outer(
+            v, v
+        )
+
+
+@dataclass(frozen=True)
+class Unshared(FastCompliance):
+    """The fast level without the far field and tilt it shares (what the FE's segment
+    holds)."""
+
+    def body_matrix(self, grid):
+        return np.zeros((grid.size, grid.size))
+
+
+def k_hbeta_errors(compliance) -> list[float]:
+    """K_Hbeta of the misaligned spur pair over the stored whole-gear FE's - 1, per
+    misalignment (10, 20 um), mean of the two positions."""
+    data = json.loads(KHBETA.read_text())["levels"]["FE (whole gear)"]
+    out = []
+    for entry in data:
+        fe = np.mean([r["k_hbeta"] for r in entry["rows"]])
+        fast = np.mean(
+            [r["k_hbeta"] for r in mis.k_hbeta(compliance, entry["misalignment_um"])["rows"]]
+        )
+        out.append(float(fast / fe - 1))
+    return out
+
+
+def variant_table(cases, variants) -> None:
+    print("mean stiffness / whole-gear FE - 1 (%), 150 / 300 / 450 N m; gap: drive - coast at 300")
+    for name, comp in variants.items():
+        err = 100 * rip.calibration_errors(cases, FLANKS, comp).reshape(len(cases), 2, 3)
+        par = rip.parallel_errors(comp)
+        khb = k_hbeta_errors(comp)
+        print(f"\n{name}")
+        for i, case in enumerate(cases):
+            d, c = (" / ".join(f"{v:+5.1f}" for v in err[i, j]) for j in (0, 1))
+            print(f"  {case}  drive {d}   coast {c}   gap {err[i, 0, 1] - err[i, 1, 1]:4.1f}")
+        print(
+            "  parallel pairs: "
+            + ", ".join(f"{k} {100 * v:+.1f} %" for k, v in par.items())
+            + f"; K_Hbeta at 10 / 20 um: {100 * khb[0]:+.1f} / {100 * khb[1]:+.1f} %",
+            flush=True,
+        )
+
+
+def split_table(cases) -> None:
+    print(
+        "\nat 300 N m, mesh compliance 1/k in 1e-10 m/N: FE segment + FE far field = FE whole;"
+        " fast unshared + fast far field and tilt = fast"
+    )
+    print(
+        f"{'case':>4} {'flank':>5} {'FE seg':>7} {'FE far':>7} {'FE whole':>8} "
+        f"{'fast uns.':>9} {'fast far':>8} {'fast':>7} {'uns./seg':>8} {'far/far':>8}"
+    )
+    for case in cases:
+        for flank in FLANKS:
+            _, _, grids = rip.case_grids(case, flank)
+            run = rip.stored_fe(case, flank)
+            i = run["torques_Nm"].index(300.0)
+            seg = 1e10 / run["mean_stiffness_N_per_m"][i]
+            whole = 1e10 / rip.whole_gear_stiffness(case, flank)[i]
+            fast = 1e10 / rip.cycle(grids, [300.0], FastCompliance()).stiffness.mean()
+            uns = 1e10 / rip.cycle(grids, [300.0], Unshared()).stiffness.mean()
+            print(
+                f"{case:>4} {flank:>5} {seg:7.2f} {whole - seg:7.2f} {whole:8.2f} "
+                f"{uns:9.2f} {fast - uns:8.2f} {fast:7.2f} {uns / seg:8.3f} "
+                f"{(fast - uns) / (whole - seg):8.3f}",
+                flush=True,
+            )
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cases", nargs="+", default=["01", "02", "03", "04"])
+    a = ap.parse_args(argv)
+    variants = {
+        "default": FastCompliance(),
+        "face ends": FastCompliance(helix_ends=cm.HELIX_ENDS),
+        "foundation 1.0": FoundationCoupled(foundation_length=1.0),
+        "foundation 1.5": FoundationCoupled(foundation_length=1.5),
+        "rocking 10": Rocking(rocking=10.0),
+        "rocking 30": Rocking(rocking=30.0),
+    }
+    variant_table(a.cases, variants)
+    split_table(a.cases)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
