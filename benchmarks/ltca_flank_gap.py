@@ -32,7 +32,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -61,37 +61,20 @@ class FoundationCoupled(FastCompliance):
 
     foundation_length: float = 0.6
 
-    def _split_parts(self, grid):
+    def slice_matrix(self, grid, gear, parts=None, acute=None):
+        # the default's slices, less the plane-strain tooth: Sainsot's foundation less
+        # the shared torsion and far field; each part through the default's coupling
         E, nu = grid.youngs_modulus, grid.poisson_ratio
-        G = E / (2.0 * (1.0 + nu))
-        out = []
+        total = self.slice_parts(grid) if parts is None else parts
+        tooth = []
         for teeth in (grid.tooth1, grid.tooth2):
             section, factor = normal_section(teeth)
-            tooth = fe_tooth_compliance(section, E, nu, normal=True, depth=None)
-            found = cm.foundation_compliance(section, E, root=self.root, normal=True)
-            found = found - cm.body_torsion(section, G) - cm.FAR_FIELD / (E * factor)
-            out.append((tooth * factor, found * factor))
-        return out
-
-    def slice_matrix(self, grid, gear, parts=None, acute=None):
-        C = np.zeros((grid.size, grid.size))
-        tooth, found = self._split_parts(grid)[gear]
-        teeth, widths = (grid.tooth1, grid.width) if gear == 0 else (grid.tooth2, grid.width2)
-        depth = teeth.tip_radius - teeth.root_radius
-        for k in grid.pairs():
-            idx = np.flatnonzero(grid.pair == k)
-            idx = idx[np.argsort(grid.slot[idx])]
-            slots = grid.slot[idx]
-            if idx.size == 1:
-                C[idx, idx] += (tooth[idx] + found[idx]) / widths[idx]
-                continue
-            # every slot of the face carries the nearest loaded slice's compliance
-            nearest = np.abs(np.arange(grid.n_slots)[:, None] - slots[None, :]).argmin(axis=1)
-            width, d = float(np.mean(widths[idx])), float(np.mean(depth[idx]))
-            block = cm._pasternak_block(tooth[idx][nearest], width, self.coupling_length * d)
-            block += cm._pasternak_block(found[idx][nearest], width, self.foundation_length * d)
-            C[np.ix_(idx, idx)] += block[np.ix_(slots, slots)]
-        return C
+            tooth.append(fe_tooth_compliance(section, E, nu, normal=True, depth=None) * factor)
+        found = tuple(t - c for t, c in zip(total, tooth, strict=True))
+        wide = replace(self, coupling_length=self.foundation_length)
+        return FastCompliance.slice_matrix(
+            self, grid, gear, tuple(tooth), acute
+        ) + FastCompliance.slice_matrix(wide, grid, gear, found, acute)
 
 
 @dataclass(frozen=True)
