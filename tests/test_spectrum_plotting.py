@@ -19,6 +19,7 @@ from gearbox.spectrum import (
     waterfall,
 )
 from gearbox.spectrum.plotting import plot_campbell, plot_order_spectrum, plot_waterfall
+from gearbox.spectrum.waterfall import Waterfall
 
 EX = excitation_orders(pinion_teeth=29, gear_teeth=45, cylinders=8, blades=3, half_orders=False)
 
@@ -76,6 +77,47 @@ def test_waterfall_plots(tmp_path):
     spectra = [order_spectrum(t, x, speed_rpm=s, n_periods=15) for s in (600.0, 700.0)]
     ax = plot_waterfall(waterfall(spectra), kind="lines")
     assert len(ax.lines) == 2
+
+
+def test_waterfall_map_keeps_lines_narrower_than_a_pixel():
+    # Whole-period order spectra of 30 revolutions have bins 1/30 order wide: 2880 of
+    # them across a map a few hundred pixels wide. Each line must still show at its
+    # level (the map's top colour for the largest), not vanish between pixels or blend
+    # with the floor around it.
+    orders = np.arange(96 * 30 + 1) / 30.0
+    amps = np.full((10, orders.size), 1e-6)
+    amps[:, 29 * 30] = 1.0  # 0 dB
+    amps[:, 58 * 30] = 0.1  # -20 dB
+    wf = Waterfall(
+        speeds_rpm=np.linspace(1000.0, 3500.0, 10),
+        axis="order",
+        bins=orders,
+        amplitudes=amps,
+        unit="N",
+        name="F",
+        window="rectangular",
+    )
+    fig = Figure(figsize=(6.0, 4.0), dpi=72)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    plot_waterfall(wf, ax, db=True, max_bin=96.0, excitations=EX)
+    assert "peak per" in ax.get_title()
+    mesh = ax.collections[0]
+    shown = np.ma.filled(mesh.get_array(), np.nan).reshape(10, -1)
+    edges = mesh.get_coordinates()[0, :, 0]
+    at = lambda order: np.searchsorted(edges, order, side="right") - 1  # noqa: E731
+    assert np.allclose(shown[:, at(29.0)], 0.0) and np.allclose(shown[:, at(58.0)], -20.0)
+    # ... and on the canvas: the map's top colour fills a column over the map's height
+    fig.canvas.draw()
+    rgb = np.asarray(fig.canvas.buffer_rgba())[..., :3].astype(float)
+    top = 255.0 * np.asarray(matplotlib.colormaps["viridis"](1.0)[:3])
+    x0, y0, x1, y1 = ax.get_window_extent().extents
+    h = rgb.shape[0]
+    inside = rgb[int(h - y1) + 2 : int(h - y0) - 2, int(x0) + 2 : int(x1) - 2]
+    column = (np.abs(inside - top).max(axis=-1) < 40.0).mean(axis=0)
+    assert column.max() > 0.9
+    # the excitation orders are marks above the map, not lines over its columns
+    assert all(len(line.get_xdata()) == 1 for line in ax.lines)
 
 
 def test_campbell_plot_marks_crossings(tmp_path):

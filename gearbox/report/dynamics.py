@@ -256,7 +256,8 @@ def render_waterfall(sw, run) -> Section:
             figure(
                 fig,
                 f"Waterfall of {name}: order spectra against speed; left in dB re the largest "
-                "line, excitation orders marked; right linear (the mean left out in both)",
+                "line, the largest in each cell (peak hold), excitation orders marked along "
+                "the top; right linear (the mean left out in both)",
             )
         )
     parts.append(

@@ -107,14 +107,21 @@ def plot_waterfall(
     db: bool = False,
     excitations: Sequence[ExcitationOrder] = (),
     offset: float | None = None,
+    cells: int | None = 300,
 ):
     """Waterfall as a colour map (``kind='map'``) or stacked lines (``'lines'``).
 
     ``axis``: ``order`` or ``frequency`` (default: the waterfall's own axis; an
     order waterfall is shown against frequency by mapping each speed's orders to
     Hz). ``max_bin`` limits the horizontal axis (orders or Hz); ``db`` plots
-    20 log10(amplitude / max); ``excitations`` are drawn as order lines;
-    ``offset`` is the vertical step between lines (default: the largest amplitude).
+    20 log10(amplitude / max); ``excitations`` are drawn as order lines (on a map
+    against order, as marks along its top edge: a line there would cover the
+    spectrum's own line at that order); ``offset`` is the vertical step between
+    lines (default: the largest amplitude). ``cells``: on a map with more bins
+    across than that, each row is shown as the largest amplitude in each of
+    ``cells`` equal cells (a peak hold, named in the title), so that a line
+    narrower than a pixel keeps its level instead of being lost or blended with
+    its neighbours; None draws every bin.
     """
     ax = ax if ax is not None else _new_ax()
     axis = axis or wf.axis
@@ -128,6 +135,7 @@ def plot_waterfall(
     xs, amps = xs[order_idx], amps[order_idx]
     if max_bin is not None:
         amps = np.where(xs <= max_bin, amps, np.nan)
+    held = False  # the map's peak hold
     if kind == "lines":
         step = offset if offset is not None else float(np.nanmax(np.abs(amps))) or 1.0
         for i in range(speeds.size):
@@ -145,7 +153,16 @@ def plot_waterfall(
             edges = np.array([speeds[0] - 0.5, speeds[0] + 0.5])
         xe = _bin_edges(xs)
         style = {"cmap": "viridis", "vmin": float(np.nanmin(amps)), "vmax": float(np.nanmax(amps))}
-        if axis == wf.axis:  # the same bins in every row: one mesh
+        lo = float(np.min(xe[:, 0]))
+        hi = float(np.max(xe[:, -1])) if max_bin is None else float(max_bin)
+        across = int(np.max(np.sum(np.isfinite(amps) & (xs >= lo) & (xs <= hi), axis=1)))
+        held = cells is not None and across > cells
+        if held:
+            cell_edges, amps = _peak_hold(xs, amps, lo, hi, cells)
+            mesh = ax.pcolormesh(
+                cell_edges, edges, np.ma.masked_invalid(amps), shading="flat", **style
+            )
+        elif axis == wf.axis:  # the same bins in every row: one mesh
             mesh = ax.pcolormesh(xe[0], edges, np.ma.masked_invalid(amps), shading="flat", **style)
         else:
             # One strip per speed: an order waterfall seen against frequency has
@@ -165,12 +182,41 @@ def plot_waterfall(
     if max_bin is not None:
         ax.set_xlim(0.0, max_bin)
     for e in excitations:
-        if kind != "lines":
-            line_x = np.full(speeds.shape, e.order) if axis == "order" else e.order * speeds / 60.0
-            ax.plot(line_x, speeds, lw=0.8, **_SOURCE_STYLE.get(e.source, {"color": "w"}))
+        if kind == "lines":
+            continue
+        style = _SOURCE_STYLE.get(e.source, {"color": "w"})
+        if axis == "order":  # a mark above the map, clear of the spectrum's line
+            ax.plot(
+                [e.order],
+                [1.0],
+                marker="v",
+                ms=5,
+                color=style["color"],
+                transform=ax.get_xaxis_transform(),
+                clip_on=False,
+            )
+        else:
+            ax.plot(e.order * speeds / 60.0, speeds, lw=0.8, **style)
     ax.set_xlabel("order (cycles per pinion revolution)" if axis == "order" else "frequency (Hz)")
-    ax.set_title(f"{wf.name or 'signal'} waterfall, {wf.window} window", fontsize=9)
+    title = f"{wf.name or 'signal'} waterfall, {wf.window} window"
+    if held:
+        unit = "order" if axis == "order" else "Hz"
+        title += f", peak per {(hi - lo) / cells:.2g} {unit}"
+    ax.set_title(title, fontsize=9)
     return ax
+
+
+def _peak_hold(xs: np.ndarray, amps: np.ndarray, lo: float, hi: float, cells: int):
+    """Each row's largest amplitude in each of ``cells`` equal cells from ``lo`` to
+    ``hi``: (cell edges, shape (cells + 1,); amplitudes, shape (n_rows, cells), NaN
+    where a cell holds no bin)."""
+    width = (hi - lo) / cells
+    out = np.full((xs.shape[0], cells), np.nan)
+    for i in range(xs.shape[0]):
+        keep = np.isfinite(amps[i]) & (xs[i] >= lo) & (xs[i] <= hi)
+        idx = np.minimum(((xs[i][keep] - lo) / width).astype(int), cells - 1)
+        np.fmax.at(out[i], idx, amps[i][keep])
+    return lo + width * np.arange(cells + 1), out
 
 
 def _bin_edges(xs: np.ndarray) -> np.ndarray:
