@@ -103,6 +103,11 @@ bore clamped, read at the centre line). About 3.5 minutes of FE per helix angle 
 by ``tests/test_ltca_slice_fe.py``).
 
     python3 benchmarks/fe_independent.py --pair-couplings --helix-deg 0 15 30 --face-mm 30 --heights 0.35 0.55 0.8 --json tests/data/fe_pair_couplings.json
+
+On the z 20 / 40, m_n 4 mm pair unless ``--teeth Z1 Z2`` and ``--module-mm`` say
+otherwise; the paper's tooth counts and module (about six minutes here):
+
+    python3 benchmarks/fe_independent.py --pair-couplings --teeth 29 45 --module-mm 6 --helix-deg 0 20 --face-mm 40 --heights 0.35 0.55 0.8 --json tests/data/fe_pair_couplings_paper.json
 """
 
 from __future__ import annotations
@@ -139,12 +144,14 @@ E, NU = 206e9, 0.3
 TORQUE = 300.0
 
 
-def pair_of(beta_deg: float, face_mm: float) -> ParallelPair:
+def pair_of(
+    beta_deg: float, face_mm: float, teeth=(20, 40), module_mm: float = 4.0
+) -> ParallelPair:
     return ParallelPair(
-        normal_module=4e-3,
+        normal_module=module_mm * 1e-3,
         normal_pressure_angle=math.radians(20),
         helix_angle=math.radians(beta_deg),
-        teeth=(20, 40),
+        teeth=tuple(teeth),
         face_width=face_mm * 1e-3,
     )
 
@@ -746,9 +753,9 @@ def _even(level: dict, tooth: int) -> np.ndarray:
     return E * (np.einsum("i,iajb,j->ab", w, D, w) / w.sum() + level["far"] * w.sum())
 
 
-def pair_couplings(helix, faces, heights, out=None) -> None:
+def pair_couplings(helix, faces, heights, out=None, counts=(20, 40), module_mm=4.0) -> None:
     """What the FE level shares between tooth pairs against the fast level (the module
-    docstring), E times m^2/N."""
+    docstring), E times m^2/N, on the pair of ``counts`` teeth and ``module_mm``."""
     from gearbox.ltca.compliance import FAR_FIELD, body_tilt
     from gearbox.ltca.slice_fe import whole_gear_influence
     from gearbox.ltca.slice_model import normal_section
@@ -757,7 +764,7 @@ def pair_couplings(helix, faces, heights, out=None) -> None:
     for face in faces:
         n = n_face(face)
         for beta in helix:
-            pair = pair_of(beta, face)
+            pair = pair_of(beta, face, counts, module_mm)
             for gear in (0, 1):
                 # pair +1 is the tooth ahead in the gear's rotation: in front of the
                 # driving pinion's loaded flank, behind the driven gear's
@@ -782,6 +789,8 @@ def pair_couplings(helix, faces, heights, out=None) -> None:
                     plane = whole_gear_influence(v, E, NU, zv, v.radius, (-1, 0, 1)).ravel()
                     plane = plane * float(np.ravel(factor)[0]) * E
                     row = {
+                        "teeth": list(pair.teeth),
+                        "module_mm": module_mm,
                         "helix_deg": beta,
                         "face_mm": face,
                         "gear": gear,
@@ -1117,11 +1126,15 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--json", help="--stress-profile, --fit-face-ends, --pair-couplings: write the rows here"
     )
+    ap.add_argument("--teeth", type=int, nargs=2, default=[20, 40], help="--pair-couplings: z1 z2")
+    ap.add_argument("--module-mm", type=float, default=4.0, help="--pair-couplings: m_n")
     ap.add_argument("--h-min-mm", type=float, default=0.3, help="tetrahedra near the loads")
     ap.add_argument("--h-max-mm", type=float, default=2.0, help="tetrahedra far from them")
     a = ap.parse_args(argv)
     if a.cases and not a.decompose:
         ap.error("--cases goes with --decompose")
+    if (a.teeth != [20, 40] or a.module_mm != 4.0) and not a.pair_couplings:
+        ap.error("--teeth and --module-mm go with --pair-couplings")
     if a.mesh_stiffness:
         mesh_stiffness(a.helix_deg, a.face_mm, HELIX_ENDS if a.face_ends else None)
     elif a.face_profile:
@@ -1142,7 +1155,7 @@ def main(argv=None) -> int:
             2.0 if a.refine is None else a.refine,
         )
     elif a.pair_couplings:
-        pair_couplings(a.helix_deg, a.face_mm, a.heights, a.json)
+        pair_couplings(a.helix_deg, a.face_mm, a.heights, a.json, a.teeth, a.module_mm)
     elif a.decompose and a.cases:
         decompose_cases(a.cases)
     elif a.decompose:

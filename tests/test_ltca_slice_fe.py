@@ -457,46 +457,53 @@ def test_a_far_field_larger_than_the_foundation_is_refused(monkeypatch):
     assert FastCompliance(foundation="normal").slice_parts(g)[0].min() > 0
 
 
-# What the FE level shares between tooth pairs (its segment and the far field it adds),
-# z 20/40, m_n 4, b 30 mm, 0 / 15 / 30 deg: made with the command stored in the file.
-COUPLINGS = json.loads((ROOT / "tests" / "data" / "fe_pair_couplings.json").read_text())
+# What the FE level shares between tooth pairs (its segment and the far field it adds):
+# z 20/40, m_n 4, b 30 mm at 0 / 15 / 30 deg, and the paper's z 29/45, m_n 6, b 40 mm at
+# 0 / 20 deg; each made with the command stored in its file.
+COUPLINGS = {
+    name: json.loads((ROOT / "tests" / "data" / f"{name}.json").read_text())
+    for name in ("fe_pair_couplings", "fe_pair_couplings_paper")
+}
 
 
-def _between(helix_deg: float, gear: int) -> tuple[float, float]:
+def _between(rows, helix_deg: float, gear: int) -> tuple[float, float]:
     """The FE level's mean over the heights of its front and back neighbours (five
     loadable teeth) and the fast level's rim torsion, E times m^2/N."""
-    rows = [r for r in COUPLINGS["rows"] if r["helix_deg"] == helix_deg and r["gear"] == gear]
+    rows = [r for r in rows if r["helix_deg"] == helix_deg and r["gear"] == gear]
     fe = np.mean([0.5 * (r["front"] + r["back"]) for r in rows])
     return float(fe), float(rows[0]["fast_torsion"])
 
 
-def test_the_fe_levels_couplings_between_pairs_do_not_depend_on_its_segment():
+@pytest.mark.parametrize("name", sorted(COUPLINGS))
+def test_the_fe_levels_couplings_between_pairs_do_not_depend_on_its_segment(name):
     """Segment plus far field, with five loadable teeth and with three, read alike
     (measured within 5.8 %; the segment alone reads 42 to 92 % more with five: the far
-    field makes up for it), and the teeth two pitches away still move 0.64 to 0.81 times the
-    next ones (measured)."""
-    for r in COUPLINGS["rows"]:
+    field makes up for it), and the teeth two pitches away still move 0.64 to 0.81 times
+    the next ones (measured; 0.71 to 0.80 on the paper's pair)."""
+    for r in COUPLINGS[name]["rows"]:
         for wide, narrow in (("front", "front_narrow"), ("back", "back_narrow")):
             assert abs(r[narrow] / r[wide] - 1) < 0.07, r
         assert 0.55 < r["two_away"] / (0.5 * (r["front"] + r["back"])) < 0.85, r
 
 
-def test_the_bodys_tilt_is_what_the_fe_level_adds_between_pairs_with_the_helix_angle():
+@pytest.mark.parametrize("name", sorted(COUPLINGS))
+def test_the_bodys_tilt_is_what_the_fe_level_adds_between_pairs_with_the_helix_angle(name):
     """What the fast level shares between pairs besides the torsion grows with the helix
     angle by the body's tilt (compliance.BODY_TILT): the FE level's growth from 0 deg,
     plus what the torsion loses, against the law, on the pinion z 20 (r_f / b 1.4)
     and the gear z 40 (r_f / b 2.9); the earlier law cos(beta)^-4.5 for both gears
     gives 2.5 times the pinion's and 0.65 times the gear's at 30 deg. Measured: gear
     0.30 / 1.41 needed at 15 / 30 deg, the law 0.30 / 1.39; pinion 0.08 / 0.37, the law
-    0.06 / 0.31. Tolerance: 0.05 (the pinion's small growth) plus 10 %."""
+    0.06 / 0.31. Out of the law's sample, the paper's z 29 / 45 at m_n 6, b 40 mm and
+    20 deg: pinion 0.41 needed, the law 0.35; gear 0.85, the law 0.89. Tolerance: 0.05
+    (the pinion's small growth) plus 10 %."""
+    rows = COUPLINGS[name]["rows"]
+    angles = sorted({r["helix_deg"] for r in rows} - {0.0})
+    assert angles
     for gear in (0, 1):
-        fe0, t0 = _between(0.0, gear)
-        for deg in (15.0, 30.0):
-            fe, t = _between(deg, gear)
+        fe0, t0 = _between(rows, 0.0, gear)
+        for deg in angles:
+            fe, t = _between(rows, deg, gear)
             need = fe - fe0 + t0 - t
-            (tilt,) = {
-                r["fast_tilt"]
-                for r in COUPLINGS["rows"]
-                if r["helix_deg"] == deg and r["gear"] == gear
-            }
+            (tilt,) = {r["fast_tilt"] for r in rows if r["helix_deg"] == deg and r["gear"] == gear}
             assert abs(tilt - need) < 0.05 + 0.1 * need, (gear, deg, need, tilt)
