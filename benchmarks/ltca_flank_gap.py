@@ -21,15 +21,14 @@ of ``benchmarks/ltca_misalignment.py`` against its whole-gear FE
   load's offset along the face, ``c (y_i t_i)(y_j t_j) / (E b^3)`` added to the
   pinion's block (y the face coordinate from the face middle, t the normal's
   tangential component); zero for a load even along the face;
-- ``pair couplings x s``: between different tooth pairs, s times the plane-strain
-  whole gear's couplings by distance (``whole_gear_influence`` on each gear's
-  normal section at six radii) in place of the body torsion and far field shared
-  evenly; the tilt kept. About a second per gear for the influence.
+- ``pairs even``: between different tooth pairs the body torsion and the far field
+  shared evenly (``between_pairs="even"``, the default before the plane-strain whole
+  gear's couplings); ``pairs plane x 1.0``: those couplings without the factor
+  ``PAIR_COUPLING_SCALE``.
 
-``--only`` keeps the variants whose name has one of the words (``default`` is one
-word). Then the split at 300 N m into what the FE's segment holds and its far field
-(``1/k_whole - 1/k_segment``), against the fast level without its shared terms and
-what its far field and tilt add, in 1e-10 m/N of mesh compliance (``--no-split`` leaves it out). About four
+``--only`` keeps the variants whose name has one of the words. Then the split at 300 N m into what the FE's segment holds and its far field
+(``1/k_whole - 1/k_segment``), against the fast level (pairs even) without its shared
+terms and what its far field and tilt add, in 1e-10 m/N of mesh compliance (``--no-split`` leaves it out). About four
 minutes here; ``--only default pair --no-split`` about the same (the influence per
 case and flank dominates).
 """
@@ -53,7 +52,7 @@ import ltca_ripple as rip  # noqa: E402
 
 from gearbox.ltca import FastCompliance  # noqa: E402
 from gearbox.ltca import compliance as cm  # noqa: E402
-from gearbox.ltca.slice_fe import fe_tooth_compliance, whole_gear_influence  # noqa: E402
+from gearbox.ltca.slice_fe import fe_tooth_compliance  # noqa: E402
 from gearbox.ltca.slice_model import normal_section  # noqa: E402
 
 KHBETA = ROOT / "tests" / "data" / "fe_khbeta_spur.json"
@@ -96,67 +95,6 @@ class Rocking(FastCompliance):
         return super().body_matrix(grid) + self.rocking / (grid.youngs_modulus * b**3) * np.outer(
             v, v
         )
-
-
-#: Tooth offsets of the plane-strain whole gear's couplings (beyond 3: the third's)
-OFFSETS = (-3, -2, -1, 0, 1, 2, 3)
-_INFLUENCE: dict = {}
-
-
-def plane_couplings(grid, gear: int) -> np.ndarray:
-    """The plane-strain whole gear's couplings between the grid's points of gear ``gear``
-    on different tooth pairs (m/N, zero within a pair), shape (n, n): the response of a
-    tooth ``d`` pitches away, read at each point's radius under a unit load at the
-    other's (:func:`~gearbox.ltca.slice_fe.whole_gear_influence` on the normal section
-    of the face middle's tooth at six radii from 5 to 98 % of the roll length between
-    the root and the tip circle, bilinear between them, the two directions averaged),
-    over the face width along the gear's axis."""
-    teeth = grid.tooth1 if gear == 0 else grid.tooth2
-    mid = teeth.take(np.array([int(np.argmin(np.abs(grid.face)))]))
-    rb, rf, ra = (float(a[0]) for a in (mid.base_radius, mid.root_radius, mid.tip_radius))
-    key = (gear, round(rb, 7), round(rf, 7), round(ra, 7), round(float(mid.helix_angle[0]), 6))
-    if key not in _INFLUENCE:
-        x0, x1 = np.sqrt(max(rf**2 - rb**2, 0.0)), np.sqrt(ra**2 - rb**2)
-        r = np.sqrt(rb**2 + (x0 + (x1 - x0) * np.linspace(0.05, 0.98, 6)) ** 2)
-        v, factor = normal_section(replace(mid.take(np.zeros(r.size, int)), radius=r))
-        zv = int(round(float(np.ravel(v.teeth)[0])))
-        c = whole_gear_influence(v, grid.youngs_modulus, grid.poisson_ratio, zv, r, OFFSETS)
-        _INFLUENCE[key] = (r, c * float(np.mean(factor)))
-    r, c = _INFLUENCE[key]
-    x = np.interp(teeth.radius, r, np.arange(r.size))
-    i0 = np.minimum(np.floor(x).astype(int), r.size - 2)
-    w = x - i0
-    d = np.clip(grid.pair[:, None] - grid.pair[None, :], -3, 3)
-    out = np.zeros((grid.size, grid.size))
-    for off in (1, 2, 3):
-        m = 0.5 * (c[OFFSETS.index(off)] + c[OFFSETS.index(-off)].T)
-        rows = m[i0] * (1 - w)[:, None] + m[i0 + 1] * w[:, None]
-        full = rows[:, i0] * (1 - w)[None, :] + rows[:, i0 + 1] * w[None, :]
-        sel = np.abs(d) == off
-        out[sel] = full[sel]
-    return out / cm._face(grid, gear)
-
-
-@dataclass(frozen=True)
-class PairCoupled(FastCompliance):
-    """Between different tooth pairs, the plane-strain whole gear's couplings times
-    ``scale`` (the FE level's whole gear over the plane-strain one at one pitch:
-    1.07 / 1.16 on the paper's pinion / gear, 1.06 / 1.13 on z 20 / 40, the mean
-    over three heights at 0 deg), in place of
-    the body torsion and far field shared evenly; the tilt and everything within a
-    pair as the default."""
-
-    scale: float = 1.0
-
-    def tooth_matrix(self, grid):
-        C = super().tooth_matrix(grid)
-        other = grid.pair[:, None] != grid.pair[None, :]
-        for gear in (0, 1):
-            even = self.torsion_matrix(grid, gear) + cm.FAR_FIELD / (
-                grid.youngs_modulus * cm._face(grid, gear)
-            )
-            C += np.where(other, self.scale * plane_couplings(grid, gear) - even, 0.0)
-        return C
 
 
 @dataclass(frozen=True)
@@ -216,8 +154,9 @@ def split_table(cases) -> None:
             i = run["torques_Nm"].index(300.0)
             seg = 1e10 / run["mean_stiffness_N_per_m"][i]
             whole = 1e10 / rip.whole_gear_stiffness(case, flank)[i]
-            fast = 1e10 / rip.cycle(grids, [300.0], FastCompliance()).stiffness.mean()
-            uns = 1e10 / rip.cycle(grids, [300.0], Unshared()).stiffness.mean()
+            even = FastCompliance(between_pairs="even")
+            fast = 1e10 / rip.cycle(grids, [300.0], even).stiffness.mean()
+            uns = 1e10 / rip.cycle(grids, [300.0], Unshared(between_pairs="even")).stiffness.mean()
             print(
                 f"{case:>4} {flank:>5} {seg:7.2f} {whole - seg:7.2f} {whole:8.2f} "
                 f"{uns:9.2f} {fast - uns:8.2f} {fast:7.2f} {uns / seg:8.3f} "
@@ -239,8 +178,8 @@ def main(argv=None) -> int:
         "foundation 1.5": FoundationCoupled(foundation_length=1.5),
         "rocking 10": Rocking(rocking=10.0),
         "rocking 30": Rocking(rocking=30.0),
-        "pair couplings x 1.0": PairCoupled(scale=1.0),
-        "pair couplings x 1.1": PairCoupled(scale=1.1),
+        "pairs even (the earlier default)": FastCompliance(between_pairs="even"),
+        "pairs plane x 1.0": FastCompliance(pair_coupling_scale=1.0),
     }
     if a.only:
         variants = {k: v for k, v in variants.items() if any(w in k for w in a.only)}

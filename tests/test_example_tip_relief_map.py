@@ -26,7 +26,8 @@ def test_example_tip_relief_map_runs(tmp_path):
     plain, relieved = res[0.0], res[20.0]
     # unmodified: the ripple grows with the load (the pair deflects more)
     assert plain[900.0][0] > 1.5 * plain[300.0][0]
-    # 24 positions measured: first harmonic 0.98 -> 0.02 um at 300 N m, 1.97 -> 1.12 um
-    # at 900 N m (the valley of a 20 um relief lies near 300 N m)
-    assert relieved[300.0][1] < 0.25 * plain[300.0][1]
-    assert relieved[900.0][1] > 0.5 * plain[900.0][1]
+    # 12 positions measured: first harmonic 0.95 -> 0.05 um at 300 N m, 1.86 -> 0.90 um
+    # at 900 N m (the valley of a 20 um relief lies near 300 N m): ratios 0.05 / 0.48
+    low, high = (relieved[t][1] / plain[t][1] for t in (300.0, 900.0))
+    assert low < 0.25
+    assert high > 0.4 and high > 5 * low

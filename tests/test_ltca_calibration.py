@@ -117,23 +117,25 @@ def test_calibrated_beam_within_5_percent_of_the_whole_gear_fe_level(case, flank
 @pytest.mark.parametrize("case,flank", CASES)
 def test_default_level_against_the_whole_gear_fe_level(case, flank):
     # the default (plane-strain tooth, the body's far field shared, no body term;
-    # the slices' coupling length chosen on the FE level; the body's tilt BODY_TILT):
-    # measured -3.3 .. +6.9 % over the 24 numbers (`python benchmarks/ltca_ripple.py
-    # --parallel`), the drive flanks of cases 01 and 02 the stiffest (+3.4 .. +6.9 %;
-    # -2.7 .. +8.9 % with the earlier growth cos(beta)^-4.5 of the far field). Band: the
-    # measured range widened by a point each side
+    # the slices' coupling length chosen on the FE level; the body's tilt BODY_TILT;
+    # between tooth pairs the plane-strain whole gear's couplings): measured -3.9 ..
+    # +4.7 % over the 24 numbers (`python benchmarks/ltca_ripple.py --parallel`), the
+    # drive flanks of cases 01 and 02 the stiffest (+1.8 .. +4.7 %; with the even share
+    # between pairs -3.3 .. +6.9 %, -2.7 .. +8.9 % with the earlier growth
+    # cos(beta)^-4.5 of the far field). Band: the measured range widened by a point
+    # each side
     k_fe, _ = whole_gear_stiffness(case, flank)
     err = _fast_mean_stiffness(case, flank, FastCompliance()) / k_fe - 1
-    assert np.all((err > -0.043) & (err < 0.079)), err
+    assert np.all((err > -0.049) & (err < 0.057)), err
     # the FE level's split (contact to the matching depth, the plane-strain tooth read
-    # there): measured +0.8 .. +6.8 %, stiffer than the default on the coast flanks
-    # (by 1.6 to 4.6 points) and on the drive flanks (-0.1 to 2.6 points); its change
-    # with the torque is smaller on every case and flank (0.2 .. 1.3 points between 150
-    # and 450 N m against 1.5 .. 2.8). Band: the measured range widened by a point each
+    # there): measured -0.3 .. +4.6 %, stiffer than the default on the coast flanks
+    # (by 1.5 to 4.5 points) and on the drive flanks (-0.1 to 2.5 points); its change
+    # with the torque is smaller on every case and flank (0.1 .. 1.0 points between 150
+    # and 450 N m against 1.2 .. 2.5). Band: the measured range widened by a point each
     # side
     depth = FastCompliance(contact="matching_depth")
     err_d = _fast_mean_stiffness(case, flank, depth) / k_fe - 1
-    assert np.all((err_d > -0.002) & (err_d < 0.078)), err_d
+    assert np.all((err_d > -0.013) & (err_d < 0.056)), err_d
     assert np.ptp(err_d) < np.ptp(err) + 0.002, (err_d, err)
 
 
@@ -178,21 +180,22 @@ def test_plane_strain_tooth_brings_the_spur_pairs_to_the_whole_gear_fe_level():
     # calibrated body coefficient 0.24: the spur pairs, whose line load is even along
     # the face, within 4 % of the whole-gear FE (measured +2.3 / +3.5 %, against
     # -22.1 / -17.9 % with the beam); the helical pair too stiff (+13.7 %). With the
-    # far field shared and the coupling length 0.6 (the default, no body term): -1.2 /
-    # -0.2 / +2.8 % (measured; the helical pair +4.6 % with the earlier growth
-    # cos(beta)^-4.5 of the far field). Bands: measured +- 1.5 points
+    # far field shared, the plane-strain whole gear between pairs and the coupling
+    # length 0.6 (the default, no body term): -2.2 / -2.4 / +0.2 % (measured; -1.2 /
+    # -0.2 / +2.8 % with the even share between pairs, the helical pair +4.6 % with the
+    # earlier growth cos(beta)^-4.5 of the far field). Bands: measured +- 1.5 points
     fe_normal = FastCompliance(foundation="normal", coupling_length=1.0)
     assert fe_normal.body_compliance == BODY_COMPLIANCE
     err = _parallel_errors(fe_normal)
     assert err == pytest.approx([0.023, 0.035, 0.137], abs=0.015)
     assert np.all(np.abs(err[:2]) < 0.04)
     err = _parallel_errors(FastCompliance())
-    assert err == pytest.approx([-0.012, -0.002, 0.028], abs=0.015)
-    assert np.all(np.abs(err[:2]) < 0.02)
+    assert err == pytest.approx([-0.022, -0.024, 0.002], abs=0.015)
+    assert np.all(np.abs(err) < 0.03)
     # the FE level's split (contact to the matching depth, the tooth read there):
-    # -2.4 / -1.4 / +2.2 % (measured)
+    # -3.4 / -3.6 / -0.4 % (measured)
     err = _parallel_errors(FastCompliance(contact="matching_depth"))
-    assert err == pytest.approx([-0.024, -0.014, 0.022], abs=0.015)
+    assert err == pytest.approx([-0.034, -0.036, -0.004], abs=0.015)
     with pytest.raises(InputError, match="tooth"):
         FastCompliance(tooth="solid")
 

@@ -182,7 +182,7 @@ def _pair_coupling(comp, far_field: bool = False):
     fast, fe = [], []
     for p in (8, 21):
         g = grids[p]
-        C = comp.torsion_matrix(g) + comp.body_matrix(g)
+        C = comp.tooth_matrix(g)  # its blocks between pairs: what the pairs share
         s = dict(zip(index.tolist(), shares[p], strict=True))
         e, f = 0.0, 0.0
         for a in g.pairs():
@@ -197,13 +197,19 @@ def _pair_coupling(comp, far_field: bool = False):
 
 
 def test_the_shared_far_field_couples_the_tooth_pairs_nearer_the_fe_level():
-    # the default shares the body's far field (FastCompliance(foundation="split")):
-    # against the FE level's coupling with its far field (3.72e-10 m/N, stored) it
-    # gives 0.74 / 0.75 at the two positions and 0.76 of the difference between them
-    # (measured; CALIBRATED_BEAM: 0.34 / 0.35). Bands: measured +- 0.08
-    fast, fe = _pair_coupling(FastCompliance(), far_field=True)
-    assert fast / fe == pytest.approx([0.74, 0.75], abs=0.08)
-    assert (fast[1] - fast[0]) / (fe[1] - fe[0]) == pytest.approx(0.76, abs=0.08)
+    # the body's far field shared evenly (FastCompliance(between_pairs="even")): against
+    # the FE level's coupling with its far field (3.72e-10 m/N, stored) it gives 0.73 /
+    # 0.78 at the two positions and 0.79 of the difference between them (measured;
+    # CALIBRATED_BEAM: 0.34 / 0.35); the default, the plane-strain whole gear's
+    # couplings between pairs, 0.85 / 0.92 and 0.94 of the difference (0.905 of the FE
+    # level's summed over all 24 positions, the even share 0.77). Bands: measured
+    # +- 0.05
+    even, fe = _pair_coupling(FastCompliance(between_pairs="even"), far_field=True)
+    assert even / fe == pytest.approx([0.73, 0.78], abs=0.05)
+    assert (even[1] - even[0]) / (fe[1] - fe[0]) == pytest.approx(0.79, abs=0.05)
+    plane, _ = _pair_coupling(FastCompliance(), far_field=True)
+    assert plane / fe == pytest.approx([0.85, 0.92], abs=0.05)
+    assert (plane[1] - plane[0]) / (fe[1] - fe[0]) == pytest.approx(0.94, abs=0.05)
     old, _ = _pair_coupling(CALIBRATED_BEAM, far_field=True)
     assert np.all(old / fe < 0.45)
 
@@ -222,20 +228,23 @@ def test_lte_peak_to_peak_against_the_fe_level(case, flank):
     torques = scene["load"]["torques_Nm"]
     fe = _fe_pp(case, flank)
     err = np.ptp(_cycle(grids, torques, FastCompliance()).lte, axis=1) / fe - 1
-    # measured over the eight cases and flanks, 150 / 300 / 450 N m: -1.5 .. +8.0 %
-    # (the default: the plane-strain tooth, the far field shared); CALIBRATED_BEAM
-    # +7.0 .. +38.9 %, with the torsion in the slices +9.6 .. +47.7 %. The fast level is
-    # deterministic; the bounds are the largest measured errors plus a point, so that a
-    # change that widens the ripple again fails here
-    assert np.all(err < 0.09), err
-    assert np.all(err > -0.025), err
+    # measured over the eight cases and flanks, 150 / 300 / 450 N m: -6.4 .. +5.1 %,
+    # mean |error| 2.6 % (the default: the plane-strain tooth, the far field shared, the
+    # plane-strain whole gear between pairs; with the even share between pairs -1.5 ..
+    # +7.9 %, mean 2.9 %); CALIBRATED_BEAM +7.0 .. +38.9 %, with the torsion in the
+    # slices +9.6 .. +47.7 %. The fast level is deterministic; the bounds are the
+    # largest measured errors plus a point, so that a change that widens the ripple
+    # again fails here
+    assert np.all(err < 0.061), err
+    assert np.all(err > -0.074), err
     # the FE level's split (contact to the matching depth, the plane-strain tooth read
-    # there): -1.7 .. +7.8 % (measured); bounds a point beyond
+    # there): -7.9 .. +2.1 % (measured); bounds a point beyond
     depth = FastCompliance(contact="matching_depth")
     err_d = np.ptp(_cycle(grids, torques, depth).lte, axis=1) / fe - 1
-    assert np.all((err_d > -0.027) & (err_d < 0.088)), err_d
+    assert np.all((err_d > -0.089) & (err_d < 0.031)), err_d
     beam = np.ptp(_cycle(grids, torques, CALIBRATED_BEAM).lte, axis=1) / fe - 1
-    assert np.all(np.abs(err) < beam - 0.05), (err, beam)
+    # the default nearer than the beam by at least 4.1 points everywhere (measured)
+    assert np.all(np.abs(err) < beam - 0.035), (err, beam)
     assert np.all(beam < 0.40) and np.all(beam > 0.0), beam
     # the shared torsion narrows the ripple at every torque (by 2.6 to 8.9 points)
     old = replace(CALIBRATED_BEAM, shared_torsion=False, body_compliance=0.41)

@@ -95,11 +95,12 @@ def _iso_ratio(pair, torque):
 
 def test_mean_mesh_stiffness_against_iso_6336_1_spur():
     ratio, r = _iso_ratio(SPUR, 400.0)
-    # measured: 0.894 with the default (plane-strain tooth, far field shared), which
-    # is within 1.2 % of the whole-gear FE level on this pair; the whole-gear FE level
-    # lies 9 % below ISO's c_gamma_alpha (docs/fe.md). CALIBRATED_BEAM gave 0.734 (0.745
-    # with the torsion in the slices). The band guards that statement.
-    assert 0.88 < ratio < 0.91, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
+    # measured: 0.875 with the default (plane-strain tooth, far field shared, the
+    # plane-strain whole gear between pairs; 0.894 with the even share), which is 2.4 %
+    # below the whole-gear FE level on this pair; the whole-gear FE level lies 9 % below
+    # ISO's c_gamma_alpha (docs/fe.md). CALIBRATED_BEAM gave 0.734 (0.745 with the
+    # torsion in the slices). The band guards that statement.
+    assert 0.86 < ratio < 0.89, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
     # shape: ISO's c_gamma_alpha = c' (0.75 eps_alpha + 0.25) relates the cycle mean
     # to the single-pair maximum c'; the slices alone (torsion in the slices, no body
     # term) agree within 3 % (measured 1.503 against ISO's 1.521). The compliances in
@@ -121,12 +122,13 @@ def test_mean_mesh_stiffness_against_iso_6336_1_spur():
 
 def test_mean_mesh_stiffness_against_iso_6336_1_helical():
     ratio, _ = _iso_ratio(HELICAL, 400.0)
-    # measured: 0.888 for this helical pair with the default (+2.8 % against the
-    # whole-gear FE level; 0.904 and +4.6 % with the earlier growth cos(beta)^-4.5 of the
-    # far field); CALIBRATED_BEAM 0.796 (0.807 with the torsion in the slices
+    # measured: 0.866 for this helical pair with the default (+0.2 % against the
+    # whole-gear FE level; 0.888 and +2.8 % with the even share between pairs, 0.904
+    # and +4.6 % with the earlier growth cos(beta)^-4.5 of the far field);
+    # CALIBRATED_BEAM 0.796 (0.807 with the torsion in the slices
     # and the earlier body term, 0.864 without the body term, 0.920 with transverse
     # slices; docs/ltca.md)
-    assert 0.875 < ratio < 0.905, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
+    assert 0.85 < ratio < 0.88, f"fast / ISO 6336-1 c_gamma_alpha = {ratio:.3f}"
 
 
 def test_integer_overlap_ratio_flattens_the_stiffness():
