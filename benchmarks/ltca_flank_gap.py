@@ -26,11 +26,11 @@ of ``benchmarks/ltca_misalignment.py`` against its whole-gear FE
   gear's couplings); ``pairs plane x 1.0``: those couplings without the factor
   ``PAIR_COUPLING_SCALE``.
 
-``--only`` keeps the variants whose name has one of the words. Then the split at 300 N m into what the FE's segment holds and its far field
-(``1/k_whole - 1/k_segment``), against the fast level (pairs even) without its shared
-terms and what its far field and tilt add, in 1e-10 m/N of mesh compliance (``--no-split`` leaves it out). About four
-minutes here; ``--only default pair --no-split`` about the same (the influence per
-case and flank dominates).
+``--only`` keeps the variants whose name has one of the words. Then the split at 300
+N m into what the FE's segment holds and its far field (``1/k_whole - 1/k_segment``),
+against the fast level (pairs even) without its shared terms and what its far field
+and tilt add, in 1e-10 m/N of mesh compliance (``--no-split`` leaves it out). About
+70 s here.
 """
 
 from __future__ import annotations
