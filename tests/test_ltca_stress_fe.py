@@ -88,11 +88,11 @@ def _stored_run(case, flank):
 @pytest.mark.parametrize("case", ["01", "02", "03", "04"])
 def test_flank_root_stress_against_fe(case, flank):
     # measured fast / FE - 1 over 150 / 300 / 450 N m, the four cases: drive pinion
-    # +1.2 .. +5.2 %, gear +3.0 .. +10.5 %; coast pinion +3.1 .. +8.4 %, gear +6.7 ..
+    # +2.0 .. +5.5 %, gear +3.8 .. +10.7 %; coast pinion +3.1 .. +8.4 %, gear +7.2 ..
     # +11.7 %; bound 12 %. Without the helical face-end factor the drive pinion was
     # -4.5 .. -11.7 %: the pinion (helix 20 .. 25 deg) may not fall more than 3 % below
     # the FE. Along the face (the pinion's envelope at the FE's seven face samples):
-    # largest difference 7.2 .. 11.7 % of the FE maximum; bound 15 %
+    # largest difference 7.5 .. 12.5 % of the FE maximum; bound 15 %
     _flank_against_run(case, flank, _stored_run(case, flank))
 
 
