@@ -307,6 +307,10 @@ def test_default_scene_end_to_end_through_the_cli(tmp_path, capsys):
     for anchor in (*every, "provenance"):
         assert f'id="{anchor}"' in html, anchor
     assert "report section could not be drawn" not in html
+    # the default pair (case 03's flanks unmodified) carries load on its tip edges: the
+    # warning says so and that the pressure there is a lower bound
+    warn = html[html.index('id="warning-list"') :]
+    assert "edge contact (up to" in warn and "a lower bound" in warn
     assert (out / "tables.nc").exists() and (out / "dynamics.csv").exists()
     from gearbox.report.browser import browser_check, find_chromium
 

@@ -51,7 +51,9 @@ def render_ltca(lt, run) -> Section:
                     ReportWarning(
                         "ltca",
                         f"{flank} flank, {r['torque_Nm']:g} N m: edge contact "
-                        f"(up to {100 * r['max_edge_load_fraction']:.1f} % of the load on an edge)",
+                        f"(up to {100 * r['max_edge_load_fraction']:.1f} % of the load on an "
+                        "edge; the pressure there is Hertz's with the flank's curvature, a "
+                        "lower bound: an edge concentrates it further, a relief removes it)",
                     )
                 )
             if not r["solver_converged"]:
