@@ -401,13 +401,16 @@ def neighbour_influence(section, poisson_ratio: float, mesh=NEIGHBOUR_MESH):
     """What a line load on one tooth of the plane-strain whole gear moves its
     neighbours by, for the couplings between tooth pairs: ``(radii, c)`` with the
     :data:`NEIGHBOUR_ROLL` radii of ``section`` (the one-row normal section of a tooth,
-    m) and ``c`` of shape ``(len(NEIGHBOURS), n, n)``, Young's modulus times the
-    displacement of the tooth ``d`` pitches away (:data:`NEIGHBOURS`) along its own load
-    line at radius ``i`` under a unit line load at ``j`` on the loaded tooth,
-    the mean of the tooth in front of the loaded flank and the one behind it, the
-    latter transposed (the two directions of a symmetric whole). Per unit width and
-    times E it depends on the section's shape and Poisson's ratio only: kept per shape
-    (rounded as the tooth tables', with the bore) for the process."""
+    m) and ``c`` of shape ``(len(NEIGHBOURS), n, n)``: Young's modulus times the
+    displacement of the tooth ``d`` pitches in front of the loaded flank
+    (:data:`NEIGHBOURS`; :func:`whole_gear_influence`'s offset +d) along its own load
+    line at radius ``i`` under a unit line load at radius ``j`` on the loaded tooth,
+    averaged with what Maxwell-Betti makes the same entry: the tooth ``d`` pitches
+    behind, read at ``j`` under the load at ``i`` (the two readings, taken where the
+    load lines cross the centre lines, agree within 1.4 % at contact points on the
+    tested gears). Per unit width and times E it depends on the section's shape and
+    Poisson's ratio only: kept per shape (rounded as the tooth tables', with the bore)
+    for the process."""
     one = section.take(np.array([0]))
     m = float(np.asarray(one.normal_module, float).ravel()[0])
     bore = float(np.asarray(one.bore_radius, float).ravel()[0])
