@@ -8,6 +8,7 @@ gear solved at its default mesh, its orientation against the grid's geometry, an
 FE level's couplings stored in ``tests/data/fe_pair_couplings*.json``.
 """
 
+import dataclasses
 import json
 from dataclasses import replace
 from pathlib import Path
@@ -172,3 +173,34 @@ def test_bad_between_pairs_names_the_parameter():
     with pytest.raises(InputError, match="pair_coupling_scale"):
         FastCompliance(pair_coupling_scale=3.0)
     assert FastCompliance(foundation="normal").between_pairs == "even"
+
+
+def _subset(g, keep):
+    """The grid's points ``keep`` (per-point arrays indexed, the rest as they are)."""
+    n = g.size
+    fields = {}
+    for f in dataclasses.fields(g):
+        v = getattr(g, f.name)
+        if f.name in ("tooth1", "tooth2"):
+            fields[f.name] = v.take(keep)
+        elif isinstance(v, np.ndarray) and v.shape[:1] == (n,):
+            fields[f.name] = v[keep]
+    return replace(g, **fields)
+
+
+def test_the_front_tooth_is_found_without_a_slot_shared_by_two_pairs():
+    """Where no face slot holds points of two neighbouring pairs (short, inclined
+    contact lines), the trend of the radius with the pair index orients the couplings
+    as the same-slot comparison does on the whole grid."""
+    pair = ParallelPair(6e-3, np.radians(20), np.radians(20), (29, 45), face_width=40e-3)
+    g = parallel_grid(pair, 0.3, n_face=12)
+    pairs = np.unique(g.pair)[:2]
+    keep = np.flatnonzero(
+        ((g.pair == pairs[0]) & (g.slot < 6)) | ((g.pair == pairs[1]) & (g.slot >= 6))
+    )
+    part = _subset(g, keep)
+    assert not np.any(_neighbours(part)[0].size)
+    comp = FastCompliance()
+    for gear in (0, 1):
+        whole = comp.pair_matrix(g, gear)[np.ix_(keep, keep)]
+        np.testing.assert_allclose(comp.pair_matrix(part, gear), whole, rtol=1e-12)

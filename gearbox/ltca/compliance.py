@@ -575,7 +575,11 @@ class FastCompliance:
         order = np.lexsort((grid.pair, grid.slot))
         same = (np.diff(grid.slot[order]) == 0) & (np.diff(grid.pair[order]) == 1)
         step = np.diff(teeth.radius[order])[same]
-        ahead = 1 if step.size == 0 or np.sum(np.sign(step)) >= 0 else -1
+        if step.size:
+            ahead = 1 if np.sum(np.sign(step)) >= 0 else -1
+        else:  # no slot holds two neighbouring pairs: the trend of the radius with the pair
+            lean = np.sum((grid.pair - grid.pair.mean()) * (teeth.radius - teeth.radius.mean()))
+            ahead = 1 if lean >= 0 else -1
         d = np.clip(ahead * d, -c.shape[0], c.shape[0])
         for k in range(1, c.shape[0] + 1):
             B = W @ c[k - 1] @ W.T  # [front, back]
