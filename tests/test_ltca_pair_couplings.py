@@ -87,7 +87,7 @@ def test_the_couplings_between_pairs_read_the_whole_gear_at_its_default_mesh(pai
     points (not at the root: up to 19 % at 5 % of the roll length), their mean is
     taken. Against whole_gear_influence at its default mesh at the points' own radii:
     within 0.9 % measured (the coarse mesh, six radii, linear between them);
-    tolerance 1.5 %. The transposed reading is 2.5 to 4.6 % off on these points."""
+    tolerance 1.5 %. The transposed reading is 3.6 to 4.2 % off on these points."""
     g = parallel_grid(pair, 0.58, n_face=8)
     comp = FastCompliance()
     a, b = _neighbours(g)
@@ -108,7 +108,7 @@ def test_the_couplings_between_pairs_read_the_whole_gear_at_its_default_mesh(pai
 def test_the_coarse_whole_gear_reads_the_couplings_of_the_default_mesh():
     """neighbour_influence's mesh (NEIGHBOUR_MESH) against the default one on case 03's
     pinion and gear, every load and reading height, one to three pitches: measured
-    within 0.6 / 2.1 %; tolerance 3 %."""
+    within 1.9 / 2.0 % (mean 0.3 / 0.4 %); tolerance 3 %."""
     g = _case_grid("03", "R")
     mid = int(np.argmin(np.abs(g.face)))
     for teeth in (g.tooth1, g.tooth2):

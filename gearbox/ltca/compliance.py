@@ -591,15 +591,16 @@ class FastCompliance:
     def tooth_matrix(self, grid: ContactGrid) -> np.ndarray:
         parts = self.slice_parts(grid)
         C = self.slice_matrix(grid, 0, parts) + self.slice_matrix(grid, 1, parts)
-        C += self.torsion_matrix(grid) + self.body_matrix(grid)
-        if self.between_pairs == "plane":
-            other = grid.pair[:, None] != grid.pair[None, :]
-            if other.any():
-                E = grid.youngs_modulus
-                for gear in (0, 1):
-                    even = self.torsion_matrix(grid, gear) + FAR_FIELD / (E * _face(grid, gear))
-                    plane = self.pair_coupling_scale * self.pair_matrix(grid, gear)
-                    C += np.where(other, plane - even, 0.0)
+        C += self.body_matrix(grid)
+        other = grid.pair[:, None] != grid.pair[None, :]
+        for gear in (0, 1):
+            torsion = self.torsion_matrix(grid, gear)
+            if self.between_pairs == "plane" and other.any():
+                # between pairs: the plane couplings in place of the torsion and far field
+                even = torsion + FAR_FIELD / (grid.youngs_modulus * _face(grid, gear))
+                plane = self.pair_coupling_scale * self.pair_matrix(grid, gear)
+                torsion = torsion + np.where(other, plane - even, 0.0)
+            C += torsion
         return C
 
     def contact_diagonal(self, grid: ContactGrid, line_load: np.ndarray) -> np.ndarray:

@@ -184,19 +184,19 @@ def plot_waterfall(
     for e in excitations:
         if kind == "lines":
             continue
-        style = _SOURCE_STYLE.get(e.source, {"color": "w"})
+        look = _SOURCE_STYLE.get(e.source, {"color": "w"})
         if axis == "order":  # a mark above the map, clear of the spectrum's line
             ax.plot(
                 [e.order],
                 [1.0],
                 marker="v",
                 ms=5,
-                color=style["color"],
+                color=look["color"],
                 transform=ax.get_xaxis_transform(),
                 clip_on=False,
             )
         else:
-            ax.plot(e.order * speeds / 60.0, speeds, lw=0.8, **style)
+            ax.plot(e.order * speeds / 60.0, speeds, lw=0.8, **look)
     ax.set_xlabel("order (cycles per pinion revolution)" if axis == "order" else "frequency (Hz)")
     title = f"{wf.name or 'signal'} waterfall, {wf.window} window"
     if held:
