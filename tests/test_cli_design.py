@@ -118,3 +118,37 @@ def test_sweep_writes_csv_and_png(tmp_path, capsys):
     assert len(rows) == 44
     assert pngs[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert not list(tmp_path.glob(".*.tmp"))  # nothing half-written left behind
+
+
+def test_console_command_delivers_all_it_printed_to_a_pipe():
+    """``python -m gearbox`` leaves without the interpreter's teardown (gearbox.cli.
+    console): what it printed into a pipe (block-buffered) is flushed first, and the
+    exit status is main()'s."""
+    r = subprocess.run(
+        [sys.executable, "-m", "gearbox", "design", str(MODELS / "case03.toml"), "--json"],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)  # the whole object, to its closing brace
+    for key in REQUIRED:
+        assert key in json.dumps(out)
+
+
+def test_import_gearbox_loads_a_public_name_when_first_used():
+    """``import gearbox`` imports no stage's code (the command starts faster); each
+    public name and subpackage comes from its module on first use."""
+    code = (
+        "import sys, gearbox\n"
+        "loaded = [m for m in ('gearbox.fe', 'gearbox.ltca', 'gearbox.drivetrain', 'scipy')"
+        " if m in sys.modules]\n"
+        "assert not loaded, loaded\n"
+        "from gearbox import FECompliance, load_scene\n"
+        "assert FECompliance.__module__ == 'gearbox.fe.compliance'\n"
+        "assert gearbox.ltca.__name__ == 'gearbox.ltca' and 'run_tca' in dir(gearbox)\n"
+        "assert set(gearbox.__all__) <= set(dir(gearbox))\n"
+        "try:\n    gearbox.no_such_name\nexcept AttributeError as e:\n"
+        "    assert 'no_such_name' in str(e)\nelse:\n    raise SystemExit('no error')\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr

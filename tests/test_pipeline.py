@@ -479,3 +479,30 @@ def test_map_items_on_threads_for_compiled_runs():
         assert all(n.startswith("gearbox-sweep") for n in got[1:]), got
     assert map_items(_pid, range(4), threads=True) == [os.getpid()] * 4  # no processes
     assert map_items(_thread_name, range(3), threads=True, jobs=1) == ["MainThread"] * 3
+
+
+def test_json_files_take_numpy_values_and_write_non_finite_numbers_as_null(tmp_path):
+    """The output files' JSON: numpy arrays, scalars and read-only mappings go to the
+    encoder as they are; a NaN or infinity anywhere (or a key JSON has no word for)
+    makes the whole object go through ``jsonable`` first, which writes null."""
+    import json
+    from types import MappingProxyType
+
+    import numpy as np
+
+    from gearbox.pipeline.outputs import _json, jsonable
+
+    plain = {
+        "a": np.linspace(0.0, 1.0, 7),
+        "n": np.int64(3),
+        "f": np.float32(0.5),
+        "m": MappingProxyType({"k": np.arange(3), "b": np.array([True, False])}),
+        "t": (1, 2.5, "x"),
+    }
+    (path,) = _json(tmp_path / "a.json", plain, compact=True)
+    assert json.loads(path.read_text()) == jsonable(plain)
+    assert json.loads(path.read_text())["a"] == np.linspace(0.0, 1.0, 7).tolist()
+    odd = {"x": np.array([1.0, np.nan, np.inf]), "y": {(1, 2): -np.inf}, "z": [float("nan")]}
+    (path,) = _json(tmp_path / "b.json", odd)
+    got = json.loads(path.read_text())
+    assert got == {"x": [1.0, None, None], "y": {"(1, 2)": None}, "z": [None]}

@@ -13,7 +13,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from ..meshtable import fourier_eval
 from .model import DrivetrainModel
@@ -127,6 +126,8 @@ class Modes:
 
 def modes(model: DrivetrainModel) -> Modes:
     """Eigenfrequencies and mass-normalised mode shapes of ``K_lin phi = w^2 M phi``."""
+    import scipy.linalg  # here: unpickling Modes (the report's worker) needs no scipy
+
     M, _, K = linear_matrices(model)
     w2, phi = scipy.linalg.eigh(K, M)
     w2 = np.clip(w2, 0.0, None)

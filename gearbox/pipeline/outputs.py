@@ -45,6 +45,8 @@ def jsonable(x: Any) -> Any:
     if isinstance(x, (list, tuple)):
         return [jsonable(v) for v in x]
     if isinstance(x, np.ndarray):
+        if x.dtype.kind in "fiub" and (x.dtype.kind != "f" or np.isfinite(x).all()):
+            return x.tolist()  # plain numbers all through: no walk over the elements
         return jsonable(x.tolist())
     if isinstance(x, np.generic):
         return jsonable(x.item())
@@ -57,10 +59,35 @@ def jsonable(x: Any) -> Any:
     return str(x)
 
 
+def _plain(x: Any) -> Any:
+    """What the JSON encoder cannot take itself, as :func:`jsonable` makes it."""
+    import numpy as np
+
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, np.generic):
+        return x.item()
+    if hasattr(x, "items"):
+        return dict(x.items())
+    if hasattr(x, "to_dict"):
+        return x.to_dict()
+    return str(x)
+
+
 def _json(path: Path, obj: Any, *, compact: bool = False) -> list[Path]:
     """``obj`` as JSON; ``compact``: no indentation (files of many numbers: the
-    indenting encoder is pure Python, the compact one is C)."""
-    text = json.dumps(jsonable(obj), indent=None if compact else 1, allow_nan=False)
+    indenting encoder is pure Python, the compact one is C).
+
+    The encoder takes ``obj`` as it is (numpy values and mappings through
+    :func:`_plain`); only when it meets a value JSON has no word for (NaN, infinity,
+    a key that is no string or number) is ``obj`` walked by :func:`jsonable` first,
+    which writes those as null and str(key): a spectrum's hundreds of thousands of
+    numbers are not visited one by one in Python."""
+    indent = None if compact else 1
+    try:
+        text = json.dumps(obj, indent=indent, allow_nan=False, default=_plain)
+    except (ValueError, TypeError):
+        text = json.dumps(jsonable(obj), indent=indent, allow_nan=False)
     return [write_atomic(path, text)]
 
 

@@ -62,6 +62,10 @@ def _init_worker() -> None:
     build._renderers()  # imports the renderers' modules
 
 
+def _ready() -> None:
+    """The first task: makes the pool start its process at once."""
+
+
 def _prepare(payload: bytes) -> Prepared:
     """In the worker: the files and the section(s) of one stage."""
     from ..report import build, sections
@@ -115,6 +119,9 @@ class OutputWorker:
         self._pool = ProcessPoolExecutor(
             1, mp_context=multiprocessing.get_context("spawn"), initializer=_init_worker
         )
+        # start the process now (the pool starts it at the first task): its imports
+        # then run while the main process imports and starts its first stage
+        self._pool.submit(_ready)
 
     def submit(self, scene, name: str, result: Any, key: str | None) -> None:
         """Queue stage ``name``'s files (when wanted) and section(s) (when the report
