@@ -18,9 +18,11 @@ lets the worker finish the file it is writing (every file is written atomically)
 
 from __future__ import annotations
 
+import atexit
 import os
 import pickle
 import signal
+import sys
 import time
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -52,8 +54,22 @@ class Prepared:
     section_error: BaseException | None = field(default=None, repr=False)
 
 
+def _leave_at_once() -> None:
+    """The worker's exit, once the pool has told it to stop: its files are written and
+    closed and its answers sent, so the process ends without the interpreter's
+    teardown of matplotlib and the rest (the pool's shutdown, and with it the command,
+    waits for the process to end)."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(0)
+
+
 def _init_worker() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's
+    atexit.register(_leave_at_once)
     # import what every stage needs now, while the main process starts its stages
     import matplotlib.figure  # noqa: F401
 
