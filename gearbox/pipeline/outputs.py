@@ -80,9 +80,11 @@ def _json(path: Path, obj: Any, *, compact: bool = False) -> list[Path]:
 
     The encoder takes ``obj`` as it is (numpy values and mappings through
     :func:`_plain`); only when it meets a value JSON has no word for (NaN, infinity,
-    a key that is no string or number) is ``obj`` walked by :func:`jsonable` first,
-    which writes those as null and str(key): a spectrum's hundreds of thousands of
-    numbers are not visited one by one in Python."""
+    a key that is no string, number, bool or None) is ``obj`` walked by
+    :func:`jsonable` first, which writes those as null and str(key): a spectrum's
+    hundreds of thousands of numbers are not visited one by one in Python. (Keys
+    True / None read "true" / "null" here, "True" / "None" through :func:`jsonable`;
+    the pipeline's results have none.)"""
     indent = None if compact else 1
     try:
         text = json.dumps(obj, indent=indent, allow_nan=False, default=_plain)
