@@ -26,11 +26,25 @@ of ``benchmarks/ltca_misalignment.py`` against its whole-gear FE
   gear's couplings); ``pairs plane x 1.0``: those couplings without the factor
   ``PAIR_COUPLING_SCALE``.
 
+- ``contact along the line``: Weber's contact approach (a line load, even and
+  endless along the line) corrected for the load's actual run along the contact line
+  by Boussinesq's half-space: each point's approach less what an even line load beyond
+  its own strip adds, plus what the loads of the same pair's other strips add
+  (:class:`LineContact`; an even endless load gives Weber's again). A short contact, as
+  on the coast flanks, loses the approach of the load it lacks.
+
 ``--only`` keeps the variants whose name has one of the words. Then the split at 300
 N m into what the FE's segment holds and its far field (``1/k_whole - 1/k_segment``),
 against the fast level (pairs even) without its shared terms and what its far field
 and tilt add, in 1e-10 m/N of mesh compliance (``--no-split`` leaves it out). About
 70 s here.
+
+``--own-terms CASE [--positions 0 8 16] [--refine 1.0]`` runs the FE level's segment
+(minutes) at those positions of both flanks and splits one tooth pair's own compliance
+under the FE's contact loads at 300 N m, ``F^T C F / F_n^2`` summed over the pairs that
+carry 5 % or more, into the pinion's and the gear's tooth (the fast level's slices and
+rim torsion) and the contact (the FE level's half-space cells and their couplings;
+Weber's approach in the fast level), each level against the other.
 """
 
 from __future__ import annotations
@@ -106,6 +120,92 @@ class Unshared(FastCompliance):
         return np.zeros((grid.size, grid.size))
 
 
+def _beyond(a, h, E, nu):
+    """Integral from ``a`` to infinity along the surface of Boussinesq's approach of the
+    surface point over a point at depth ``h`` below the observed point, per unit force
+    (m/N per m of line): a point force P at distance s moves the surface by P (1 -
+    nu^2) / (pi E s) and the point at depth by P (1 + nu) / (2 pi E) (2 (1 - nu) / r +
+    h^2 / r^3), r = sqrt(s^2 + h^2)."""
+    c = (1.0 - nu**2) / (np.pi * E)
+    return c * (np.arcsinh(a / h) - np.log(2.0 * a / h)) - (1.0 + nu) / (2.0 * np.pi * E) * (
+        1.0 - a / np.sqrt(a**2 + h**2)
+    )
+
+
+@dataclass(frozen=True)
+class LineContact(FastCompliance):
+    """Weber's contact approach corrected for the load's run along the contact line:
+    within each tooth pair, point i's approach loses ``2 I(l_i / 2) q_i`` (an even
+    line load beyond its own strip of length l_i, which Weber's line formula holds)
+    and gains ``sum_j F_j (I(s_ij - l_j / 2) - I(s_ij + l_j / 2)) / l_j`` (the other
+    strips' loads), I = :func:`_beyond` for each gear's reference depth; load
+    independent, so it goes with the tooth matrix. One point per face slot and pair
+    (the beveloid and parallel grids)."""
+
+    def tooth_matrix(self, grid):
+        E, nu = grid.youngs_modulus, grid.poisson_ratio
+        C = super().tooth_matrix(grid)
+        depths = self.contact_reference(grid)
+        for k in grid.pairs():
+            idx = np.flatnonzero(grid.pair == k)
+            d = grid.position[idx, None, :] - grid.position[None, idx, :]
+            s = np.linalg.norm(d, axis=-1)
+            strip = grid.line_length[idx]
+            near = np.maximum(s - strip[None, :] / 2, 0.25 * strip[None, :])
+            for h in depths:
+                hi = h[idx][:, None]
+                K = (_beyond(near, hi, E, nu) - _beyond(s + strip[None, :] / 2, hi, E, nu)) / strip
+                np.fill_diagonal(K, -2.0 * _beyond(strip / 2, h[idx], E, nu) / strip)
+                C[np.ix_(idx, idx)] += K
+        return C
+
+
+def own_terms(case: str, positions: list[int], refine: float) -> None:
+    """One tooth pair's own compliance by term, FE segment against the fast level."""
+    from gearbox.fe import FECompliance, FEOptions, MeshOptions
+    from gearbox.ltca import solve_contact
+    from gearbox.surface import blanks_from_design
+
+    fast = FastCompliance()
+    print(
+        f"case {case}, positions {positions}, FE mesh refined {refine:g}, 300 N m: one pair's "
+        "own F^T C F / F_n^2 (1e-10 m/N), summed over the positions"
+    )
+    print(f"{'flank':>5} {'term':>8} {'FE':>8} {'fast':>8} {'fast/FE':>8}")
+    for flank in FLANKS:
+        _, design, grids = rip.case_grids(case, flank)
+        grids = [grids[p] for p in positions]
+        fe = FECompliance(
+            FEOptions(mesh=MeshOptions().refined(refine), far_field="none"),
+            blanks=blanks_from_design(design),
+        )
+        fe.reserve(grids)
+        sums = {t: np.zeros(2) for t in ("pinion", "gear", "contact")}
+        for g in grids:
+            tooth = [fe.gear_matrix(g, 0), fe.gear_matrix(g, 1)]
+            local = fe.local_matrix(g)
+            seg = rip.Frozen([g], [tooth[0] + tooth[1] + local], fe.contact_diagonal)
+            F = solve_contact(g, seg, 300.0).load
+            q = F / g.line_length
+            ours = [fast.slice_matrix(g, k) + fast.torsion_matrix(g, k) for k in (0, 1)]
+            fe_contact = np.diag(fe.contact_diagonal(g, q)) + local
+            weber = np.diag(fast.contact_diagonal(g, q))
+            for k in g.pairs():
+                i = g.pair == k
+                if F[i].sum() < 0.05 * F.sum():
+                    continue
+                f, norm = F[i], F.sum() ** 2 * 1e-10
+                for term, a, b in (
+                    ("pinion", tooth[0], ours[0]),
+                    ("gear", tooth[1], ours[1]),
+                    ("contact", fe_contact, weber),
+                ):
+                    sums[term] += [f @ a[np.ix_(i, i)] @ f / norm, f @ b[np.ix_(i, i)] @ f / norm]
+        sums["all"] = sum(sums.values())
+        for term, (x, y) in sums.items():
+            print(f"{flank:>5} {term:>8} {x:8.3f} {y:8.3f} {y / x:8.3f}", flush=True)
+
+
 def k_hbeta_errors(compliance) -> list[float]:
     """K_Hbeta of the misaligned spur pair over the stored whole-gear FE's - 1, per
     misalignment (10, 20 um), mean of the two positions."""
@@ -170,7 +270,13 @@ def main(argv=None) -> int:
     ap.add_argument("--cases", nargs="+", default=["01", "02", "03", "04"])
     ap.add_argument("--only", nargs="+", metavar="WORD", help="the variants whose name has one")
     ap.add_argument("--no-split", action="store_true", help="leave out the split at 300 N m")
+    ap.add_argument("--own-terms", metavar="CASE", help="only the FE level's own terms (minutes)")
+    ap.add_argument("--positions", nargs="+", type=int, default=[0, 8, 16])
+    ap.add_argument("--refine", type=float, default=1.0, help="FE mesh refinement (--own-terms)")
     a = ap.parse_args(argv)
+    if a.own_terms:
+        own_terms(a.own_terms, a.positions, a.refine)
+        return 0
     variants = {
         "default": FastCompliance(),
         "face ends": FastCompliance(helix_ends=cm.HELIX_ENDS),
@@ -180,6 +286,7 @@ def main(argv=None) -> int:
         "rocking 30": Rocking(rocking=30.0),
         "pairs even (the earlier default)": FastCompliance(between_pairs="even"),
         "pairs plane x 1.0": FastCompliance(pair_coupling_scale=1.0),
+        "contact along the line": LineContact(),
     }
     if a.only:
         variants = {k: v for k, v in variants.items() if any(w in k for w in a.only)}
