@@ -51,6 +51,24 @@ def test_order_spectrum_plot(spectrum, style, tmp_path):
     assert plot_order_spectrum(spectrum, log=True).figure is not None
 
 
+
+def test_order_spectrum_stems_one_per_bin(spectrum):
+    """The stems are one segment per bin from zero to its amplitude (drawn as one
+    collection), and the axes scale to them as they did with ``vlines``."""
+    ax = Figure().add_subplot()
+    plot_order_spectrum(spectrum, ax, max_order=50.0)
+    keep = (spectrum.orders > 0) & (spectrum.orders <= 50.0)
+    segs = np.array(ax.collections[0].get_segments())
+    assert segs.shape == (keep.sum(), 2, 2)
+    np.testing.assert_array_equal(segs[:, 0, 0], spectrum.orders[keep])
+    np.testing.assert_array_equal(segs[:, 1, 0], spectrum.orders[keep])
+    np.testing.assert_array_equal(segs[:, 0, 1], 0.0)
+    np.testing.assert_array_equal(segs[:, 1, 1], spectrum.amplitudes[keep])
+    ref = Figure().add_subplot()
+    ref.vlines(spectrum.orders[keep], 0.0, spectrum.amplitudes[keep])
+    assert ax.get_xlim() == pytest.approx(ref.get_xlim())
+    assert ax.get_ylim()[1] == pytest.approx(ref.get_ylim()[1], rel=0.05)
+
 def test_waterfall_plots(tmp_path):
     t = np.arange(0.0, 2.0, 1.0 / 8192.0)
     speed = 900.0 + 600.0 * t

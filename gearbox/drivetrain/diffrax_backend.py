@@ -253,9 +253,11 @@ def integrate_diffrax(
     p = model.params()
     ts = np.concatenate([[t0], np.asarray(t_eval, float)])
     fn = solve_fn(solver)
-    pj = {k: jnp.asarray(v) for k, v in p.items()}
-    z0 = jnp.asarray(np.asarray(y0, float) / p["scale"])
-    tsj = jnp.asarray(ts)
+    # numpy arrays, not jnp.asarray: that compiles a conversion per new shape (13 of
+    # them cost a new process 0.14 s); the compiled call takes numpy arrays as they are
+    pj = {k: np.asarray(v) for k, v in p.items()}
+    z0 = np.asarray(y0, float) / p["scale"]
+    tsj = ts
     key = (model.n_dof, ts.size, tuple((k, np.shape(v)) for k, v in p.items()))
     start = _time.perf_counter()
     compiled = _compiled((solver, key), fn, (pj, z0, tsj))
@@ -338,12 +340,12 @@ def _integrate_fixed(model, y0, t_eval, solver: DiffraxSolver, *, t0: float = 0.
     steps = plan.n_steps
     plan = plan.padded(bucket(steps))
     fn = fixed_solve_fn(solver.solver, solver.table_cells, terms=excitation_terms(p))
-    args = (
-        {k: jnp.asarray(v) for k, v in p.items()},
-        jnp.asarray(np.asarray(y0, float) / p["scale"]),
-        jnp.asarray(plan.t),
-        jnp.asarray(plan.h),
-        jnp.asarray(plan.out),
+    args = (  # numpy arrays, as in integrate_diffrax
+        {k: np.asarray(v) for k, v in p.items()},
+        np.asarray(y0, float) / p["scale"],
+        np.asarray(plan.t),
+        np.asarray(plan.h),
+        np.asarray(plan.out),
     )
     key = ("fixed", solver.solver, solver.table_cells, plan.n_steps, plan.out.size)
     key += excitation_terms(p)
