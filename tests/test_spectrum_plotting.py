@@ -51,7 +51,6 @@ def test_order_spectrum_plot(spectrum, style, tmp_path):
     assert plot_order_spectrum(spectrum, log=True).figure is not None
 
 
-
 def test_order_spectrum_stems_one_per_bin(spectrum):
     """The stems are one segment per bin from zero to its amplitude (drawn as one
     collection), and the axes scale to them as they did with ``vlines``."""
@@ -68,6 +67,7 @@ def test_order_spectrum_stems_one_per_bin(spectrum):
     ref.vlines(spectrum.orders[keep], 0.0, spectrum.amplitudes[keep])
     assert ax.get_xlim() == pytest.approx(ref.get_xlim())
     assert ax.get_ylim()[1] == pytest.approx(ref.get_ylim()[1], rel=0.05)
+
 
 def test_waterfall_plots(tmp_path):
     t = np.arange(0.0, 2.0, 1.0 / 8192.0)
