@@ -32,6 +32,9 @@ of ``benchmarks/ltca_misalignment.py`` against its whole-gear FE
   its own strip adds, plus what the loads of the same pair's other strips add
   (:class:`LineContact`; an even endless load gives Weber's again). A short contact, as
   on the coast flanks, loses the approach of the load it lacks.
+- ``contact to the matching depth``: the FE level's split (``contact="matching_depth"``):
+  Weber's approach to the FE's matching depth, the slices' tooth read there, with that
+  split's own body coefficient.
 
 ``--only`` keeps the variants whose name has one of the words. Then the split at 300
 N m into what the FE's segment holds and its far field (``1/k_whole - 1/k_segment``),
@@ -39,12 +42,14 @@ against the fast level (pairs even) without its shared terms and what its far fi
 and tilt add, in 1e-10 m/N of mesh compliance (``--no-split`` leaves it out). About
 70 s here.
 
-``--own-terms CASE [--positions 0 8 16] [--refine 1.0]`` runs the FE level's segment
-(minutes) at those positions of both flanks and splits one tooth pair's own compliance
-under the FE's contact loads at 300 N m, ``F^T C F / F_n^2`` summed over the pairs that
-carry 5 % or more, into the pinion's and the gear's tooth (the fast level's slices and
-rim torsion) and the contact (the FE level's half-space cells and their couplings;
-Weber's approach in the fast level), each level against the other.
+``--own-terms CASE [--positions 0 8 16] [--refine 1.0] [--contact matching_depth]``
+runs the FE level's segment (minutes) at those positions of both flanks and splits one
+tooth pair's own compliance under the FE's contact loads at 300 N m, ``F^T C F /
+F_n^2`` summed over the pairs that carry 5 % or more, into the pinion's and the gear's
+tooth (the fast level's slices and rim torsion) and the contact (the FE level's
+half-space cells and their couplings; Weber's approach in the fast level, to the
+centre line or with ``--contact matching_depth`` to the FE's matching depth, the tooth
+then read there), each level against the other.
 """
 
 from __future__ import annotations
@@ -160,16 +165,17 @@ class LineContact(FastCompliance):
         return C
 
 
-def own_terms(case: str, positions: list[int], refine: float) -> None:
-    """One tooth pair's own compliance by term, FE segment against the fast level."""
+def own_terms(case: str, positions: list[int], refine: float, contact: str) -> None:
+    """One tooth pair's own compliance by term, FE segment against the fast level (its
+    contact term to ``contact``: the centre line or the FE's matching depth)."""
     from gearbox.fe import FECompliance, FEOptions, MeshOptions
     from gearbox.ltca import solve_contact
     from gearbox.surface import blanks_from_design
 
-    fast = FastCompliance()
+    fast = FastCompliance(contact=contact)
     print(
-        f"case {case}, positions {positions}, FE mesh refined {refine:g}, 300 N m: one pair's "
-        "own F^T C F / F_n^2 (1e-10 m/N), summed over the positions"
+        f"case {case}, positions {positions}, FE mesh refined {refine:g}, 300 N m, fast contact "
+        f"{contact}: one pair's own F^T C F / F_n^2 (1e-10 m/N), summed over the positions"
     )
     print(f"{'flank':>5} {'term':>8} {'FE':>8} {'fast':>8} {'fast/FE':>8}")
     for flank in FLANKS:
@@ -273,9 +279,15 @@ def main(argv=None) -> int:
     ap.add_argument("--own-terms", metavar="CASE", help="only the FE level's own terms (minutes)")
     ap.add_argument("--positions", nargs="+", type=int, default=[0, 8, 16])
     ap.add_argument("--refine", type=float, default=1.0, help="FE mesh refinement (--own-terms)")
+    ap.add_argument(
+        "--contact",
+        choices=["centre_line", "matching_depth"],
+        default="centre_line",
+        help="the fast level's contact reference (--own-terms)",
+    )
     a = ap.parse_args(argv)
     if a.own_terms:
-        own_terms(a.own_terms, a.positions, a.refine)
+        own_terms(a.own_terms, a.positions, a.refine, a.contact)
         return 0
     variants = {
         "default": FastCompliance(),
@@ -287,6 +299,7 @@ def main(argv=None) -> int:
         "pairs even (the earlier default)": FastCompliance(between_pairs="even"),
         "pairs plane x 1.0": FastCompliance(pair_coupling_scale=1.0),
         "contact along the line": LineContact(),
+        "contact to the matching depth": FastCompliance(contact="matching_depth"),
     }
     if a.only:
         variants = {k: v for k, v in variants.items() if any(w in k for w in a.only)}
