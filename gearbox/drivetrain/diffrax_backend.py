@@ -253,8 +253,9 @@ def integrate_diffrax(
     p = model.params()
     ts = np.concatenate([[t0], np.asarray(t_eval, float)])
     fn = solve_fn(solver)
-    # numpy arrays, not jnp.asarray: that compiles a conversion per new shape (13 of
-    # them cost a new process 0.14 s); the compiled call takes numpy arrays as they are
+    # numpy arrays, not jnp.asarray: that compiles a conversion per new shape (the
+    # fixed-step path's 13 cost a new process 0.14 s, profiled); the compiled call takes
+    # numpy arrays as they are
     pj = {k: np.asarray(v) for k, v in p.items()}
     z0 = np.asarray(y0, float) / p["scale"]
     tsj = ts
