@@ -95,16 +95,9 @@ def console() -> None:
     watched = sys.getprofile() is not None or sys.gettrace() is not None
     if watched or "coverage" in sys.modules:  # coverage may watch through sys.monitoring
         sys.exit(code)
-    import logging
-    import os
+    from .commands._common import exit_now
 
-    logging.shutdown()
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):  # a closed pipe: nothing more to say
-            pass
-    os._exit(code)
+    exit_now(code)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -49,3 +49,20 @@ def write_atomic(path: str | Path, data: str | bytes) -> Path:
 
 def dumps_json(obj) -> str:
     return json.dumps(obj, indent=2, sort_keys=False, allow_nan=False)
+
+
+def exit_now(code: int) -> None:
+    """End this process with ``code`` without the interpreter's teardown: logging's
+    handlers and stdout / stderr are flushed first (a closed pipe is ignored); files
+    must be written and closed already. The ``gearbox`` command and the output
+    worker's process leave this way (docs/pipeline.md)."""
+    import logging
+    import sys
+
+    logging.shutdown()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe: nothing more to say
+            pass
+    os._exit(code)

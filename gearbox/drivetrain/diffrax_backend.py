@@ -258,13 +258,12 @@ def integrate_diffrax(
     # numpy arrays as they are
     pj = {k: np.asarray(v) for k, v in p.items()}
     z0 = np.asarray(y0, float) / p["scale"]
-    tsj = ts
     key = (model.n_dof, ts.size, tuple((k, np.shape(v)) for k, v in p.items()))
     start = _time.perf_counter()
-    compiled = _compiled((solver, key), fn, (pj, z0, tsj))
+    compiled = _compiled((solver, key), fn, (pj, z0, ts))
     compile_time = _time.perf_counter() - start
     start = _time.perf_counter()
-    zs, code, steps, rej = compiled(pj, z0, tsj)
+    zs, code, steps, rej = compiled(pj, z0, ts)
     zs = np.asarray(jax.block_until_ready(zs))
     wall = _time.perf_counter() - start
     Y = zs[1:] * p["scale"]

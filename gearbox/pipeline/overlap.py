@@ -22,7 +22,6 @@ import atexit
 import os
 import pickle
 import signal
-import sys
 import time
 from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -59,12 +58,9 @@ def _leave_at_once() -> None:
     closed and its answers sent, so the process ends without the interpreter's
     teardown of matplotlib and the rest (the pool's shutdown, and with it the command,
     waits for the process to end)."""
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):
-            pass
-    os._exit(0)
+    from ..commands._common import exit_now
+
+    exit_now(0)
 
 
 def _init_worker() -> None:
