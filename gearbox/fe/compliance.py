@@ -862,6 +862,47 @@ class FECompliance:
         a = hertz_half_width(q, grid.curvature_radius, E, nu)
         return 2.0 * surface_deflection(0.0, 0.0, 0.5 * grid.line_length, a, E, nu)
 
+    def describe(self) -> str:
+        """One line naming the level's choices, for provenance (table attributes, the
+        report)."""
+        far = {"extrapolated": "far field extrapolated", "none": "the segment alone"}
+        return (
+            f"finite-element teeth ({far.get(self.options.far_field, self.options.far_field)}), "
+            f"half-space contact to {self.options.matching_depth:g} m_n, root stress from "
+            "the FE fillet"
+        )
+
+    def grid_root_stress(self, grid: ContactGrid, load) -> tuple:
+        """Root stress of pinion and gear under the grid loads, from the FE fillet
+        (:func:`gearbox.fe.stress.fillet_stress`), in place of the fast level's ISO
+        6336-3 slices (:func:`gearbox.ltca.stress.grid_root_stress`).
+
+        Returns ``((at1, at2), (top1, top2))``, arrays of shape (n,): ``at`` the largest
+        principal stress over the fillet profile of each point's tooth at the point's
+        face position (linear between the fillet's element middles along the face,
+        held at the outermost beyond them), ``top`` the largest over that tooth's
+        whole fillet (its face ends included, which the grid's slot middles may not
+        reach). The lattice responses the contact solve computed are superposed: no
+        new solve.
+        """
+        from .stress import fillet_stress
+
+        load = np.asarray(load, dtype=float)
+        at, top = [], []
+        for gear in (0, 1):
+            loads = self.loads(grid, gear)
+            fs = fillet_stress(self, grid, load, gear)
+            rs = fs.root_stress  # (teeth, face positions)
+            a = np.zeros(grid.size)
+            m = np.zeros(grid.size)
+            for k, tooth in enumerate(fs.teeth):
+                on = loads.tooth == tooth
+                a[on] = np.interp(loads.z[on], fs.z, rs[k])
+                m[on] = rs[k].max()
+            at.append(a)
+            top.append(m)
+        return (at[0], at[1]), (top[0], top[1])
+
     def matrix(self, grid: ContactGrid, line_load: np.ndarray | None = None) -> np.ndarray:
         C = self.tooth_matrix(grid)
         if line_load is None:

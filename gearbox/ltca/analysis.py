@@ -38,7 +38,7 @@ from .slice_model import hertz_half_width, hertz_pressure
 from .solver import ContactSolver, solve_contact
 from .stress import grid_root_stress
 
-__all__ = ["CycleResult", "LTCAOptions", "ltca_cycle"]
+__all__ = ["CycleResult", "LTCAOptions", "ltca_cycle", "root_stress_method"]
 
 
 @dataclass(frozen=True)
@@ -204,6 +204,34 @@ def _pattern(raster, profile_range, face_range, prof, face, half, width, pressur
         raster[np.ix_(su, sv)] = np.maximum(block, pressure[j])
 
 
+def root_stress_method(compliance) -> str:
+    """Where a compliance level's root stresses come from, in words."""
+    if callable(getattr(compliance, "grid_root_stress", None)):
+        return "FE fillet (largest principal stress, gearbox.fe.stress)"
+    return "ISO 6336-3 slices spread along the face by the moment image (gearbox.ltca.stress)"
+
+
+def _root_stress(compliance, grid: ContactGrid, load: np.ndarray):
+    """Root stress of pinion and gear at the grid points under ``load``:
+    ``((at1, at2), (top1, top2))``, each shape (n,), ``at`` at the point's face
+    position, ``top`` the largest on the point's tooth. A level with its own stress
+    model (``grid_root_stress``, the FE level's fillet) gives both; otherwise the
+    slices' ISO 6336-3 stresses spread along the face by the moment image, whose
+    largest on a tooth is the largest over its points."""
+    own = getattr(compliance, "grid_root_stress", None)
+    if callable(own):
+        return own(grid, load)
+    at = grid_root_stress(grid, load)
+    top = []
+    for s in at:
+        m = np.zeros_like(s)
+        for k in np.unique(grid.pair):
+            on = grid.pair == k
+            m[on] = s[on].max()
+        top.append(m)
+    return at, (top[0], top[1])
+
+
 def ltca_cycle(
     grid_at: Callable[[float], ContactGrid],
     torques,
@@ -310,17 +338,16 @@ def ltca_cycle(
             E, nu = grid.youngs_modulus, grid.poisson_ratio
             p0 = hertz_pressure(q, grid.curvature_radius, E, nu)
             out["max_pressure"][t, j] = float(p0.max())
-            # slice root stresses spread along the face by the moment image
-            s1, s2 = grid_root_stress(grid, F)
-            out["root_stress_pinion"][t, j] = float(s1.max())
-            out["root_stress_gear"][t, j] = float(s2.max())
+            (s1, s2), (m1, m2) = _root_stress(compliance, grid, F)
+            out["root_stress_pinion"][t, j] = float(m1.max())
+            out["root_stress_gear"][t, j] = float(m2.max())
             np.maximum.at(rs_face1[t], grid.slot, s1)
             np.maximum.at(rs_face2[t], grid.slot, s2)
             for kk, k in enumerate(pair_index):
                 on = grid.pair == k
                 share[t, j, kk] = float(F[on].sum()) / Fn
                 if on.any():
-                    pair_rs[t, j, kk] = (float(s1[on].max()), float(s2[on].max()))
+                    pair_rs[t, j, kk] = (float(m1[on].max()), float(m2[on].max()))
             mesh_point[t, j] = (F @ grid.position) / Fn
             nv = F @ grid.normal
             loa[t, j] = nv / np.linalg.norm(nv)
@@ -386,7 +413,11 @@ def ltca_cycle(
         gap_residual=out["gap_residual"],
         profile_range=tuple(profile_range),
         face_range=tuple(face_range),
-        meta={"edge_tolerance": options.edge_tolerance, "compliance": compliance.name},
+        meta={
+            "edge_tolerance": options.edge_tolerance,
+            "compliance": compliance.name,
+            "root_stress": root_stress_method(compliance),
+        },
     )
 
 

@@ -42,7 +42,7 @@ import numpy as np
 from .. import __version__
 from ..errors import InputError, Problem, Problems
 from ..geometry.involute import inv
-from .analysis import LTCAOptions, ltca_cycle
+from .analysis import LTCAOptions, ltca_cycle, root_stress_method
 from .compliance import compliance_for, describe_compliance
 from .grid import ContactGrid, ToothSections
 from .modification import FlankModification, TipRelief, as_modification, describe_pair
@@ -828,6 +828,7 @@ def beveloid_ltca(
         "method": "loaded TCA: separation field of the generated flanks (gearbox.surface), "
         f"{describe_compliance(compliance)}, active-set contact solver",
         "fidelity": lt["fidelity"],
+        "root_stress": root_stress_method(compliance),
         "gearbox_version": __version__,
         "frame": "Sf of gearbox.tca.assembly (paper Fig. 11); drive = R flank, coast = L flank",
         "field_newton_iterations": int(sum(fields.values())),

@@ -15,7 +15,7 @@ import numpy as np
 from .. import __version__
 from ..errors import Problems
 from ..meshtable import MeshTable
-from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle
+from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle, root_stress_method
 from .compliance import compliance_for, describe_compliance
 from .parallel import ParallelPair, parallel_grid
 
@@ -217,6 +217,7 @@ def parallel_ltca(
         "method": "loaded TCA, parallel-axis involute pair (plane of action, closed form), "
         f"{describe_compliance(compliance)}",
         "fidelity": fidelity,
+        "root_stress": root_stress_method(compliance),
         "gearbox_version": __version__,
         "frame": "pinion axis z through origin, gear axis through (a, 0, 0); drive = R flank",
         "flank_modifications": describe_pair(mods),
