@@ -82,7 +82,8 @@ def render_ltca(lt, run) -> Section:
     t = _operating_index(first, run)
     parts = [
         f'<p class="muted">{lt.attrs.get("method", "")}; fidelity '
-        f"{lt.attrs.get('fidelity', '')}. Flank modifications: "
+        f"{lt.attrs.get('fidelity', '')}. Root stress: "
+        f"{esc(lt.attrs.get('root_stress', 'ISO 6336-3 slices'))}. Flank modifications: "
         f"{esc(lt.attrs.get('flank_modifications', 'none'))}. Figures at "
         f"{first.torque[t]:g} N m, the torque level nearest to the operating torque.</p>",
         table(head, rows),
