@@ -116,3 +116,23 @@ def test_meshes_finer_across_the_tooth_place_their_matching_points():
     ).matrix(grid, q)
     ratio = (e @ fine @ e) / (e @ base @ e)
     assert 1.0 <= ratio < 1.03
+
+
+def test_threaded_solves_equal_one_thread(spur_matrix, monkeypatch):
+    # the lattice solves shared over threads (ToothModel.solve) are the same solves
+    # as on one thread: the matrices agree bit for bit
+    _, grid, C = spur_matrix
+    monkeypatch.setenv("GEARBOX_FE_THREADS", "1")
+    one = FECompliance(COARSE).matrix(grid, np.full(grid.size, 3e5))
+    assert np.array_equal(one, C)
+    monkeypatch.setenv("GEARBOX_FE_THREADS", "3")  # more threads than cores is allowed
+    assert np.array_equal(FECompliance(COARSE).matrix(grid, np.full(grid.size, 3e5)), C)
+
+
+@pytest.mark.parametrize("value", ["0", "two", "-1"])
+def test_bad_thread_count_names_the_variable(monkeypatch, value):
+    from gearbox.fe.model import solve_threads
+
+    monkeypatch.setenv("GEARBOX_FE_THREADS", value)
+    with pytest.raises(InputError, match="GEARBOX_FE_THREADS"):
+        solve_threads()

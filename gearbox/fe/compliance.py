@@ -66,6 +66,9 @@ from .model import ToothModel, build_model
 
 __all__ = ["FEOptions", "FECompliance", "FarField", "GearLoads", "beveloid_loads", "gear_loads"]
 
+# load columns solved together (ToothModel.solve shares them over the cores)
+_BLOCK = 32
+
 
 @dataclass(frozen=True)
 class FEOptions:
@@ -566,10 +569,12 @@ class FECompliance:
         union = np.unique(np.concatenate([model.element_dofs(f[2]).ravel() for f in fil]))
         depth = np.empty((Dall.shape[0], n_lat))
         usub = np.empty((union.size, n_lat))
-        for j in range(n_lat):
-            u = model.solve(F[:, [j]].toarray()[:, 0])
-            depth[:, j] = Dall @ u
-            usub[:, j] = u[union]
+        # blocks of columns: the solves of a block share the cores (ToothModel.solve),
+        # the block bounds the memory of the full displacement columns
+        for j in range(0, n_lat, _BLOCK):
+            u = model.solve(F[:, j : j + _BLOCK])
+            depth[:, j : j + _BLOCK] = Dall @ u
+            usub[:, j : j + _BLOCK] = u[union]
         sizes = np.cumsum([0] + [d.shape[0] for d in D])
         solved = _Solved(
             depth={tb: depth[sizes[i] : sizes[i + 1]] for i, tb in enumerate(loadable)},
@@ -676,9 +681,9 @@ class FECompliance:
             cols = []
             for ta in loadable:
                 F = self._unit_loads(cg, side, ta, Zs, Us)
-                for j in range(Zs.size):
-                    cols.append(D @ cg.model.solve(F[:, [j]].toarray()[:, 0]))
-            out[(bc, k)] = np.stack(cols, axis=1)
+                for j in range(0, Zs.size, _BLOCK):
+                    cols.append(D @ cg.model.solve(F[:, j : j + _BLOCK]))
+            out[(bc, k)] = np.concatenate(cols, axis=1)
             del cg, mesh
         return out
 

@@ -23,10 +23,35 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import Problem
+from ..errors import InputError, Problem
 from .mesh import _G3, _G3W, FEBuildError, ToothMesh, shape_functions
 
-__all__ = ["ToothModel", "assemble_stiffness", "build_model"]
+__all__ = ["ToothModel", "assemble_stiffness", "build_model", "solve_threads"]
+
+
+def solve_threads() -> int:
+    """Threads for the solves of many load columns: ``GEARBOX_FE_THREADS`` where set
+    (a positive integer; 1 solves in the calling thread), else the cores this process
+    may run on."""
+    import os
+
+    env = os.environ.get("GEARBOX_FE_THREADS", "").strip()
+    if env:
+        try:
+            n = int(env)
+        except ValueError:
+            n = 0
+        if n < 1:
+            raise InputError(
+                Problem("GEARBOX_FE_THREADS", env, "must be a positive integer"),
+                "invalid environment variable (threads of the FE level's solves)",
+            )
+        return n
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return os.cpu_count() or 1
+
 
 _GP = np.array([[a, b, c] for c in _G3 for b in _G3 for a in _G3])
 _GW = np.array([wa * wb * wc for wc in _G3W for wb in _G3W for wa in _G3W])
@@ -109,17 +134,36 @@ class ToothModel:
         """Approximate memory of the factors (bytes): value and row index per entry."""
         return 12 * self.factor_nnz
 
-    def solve(self, F: np.ndarray) -> np.ndarray:
-        """Displacements (m), shape (n_dofs, m), for loads F (N), shape (n_dofs, m)."""
+    def solve(self, F) -> np.ndarray:
+        """Displacements (m), shape (n_dofs, m), for loads F (N), shape (n_dofs, m)
+        (a dense array or a scipy sparse matrix; shape (n_dofs,) gives (n_dofs,)).
+
+        Several columns are solved on the machine's cores at once (threads sharing
+        the factorisation: SuperLU's solve releases the GIL and only reads the
+        factors; ``benchmarks/bench_fe_solve.py`` measures the gain)."""
+        if hasattr(F, "tocsc"):
+            F = F.toarray()
         F = np.asarray(F, dtype=float)
         one = F.ndim == 1
         F2 = F[:, None] if one else F
         U = np.zeros_like(F2)
         Ff = F2[self.free]
-        # one column at a time: scipy's SuperLU multi-column solve measured 8 to 13
-        # times slower than a loop of single solves (81 columns, 6 k unknowns)
-        for j in range(Ff.shape[1]):
-            U[self.free, j] = self.factor.solve(np.ascontiguousarray(Ff[:, j]))
+        m = Ff.shape[1]
+
+        def columns(js):
+            # one column at a time: scipy's SuperLU multi-column solve measured 8 to
+            # 13 times slower than a loop of single solves (81 columns, 6 k unknowns)
+            for j in js:
+                U[self.free, j] = self.factor.solve(np.ascontiguousarray(Ff[:, j]))
+
+        workers = min(m, solve_threads())
+        if workers <= 1:
+            columns(range(m))
+        else:
+            from concurrent.futures import ThreadPoolExecutor
+
+            with ThreadPoolExecutor(workers) as pool:
+                list(pool.map(columns, [range(w, m, workers) for w in range(workers)]))
         return U[:, 0] if one else U
 
     def element_dofs(self, cells) -> np.ndarray:
