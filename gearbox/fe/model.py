@@ -95,11 +95,14 @@ def assemble_stiffness(p, t, youngs_modulus: float, poisson_ratio: float, *, chu
                 "the FE stiffness cannot be assembled",
             )
         G = G * np.sqrt(_GW[None, :] * det)[:, :, None, None]
-        A = np.einsum("mgai,mgbj->maibj", G, G)
-        S = np.einsum("mgak,mgbk->mab", G, G)
+        # sums over the Gauss points as batched matrix products (BLAS): A[m, ai, bj] =
+        # sum_g G[m, g, ai] G[m, g, bj], and S its trace over i = j
+        m = tc.shape[1]
+        Gr = G.reshape(m, _GW.size, 81)
+        A = np.matmul(Gr.transpose(0, 2, 1), Gr).reshape(m, 27, 3, 27, 3)
+        S = A[:, :, 0, :, 0] + A[:, :, 1, :, 1] + A[:, :, 2, :, 2]
         Ke = lam * A + mu * A.transpose(0, 1, 4, 3, 2)
         Ke += mu * S[:, :, None, :, None] * eye[None, None, :, None, :]
-        m = tc.shape[1]
         dofs = (3 * tc.T[:, :, None] + np.arange(3)[None, None, :]).reshape(m, 81)
         rows = np.broadcast_to(dofs[:, :, None], (m, 81, 81)).ravel()
         cols = np.broadcast_to(dofs[:, None, :], (m, 81, 81)).ravel()
