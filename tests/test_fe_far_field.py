@@ -160,3 +160,18 @@ def test_case03_corrected_coarse_table_against_the_whole_gear_reference():
     # 4 % stiffer than the default one (docs/fe.md), so within the uncertainty plus 4 %
     # (measured +2.3 / +2.3 / +2.4 %)
     assert np.all(np.abs(k / whole - 1) <= rel + 0.04), k / whole - 1
+
+
+@pytest.mark.slow
+def test_segments_on_threads_equal_one_thread(spur_coarse, monkeypatch):
+    # the extent study's coarse segments are independent: built and solved on threads
+    # at once (the default on a machine of several cores) or one after the other, the
+    # study's sequence is the same bit for bit and each segment is factorised once
+    _, _, grid, *_, ff = spur_coarse
+    for threads in ("1", "3"):
+        monkeypatch.setenv("GEARBOX_FE_THREADS", threads)
+        fe = FECompliance(FEOptions(mesh=MeshOptions.coarse()))
+        f = fe.far_field(grid, 1)
+        assert f.sequence == ff[1].sequence
+        assert f.compliance == ff[1].compliance
+        assert fe.stats["far_field_factorisations"] == 8

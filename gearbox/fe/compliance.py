@@ -62,7 +62,7 @@ from ..surface.sample import SolveFailure, parameter_at_radius, tip_parameter
 from .boussinesq import depth_deflection, surface_deflection
 from .extent import extent_limit
 from .mesh import FEBuildError, MeshOptions, build_tooth_mesh, locate
-from .model import ToothModel, build_model
+from .model import ToothModel, build_model, solve_threads
 
 __all__ = ["FEOptions", "FECompliance", "FarField", "GearLoads", "beveloid_loads", "gear_loads"]
 
@@ -665,8 +665,9 @@ class FECompliance:
             )
         if (self.options.cut_faces, nb) not in runs:
             runs.append((self.options.cut_faces, nb))
-        out = {}
-        for bc, k in runs:
+
+        def segment(run):
+            bc, k = run
             mesh = build_tooth_mesh(
                 blank,
                 tuple(range(lo - k, hi + k + 1)),
@@ -676,16 +677,26 @@ class FECompliance:
             )
             cg = _GearModel(model=build_model(mesh, E, nu), key=gm.key, bore=gm.bore)
             cg.lattices[side] = lat
-            self.stats["far_field_factorisations"] += 1
             D = sp.vstack([self._depth_operator(cg, side, tb) for tb in loadable]).tocsr()
             cols = []
             for ta in loadable:
                 F = self._unit_loads(cg, side, ta, Zs, Us)
                 for j in range(0, Zs.size, _BLOCK):
                     cols.append(D @ cg.model.solve(F[:, j : j + _BLOCK]))
-            out[(bc, k)] = np.concatenate(cols, axis=1)
-            del cg, mesh
-        return out
+            return np.concatenate(cols, axis=1)
+
+        # the segments are independent: built, factorised and solved on the cores at
+        # once (SuperLU releases the GIL; each segment's state is its own)
+        workers = min(len(runs), solve_threads())
+        if workers > 1:
+            from concurrent.futures import ThreadPoolExecutor
+
+            with ThreadPoolExecutor(workers) as pool:
+                done = list(pool.map(segment, runs))
+        else:
+            done = [segment(r) for r in runs]
+        self.stats["far_field_factorisations"] += len(runs)
+        return dict(zip(runs, done, strict=True))
 
     def far_field(self, grid: ContactGrid, gear: int) -> FarField:
         """Far-field correction of gear ``gear`` for the flank ``grid`` loads (cached per
