@@ -20,7 +20,13 @@ Definitions (stated once, used everywhere):
 - contact pattern: over the cycle, each loaded point covers its Hertz half-width
   (or half the profile travel between positions, whichever is larger) across the
   contact line in its face slice; the area fraction is the covered part of the
-  active flank (profile range x face range of the grid).
+  active flank (profile range x face range of the grid);
+- mesh loss factor ``H = sum F_i |v_s,i| / (T omega_1)``: the friction power per unit
+  coefficient of friction over the transmitted power, with ``v_s`` the flanks'
+  sliding velocity at each point (:meth:`ContactGrid.sliding_velocity`); a constant
+  coefficient mu loses ``mu H`` of the power in the mesh (ISO/TR 14179-2's tooth
+  loss factor H_V is its cycle mean for an idealised load sharing). Friction does not
+  act back on the contact loads here.
 """
 
 from __future__ import annotations
@@ -88,7 +94,10 @@ class CycleResult:
     pattern_pressure (T, U, V) Pa, largest Hertz pressure met by each cell over the
     cycle (0 = never in contact); pattern_area_fraction (T,);
     edge_load_fraction (T, P); iterations (T, P) active-set iterations;
-    converged (T, P) bool; gap_residual (T, P) m; profile_range, face_range (m).
+    converged (T, P) bool; gap_residual (T, P) m; profile_range, face_range (m);
+    loss_factor (T, P) mesh loss factor H (dimensionless), sliding_speed (T, P)
+    largest sliding speed of a loaded point per unit pinion angular speed (m, i.e.
+    m/s per rad/s): both ``None`` where the grids carry no axes.
     """
 
     torque: np.ndarray
@@ -117,6 +126,8 @@ class CycleResult:
     profile_range: tuple[float, float]
     face_range: tuple[float, float]
     meta: dict = field(default_factory=dict)
+    loss_factor: np.ndarray | None = None
+    sliding_speed: np.ndarray | None = None
 
     @property
     def edge_contact(self) -> np.ndarray:
@@ -168,8 +179,10 @@ class CycleResult:
         """Inverse of :meth:`to_dict`."""
         out = {}
         for f in fields(cls):
-            v = d[f.name]
-            if f.name in ("profile_range", "face_range"):
+            v = d.get(f.name) if f.default is None else d[f.name]
+            if v is None:
+                out[f.name] = None
+            elif f.name in ("profile_range", "face_range"):
                 out[f.name] = tuple(float(x) for x in v)
             elif f.name == "meta":
                 out[f.name] = dict(v)
@@ -297,8 +310,12 @@ def ltca_cycle(
         from tqdm import tqdm
 
         bar = tqdm(total=P * T, desc="loaded TCA", unit="solve", leave=False)
+    kinematics = all(g.pinion_axis is not None for g in grids)
+    loss = np.zeros((T, P)) if kinematics else None
+    sliding = np.zeros((T, P)) if kinematics else None
     for j, grid in enumerate(grids):
         C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
+        vs = np.linalg.norm(grid.sliding_velocity(), axis=1) if kinematics else None
         phi0 = float(np.min(grid.separation / grid.arm))
         prev = None
         for t, torque in enumerate(torques):
@@ -352,6 +369,9 @@ def ltca_cycle(
             nv = F @ grid.normal
             loa[t, j] = nv / np.linalg.norm(nv)
             out["edge_load_fraction"][t, j] = float(F[grid.edge].sum()) / Fn
+            if kinematics:
+                loss[t, j] = float(F @ vs) / torque
+                sliding[t, j] = float(vs[F > 0].max())
             a = hertz_half_width(q, grid.curvature_radius, E, nu) / grid.transverse_projection
             samples[t].append((grid.profile, grid.face, F > 0, a, p0, grid.slot, grid.width))
             if bar is not None:
@@ -418,6 +438,8 @@ def ltca_cycle(
             "compliance": compliance.name,
             "root_stress": root_stress_method(compliance),
         },
+        loss_factor=loss,
+        sliding_speed=sliding,
     )
 
 
@@ -450,6 +472,9 @@ def cycle_summary(res: CycleResult) -> dict:
                 "solver_iterations_max": int(res.iterations[t].max()),
             }
         )
+        if res.loss_factor is not None:
+            rows[-1]["mesh_loss_factor"] = float(res.loss_factor[t].mean())
+            rows[-1]["max_sliding_speed_per_pinion_speed_m"] = float(res.sliding_speed[t].max())
     return {"torques": rows}
 
 

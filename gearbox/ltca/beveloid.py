@@ -739,6 +739,8 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
                 tooth2=_sections(design.gear, gear, side, g_rad[fi, slots], g_z[fi, slots]),
                 youngs_modulus=E,
                 poisson_ratio=nu,
+                pinion_axis=np.array([zaxis, asm.pinion_origin]),
+                gear_axis=np.array([asm.gear_axis, asm.gear_origin]),
             )
         )
     return grids, sense

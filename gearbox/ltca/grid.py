@@ -131,7 +131,10 @@ class ContactGrid:
     - ``width2``, ``transverse_projection2`` (optional): the same two for the gear,
       where its axis is not parallel to the pinion's (crossed axes): the slice width
       along the gear's axis and the cosine between the normal and the gear's
-      transverse plane. ``None`` (parallel axes): the pinion's values.
+      transverse plane. ``None`` (parallel axes): the pinion's values;
+    - ``pinion_axis``, ``gear_axis`` (optional) shape (2, 3): each gear's axis in the
+      frame of ``position`` (unit direction, then a point on it), for the flanks'
+      sliding (:meth:`sliding_velocity`). ``None``: the grid carries no kinematics.
     """
 
     pair: np.ndarray
@@ -156,6 +159,8 @@ class ContactGrid:
     poisson_ratio: float
     width2: np.ndarray | None = None
     transverse_projection2: np.ndarray | None = None
+    pinion_axis: np.ndarray | None = None
+    gear_axis: np.ndarray | None = None
 
     def __post_init__(self):
         probs = Problems()
@@ -194,6 +199,7 @@ class ContactGrid:
             if v is None:
                 v = getattr(self, name[:-1])
             object.__setattr__(self, name, _frozen_array(v, n, name, probs, float))
+        self._check_axes(probs)
         probs.raise_if_any("invalid contact grid")
         for name in (
             "width",
@@ -218,6 +224,72 @@ class ContactGrid:
         self.tooth1.validate(n, "tooth1", probs)
         self.tooth2.validate(n, "tooth2", probs)
         probs.raise_if_any("invalid contact grid")
+
+    def _check_axes(self, probs: Problems) -> None:
+        given = [self.pinion_axis is not None, self.gear_axis is not None]
+        if any(given) and not all(given):
+            probs.add(
+                "pinion_axis" if given[1] else "gear_axis",
+                None,
+                "both axes are needed for the sliding (or neither)",
+            )
+            return
+        if not any(given):
+            return
+        for name in ("pinion_axis", "gear_axis"):
+            a = np.array(getattr(self, name), dtype=float)
+            if a.shape != (2, 3) or not np.all(np.isfinite(a)):
+                probs.add(
+                    name, f"shape {a.shape}", "must be finite, shape (2, 3): direction, point"
+                )
+                continue
+            norm = float(np.linalg.norm(a[0]))
+            if norm == 0.0:
+                probs.add(f"{name}[0]", a[0].tolist(), "the axis direction must not be zero")
+                continue
+            a[0] /= norm
+            a.setflags(write=False)
+            object.__setattr__(self, name, a)
+
+    def sliding_velocity(self) -> np.ndarray | None:
+        """Sliding velocity of the pinion's flank over the gear's at each point per unit
+        pinion angular speed, shape (n, 3), m/s per rad/s; ``None`` where the grid has
+        no axes.
+
+        Both flanks turn as rigid bodies about their axes, the gear at ``z1 / z2`` of
+        the pinion's speed in the sense that keeps them in contact (the flanks' normal
+        velocities equal: for conjugate flanks the relative velocity lies in the
+        tangent plane). The relative velocity's part in the tangent plane is returned;
+        its normal part, the flanks' approach rate, is what the unloaded TE's slope
+        leaves (zero for conjugate flanks; :meth:`approach_rate`).
+        """
+        v = self._relative_velocity()
+        if v is None:
+            return None
+        return v - np.sum(v * self.normal, axis=1, keepdims=True) * self.normal
+
+    def approach_rate(self) -> np.ndarray | None:
+        """Normal part of the flanks' relative velocity per unit pinion angular speed
+        over the pinion's normal velocity there, shape (n,): zero for conjugate flanks
+        at the gear's speed ``z1 / z2``; ``None`` where the grid has no axes."""
+        v = self._relative_velocity()
+        if v is None:
+            return None
+        a1, o1 = self.pinion_axis
+        v1n = np.sum(np.cross(a1, self.position - o1) * self.normal, axis=1)
+        return np.sum(v * self.normal, axis=1) / np.abs(v1n)
+
+    def _relative_velocity(self):
+        if self.pinion_axis is None:
+            return None
+        (a1, o1), (a2, o2) = self.pinion_axis, self.gear_axis
+        v1 = np.cross(a1, self.position - o1)
+        v2 = np.cross(a2, self.position - o2)
+        ratio = self.tooth1.teeth / self.tooth2.teeth
+        # the sense of the gear's rotation: the one whose normal velocity follows the
+        # pinion's (one sign for the whole grid, from all its points)
+        sense = np.sign(np.sum(np.sum(v1 * self.normal, 1) * np.sum(v2 * self.normal, 1)))
+        return v1 - (sense * ratio)[:, None] * v2
 
     @property
     def size(self) -> int:

@@ -310,6 +310,15 @@ def parallel_grid(
         tooth2=teeth2,
         youngs_modulus=pair.youngs_modulus,
         poisson_ratio=pair.poisson_ratio,
+        # pinion on the z axis through O1 (the origin), gear through O2 on the centre
+        # line (x), its direction turned by the misalignment
+        pinion_axis=np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]),
+        gear_axis=np.array(
+            [
+                [0.0, math.sin(pair.misalignment), math.cos(pair.misalignment)],
+                [pair.working_center_distance, 0.0, 0.0],
+            ]
+        ),
     )
 
 

@@ -75,6 +75,17 @@ def mesh_table(
 
     share_max = np.stack([flanks[f].pair_share.max(axis=2) for f in names])
     area = np.stack([np.repeat(flanks[f].pattern_area_fraction[:, None], P, axis=1) for f in names])
+    extra = {
+        "max_contact_pressure_Pa": stack("max_pressure"),
+        "pattern_area_fraction": area,
+        "load_sharing": share_max,
+        "root_stress_pinion_Pa": stack("root_stress_pinion"),
+        "root_stress_gear_Pa": stack("root_stress_gear"),
+        "edge_load_fraction": stack("edge_load_fraction"),
+    }
+    if all(flanks[f].loss_factor is not None for f in names):
+        extra["mesh_loss_factor"] = stack("loss_factor")
+        extra["sliding_speed_per_pinion_speed_m"] = stack("sliding_speed")
     return MeshTable(
         pinion_teeth=pinion_teeth,
         gear_teeth=gear_teeth,
@@ -88,14 +99,7 @@ def mesh_table(
         line_of_action=stack("line_of_action"),
         pinion_axis=np.asarray(pinion_axis, dtype=float),
         gear_axis=np.asarray(gear_axis, dtype=float),
-        extra={
-            "max_contact_pressure_Pa": stack("max_pressure"),
-            "pattern_area_fraction": area,
-            "load_sharing": share_max,
-            "root_stress_pinion_Pa": stack("root_stress_pinion"),
-            "root_stress_gear_Pa": stack("root_stress_gear"),
-            "edge_load_fraction": stack("edge_load_fraction"),
-        },
+        extra=extra,
         attrs=attrs,
     )
 

@@ -10,6 +10,8 @@ from .html import ReportWarning, Section, esc, figure, new_figure, table
 
 __all__ = ["render_ltca"]
 
+_MU = 0.05  # coefficient of friction for the report's example efficiency
+
 
 def _operating_index(res, run) -> int:
     """Torque level nearest to the scene's operating torque."""
@@ -28,24 +30,33 @@ def render_ltca(lt, run) -> Section:
 
     warnings = []
     rows = []
-    for flank, per_t in lt.summary()["flanks"].items():
+    speed_rpm = run.scene["drivetrain"]["engine_speed_rpm"]  # the pinion's speed
+    omega = speed_rpm * np.pi / 30.0
+    summary = lt.summary()["flanks"]
+    sliding = all("mesh_loss_factor" in r for per_t in summary.values() for r in per_t.values())
+    for flank, per_t in summary.items():
         for r in per_t.values():
-            rows.append(
-                (
-                    flank,
-                    r["torque_Nm"],
-                    r["mean_mesh_stiffness_N_per_m"] / 1e6,
-                    r["mesh_stiffness_peak_to_peak_N_per_m"] / 1e6,
-                    r["lte_mean_m"] * 1e6,
-                    r["lte_peak_to_peak_m"] * 1e6,
-                    100 * r["contact_pattern_area_fraction"],
-                    r["max_contact_pressure_Pa"] / 1e6,
-                    r["max_root_stress_pinion_Pa"] / 1e6,
-                    r["max_root_stress_gear_Pa"] / 1e6,
-                    ("yes", "bad") if r["edge_contact"] else "no",
-                    ("yes", "ok") if r["solver_converged"] else ("no", "bad"),
-                )
-            )
+            row = [
+                flank,
+                r["torque_Nm"],
+                r["mean_mesh_stiffness_N_per_m"] / 1e6,
+                r["mesh_stiffness_peak_to_peak_N_per_m"] / 1e6,
+                r["lte_mean_m"] * 1e6,
+                r["lte_peak_to_peak_m"] * 1e6,
+                100 * r["contact_pattern_area_fraction"],
+                r["max_contact_pressure_Pa"] / 1e6,
+                r["max_root_stress_pinion_Pa"] / 1e6,
+                r["max_root_stress_gear_Pa"] / 1e6,
+            ]
+            if sliding:
+                row.append(f"{r['mesh_loss_factor']:.4f}")
+                v = r["max_sliding_speed_per_pinion_speed_m"]
+                row.append(f"{v * omega:.2f}")
+            row += [
+                ("yes", "bad") if r["edge_contact"] else "no",
+                ("yes", "ok") if r["solver_converged"] else ("no", "bad"),
+            ]
+            rows.append(tuple(row))
             if r["edge_contact"]:
                 warnings.append(
                     ReportWarning(
@@ -74,9 +85,11 @@ def render_ltca(lt, run) -> Section:
         "max pressure (MPa)",
         "max root stress pinion (MPa)",
         "max root stress gear (MPa)",
-        "edge contact",
-        "converged",
     ]
+    if sliding:
+        head.append("mesh loss factor H")
+        head.append(f"max sliding (m/s at {speed_rpm:g} rpm)")
+    head += ["edge contact", "converged"]
     flanks = dict(lt.flanks)
     first = next(iter(flanks.values()))
     t = _operating_index(first, run)
@@ -88,6 +101,18 @@ def render_ltca(lt, run) -> Section:
         f"{first.torque[t]:g} N m, the torque level nearest to the operating torque.</p>",
         table(head, rows),
     ]
+    if sliding:
+        h = {name: float(res.loss_factor[t].mean()) for name, res in flanks.items()}
+        parts.append(
+            '<p class="muted">Mesh loss factor H: the friction power per unit coefficient '
+            "of friction over the transmitted power, the cycle's mean of "
+            "sum F_i |v_sliding,i| / (T omega_1) over the loaded contact points (friction "
+            "does not act back on the loads). A mean coefficient mu loses mu H of the "
+            f"power in the mesh: at {first.torque[t]:g} N m and mu = {_MU:g} (an assumed "
+            "value; ISO/TR 14179-2 gives one from load, speed, oil and roughness) "
+            + ", ".join(f"{n} flank {100 * (1 - _MU * v):.2f} %" for n, v in h.items())
+            + " mesh efficiency.</p>"
+        )
     fig, ax = new_figure(1, len(flanks), size=(5.5 * len(flanks), 3.6))
     for i, (name, res) in enumerate(flanks.items()):
         plot_contact_pattern(res, t, ax[0, i], title=f"{name} flank,")
