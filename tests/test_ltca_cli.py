@@ -45,6 +45,9 @@ def test_ltca_writes_table_summary_and_figures(tmp_path, capsys):
     assert t.flanks == ("drive", "coast") and t.n_positions == 8
     i = int(np.argmin(abs(t.torque - 300.0)))
     assert t.stiffness[0, i].mean() == pytest.approx(row["mean_mesh_stiffness_N_per_m"], rel=1e-12)
+    loss = t.extra["mesh_loss_factor"][0, i]
+    assert loss.mean() == pytest.approx(row["mesh_loss_factor"], rel=1e-12)
+    assert np.all(t.extra["sliding_speed_per_pinion_speed_m"] > 0)
     # involute helical pair: rotation radius r_b1 cos(beta_b) on the drive flank
     lam1, _ = t.rotation_radii("drive", 300.0)
     rb1 = (
@@ -56,6 +59,13 @@ def test_ltca_writes_table_summary_and_figures(tmp_path, capsys):
     )
     bb = math.asin(math.sin(math.radians(20)) * math.cos(math.radians(20)))
     assert lam1 == pytest.approx(rb1 * math.cos(bb), rel=1e-9)
+
+
+def test_ltca_text_output_names_the_loss_factor(tmp_path, capsys):
+    rc = main(["ltca", str(SCENE), "--out", str(tmp_path), "--positions", "4", "--no-figures"])
+    assert rc == 0
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if " N m " in ln]
+    assert lines and all(" H 0." in ln for ln in lines)
 
 
 def test_ltca_bad_input_exits_2(tmp_path, capsys):

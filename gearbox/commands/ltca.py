@@ -63,6 +63,7 @@ def run(args):
                     f" MN/m (p-p {r['mesh_stiffness_peak_to_peak_N_per_m'] / 1e6:6.1f})"
                     f"  LTE p-p {r['lte_peak_to_peak_m'] * 1e6:6.3f} um"
                     f"  pattern {100 * r['contact_pattern_area_fraction']:5.1f} %"
+                    + (f"  H {r['mesh_loss_factor']:.3f}" if "mesh_loss_factor" in r else "")
                     + ("  EDGE CONTACT" if r["edge_contact"] else "")
                 )
     return 0
