@@ -198,5 +198,8 @@ def test_case03_report_shows_loss_factor_and_sliding_speed():
     h = float(res.loss_factor[t].mean())
     assert f"{h:.4f}" in html
     assert f"drive flank {100 * (1 - _MU * h):.2f} % mesh efficiency" in html
+    power = 900.0 * 3500 * math.pi / 30
+    assert f"{_MU * h * power / 1e3:.2f} kW (drive flank)" in html
+    assert f"of the {power / 1e3:.1f} kW into heat" in html
     omega = 3500 * math.pi / 30
     assert f"{res.sliding_speed[t].max() * omega:.2f}" in html

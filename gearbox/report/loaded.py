@@ -111,7 +111,12 @@ def render_ltca(lt, run) -> Section:
             f"power in the mesh: at {first.torque[t]:g} N m and mu = {_MU:g} (an assumed "
             "value; ISO/TR 14179-2 gives one from load, speed, oil and roughness) "
             + ", ".join(f"{n} flank {100 * (1 - _MU * v):.2f} %" for n, v in h.items())
-            + " mesh efficiency.</p>"
+            + f" mesh efficiency; at {speed_rpm:g} rpm the mesh turns "
+            + ", ".join(
+                f"{_MU * v * first.torque[t] * omega / 1e3:.2f} kW ({n} flank)"
+                for n, v in h.items()
+            )
+            + f" of the {first.torque[t] * omega / 1e3:.1f} kW into heat.</p>"
         )
     fig, ax = new_figure(1, len(flanks), size=(5.5 * len(flanks), 3.6))
     for i, (name, res) in enumerate(flanks.items()):
