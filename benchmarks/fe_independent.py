@@ -197,11 +197,14 @@ def level_line(pair: ParallelPair, position: float = 0.25, mesh: MeshOptions | N
 
 
 def _fields(grid, idx) -> dict:
-    """The fields of ``grid`` at its points ``idx`` (every per-point field indexed)."""
+    """The fields of ``grid`` at its points ``idx`` (every per-point field indexed;
+    the axes are the grid's, not per point)."""
     kw = {}
     for f in dataclasses.fields(grid):
         v = getattr(grid, f.name)
-        if isinstance(v, np.ndarray) and v.shape[:1] == (grid.size,):
+        if f.name in ("pinion_axis", "gear_axis"):
+            pass
+        elif isinstance(v, np.ndarray) and v.shape[:1] == (grid.size,):
             v = v[idx]
         elif hasattr(v, "take"):
             v = v.take(idx)

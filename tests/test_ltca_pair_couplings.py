@@ -183,7 +183,11 @@ def _subset(g, keep):
         v = getattr(g, f.name)
         if f.name in ("tooth1", "tooth2"):
             fields[f.name] = v.take(keep)
-        elif isinstance(v, np.ndarray) and v.shape[:1] == (n,):
+        elif (
+            f.name not in ("pinion_axis", "gear_axis")
+            and isinstance(v, np.ndarray)
+            and v.shape[:1] == (n,)
+        ):
             fields[f.name] = v[keep]
     return replace(g, **fields)
 

@@ -30,7 +30,9 @@ __all__ = [
 ]
 
 #: Scene entries a section reads besides its stage's result; they enter its cache key.
-SECTION_READS: dict[str, tuple[str, ...]] = {"ltca": ("load.operating_torque_Nm",)}
+SECTION_READS: dict[str, tuple[str, ...]] = {
+    "ltca": ("load.operating_torque_Nm", "drivetrain.engine_speed_rpm")
+}
 
 #: Modules that draw the sections; their source enters every section's cache key.
 SECTION_CODE = (
