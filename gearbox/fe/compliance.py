@@ -786,14 +786,21 @@ class FECompliance:
 
     # --------------------------------------------------------------- interface
     def reserve(self, grids) -> None:
-        """Size the tooth models for all grids of a cycle at once (one factorisation
-        per gear, none repeated when a later position loads another tooth)."""
+        """Size the tooth models for all grids of a cycle (or of both flanks) at once:
+        one factorisation per gear, none repeated when a later position loads another
+        tooth, and every position solved on the same segment. Hints only grow: a
+        later call widens them to its grids as well (``ltca_cycle`` calls it)."""
         for gear in (0, 1):
             teeth = [self.loads(g, gear).tooth for g in grids]
             lo = min(int(t.min()) for t in teeth)
             hi = max(int(t.max()) for t in teeth)
+            bore = min(float(np.min(self.loads(g, gear).bore_radius)) for g in grids)
+            if gear in self._teeth_hint:
+                lo = min(lo, self._teeth_hint[gear][0])
+                hi = max(hi, self._teeth_hint[gear][1])
+                bore = min(bore, self._bore[gear])
             self._teeth_hint[gear] = (lo, hi)
-            self._bore[gear] = min(float(np.min(self.loads(g, gear).bore_radius)) for g in grids)
+            self._bore[gear] = bore
 
     def loads(self, grid: ContactGrid, gear: int) -> GearLoads:
         """Where the grid points sit on gear ``gear``'s teeth (0 pinion, 1 gear)."""

@@ -272,6 +272,9 @@ def ltca_cycle(
     T = torques.size
     fractions = np.arange(P) / P
     grids = [grid_at(float(f)) for f in fractions]
+    reserve = getattr(compliance, "reserve", None)
+    if callable(reserve):  # a level that sizes its models to the whole cycle
+        reserve(grids)
     kmin = min(int(g.pair.min()) for g in grids)
     kmax = max(int(g.pair.max()) for g in grids)
     pair_index = np.arange(kmin, kmax + 1)

@@ -792,9 +792,12 @@ def beveloid_ltca(
     if relief is None:
         relief = modifications_from_scene(design, scene)
     results, senses, fields = {}, {}, {}
+    made = {f: scene_grids(design, scene, _FLANK_SIDE[f], P, relief=relief) for f in lt["flanks"]}
+    reserve = getattr(compliance, "reserve", None)
+    if callable(reserve):  # one model per gear for both flanks
+        reserve([g for grids, _, _ in made.values() for g in grids])
     for flank in lt["flanks"]:
-        side = _FLANK_SIDE[flank]
-        grids, sense, field = scene_grids(design, scene, side, P, relief=relief)
+        grids, sense, field = made[flank]
         res = ltca_cycle(
             lambda f, g=grids: g[int(round(f * P)) % P],
             torques,
