@@ -90,3 +90,26 @@ def test_beveloid_grid_without_blanks_is_a_clear_error(case03):
     _, _, grids = case03
     with pytest.raises(InputError, match="blanks"):
         compliance_for("fe").tooth_matrix(grids[0])
+
+
+@pytest.mark.slow
+def test_both_flanks_share_one_model_per_gear(monkeypatch):
+    # beveloid_ltca sizes each gear's FE model to both flanks' grids at once: one
+    # factorisation per gear for the whole table (the coarse mesh keeps it cheap)
+    import gearbox.ltca.beveloid as bev
+
+    made = []
+
+    def coarse(fidelity, *, blanks=None):
+        fe = FECompliance(FEOptions(mesh=MeshOptions.coarse(), far_field="none"), blanks=blanks)
+        made.append(fe)
+        return fe
+
+    monkeypatch.setattr(bev, "compliance_for", coarse)
+    scene = load_scene(Path(__file__).resolve().parents[1] / "models" / "case03.toml")
+    scene = scene.replaced(ltca={"fidelity": "fe", "positions": P}, load={"torques_Nm": [300.0]})
+    lt = bev.beveloid_ltca(design_pair(PairSpec.from_scene(scene)), scene)
+    assert set(lt.flanks) == {"drive", "coast"}
+    assert all(r.success for r in lt.flanks.values())
+    (fe,) = made
+    assert fe.stats["factorisations"] == 2
