@@ -129,7 +129,7 @@ def test_spur_loss_factor_from_the_load_shares_and_against_ohlendorf():
 
 def test_helical_loss_factor_against_the_even_load():
     # 30 deg, overlap ratio 1.59: the load lies nearly evenly along the contact lines;
-    # the loss factor reads the even load's within 3 % (measured +1.4 / +1.9 % at
+    # the loss factor reads the even load's within 3 % (measured +1.3 / +1.9 % at
     # 100 / 1000 N m)
     p = _pair(30.0)
     res = _cycle(p, [100.0, 1000.0])

@@ -62,7 +62,7 @@ from ..surface.sample import SolveFailure, parameter_at_radius, tip_parameter
 from .boussinesq import depth_deflection, surface_deflection
 from .extent import extent_limit
 from .mesh import FEBuildError, MeshOptions, build_tooth_mesh, locate
-from .model import ToothModel, build_model, solve_threads
+from .model import ToothModel, build_model, thread_map
 
 __all__ = ["FEOptions", "FECompliance", "FarField", "GearLoads", "beveloid_loads", "gear_loads"]
 
@@ -687,14 +687,7 @@ class FECompliance:
 
         # the segments are independent: built, factorised and solved on the cores at
         # once (SuperLU releases the GIL; each segment's state is its own)
-        workers = min(len(runs), solve_threads())
-        if workers > 1:
-            from concurrent.futures import ThreadPoolExecutor
-
-            with ThreadPoolExecutor(workers) as pool:
-                done = list(pool.map(segment, runs))
-        else:
-            done = [segment(r) for r in runs]
+        done = thread_map(segment, runs)
         self.stats["far_field_factorisations"] += len(runs)
         return dict(zip(runs, done, strict=True))
 

@@ -449,7 +449,8 @@ def element_map(p, t, X):
     """
     N, dN = shape_functions(X)
     P = p[:, t].transpose(2, 1, 0)  # (m, 27, 3)
-    # batched matrix products (BLAS): 7 times faster than the einsums of the same sums
+    # batched matrix products (BLAS): about twice as fast as the einsums of the same
+    # sums (20 000 points: 18 -> 10 ms)
     x = np.matmul(N[:, None, :], P)[:, 0]
     J = np.matmul(P.transpose(0, 2, 1), dN)
     return x, J

@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import InputError, Problem
 from .mesh import _G3, _G3W, FEBuildError, ToothMesh, shape_functions
 
-__all__ = ["ToothModel", "assemble_stiffness", "build_model", "solve_threads"]
+__all__ = ["ToothModel", "assemble_stiffness", "build_model", "solve_threads", "thread_map"]
 
 
 def solve_threads() -> int:
@@ -51,6 +51,20 @@ def solve_threads() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # pragma: no cover - not on Linux
         return os.cpu_count() or 1
+
+
+def thread_map(fn, items) -> list:
+    """``[fn(x) for x in items]`` on :func:`solve_threads` threads (in the calling
+    thread where that is 1 or there is one item): for work that releases the GIL,
+    such as SuperLU's factorisations and solves."""
+    items = list(items)
+    workers = min(len(items), solve_threads())
+    if workers <= 1:
+        return [fn(x) for x in items]
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(workers) as pool:
+        return list(pool.map(fn, items))
 
 
 _GP = np.array([[a, b, c] for c in _G3 for b in _G3 for a in _G3])
@@ -159,14 +173,8 @@ class ToothModel:
             for j in js:
                 U[self.free, j] = self.factor.solve(np.ascontiguousarray(Ff[:, j]))
 
-        workers = min(m, solve_threads())
-        if workers <= 1:
-            columns(range(m))
-        else:
-            from concurrent.futures import ThreadPoolExecutor
-
-            with ThreadPoolExecutor(workers) as pool:
-                list(pool.map(columns, [range(w, m, workers) for w in range(workers)]))
+        workers = max(1, min(m, solve_threads()))
+        thread_map(columns, [range(w, m, workers) for w in range(workers)])
         return U[:, 0] if one else U
 
     def element_dofs(self, cells) -> np.ndarray:
