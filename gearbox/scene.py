@@ -346,6 +346,17 @@ SCHEMA: dict[str, dict[str, Field]] = {
             min_len=2,
         ),
         "sweep_speeds": _i(40, "Speeds in a sweep.", 2, 100000),
+        "resonance_threshold": _f(
+            0.05,
+            "Campbell crossings in the operating range whose steady response reaches this "
+            "fraction of the mean load in the mesh or in either shaft are warned of, the "
+            "most severe first (the crossing's excitation alone at the crossing speed: "
+            "engine and propeller orders on the linear model, mesh orders by harmonic "
+            "balance with the time-varying mesh stiffness); the Campbell section lists "
+            "every crossing with its response. A choice, not a standard's limit.",
+            0.0,
+            None,
+        ),
     },
     "outputs": {
         "requested": Field(

@@ -163,6 +163,30 @@ def test_sampled_curves_and_round_trip():
     np.testing.assert_array_equal(back.mode_frequencies_hz, cd.mode_frequencies_hz)
 
 
+def test_responses_rank_the_risks_and_survive_the_round_trip():
+    """with_responses stores a response per crossing; significant keeps the risks from
+    the threshold, most severe first, and to_dict / from_dict keep both."""
+    ex = excitation_orders(pinion_teeth=29, gear_teeth=45, cylinders=8, blades=3, half_orders=False)
+    cd = campbell({"m1": 40.0, "m2": 70.0}, ex, (500, 3000), operating_range_rpm=(600, 2600))
+    assert cd.significant == cd.risks  # no responses yet: every risk, by speed
+    assert all(c.severity is None for c in cd.crossings)
+
+    def response(c):  # a made-up response: larger at lower speed
+        return {"mesh_force_N": 1e5 / c.speed_rpm, "mesh_force_fraction": 100.0 / c.speed_rpm}
+
+    rc = cd.with_responses(response, threshold=0.05)
+    sev = {c.speed_rpm: c.severity for c in rc.risks}
+    assert sev == pytest.approx({n: 100.0 / n for n in sev}, rel=1e-15)
+    expect = sorted((c for c in rc.risks if 100.0 / c.speed_rpm >= 0.05), key=lambda c: c.speed_rpm)
+    assert rc.significant == tuple(expect)  # the most severe (slowest) first
+    assert 0 < len(rc.significant) < len(rc.risks)
+    back = CampbellDiagram.from_dict(json.loads(json.dumps(rc.to_dict())))
+    assert back.crossings == rc.crossings and back.response_threshold == 0.05
+    assert back.significant == rc.significant
+    with pytest.raises(InputError, match="threshold"):
+        cd.with_responses(response, threshold=-1.0)
+
+
 def test_bad_input_lists_every_problem():
     with pytest.raises(InputError) as err:
         campbell(

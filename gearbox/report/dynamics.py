@@ -278,26 +278,59 @@ def render_waterfall(sw, run) -> Section:
     return Section("Speed sweep and waterfall", "".join(parts), tuple(warnings), anchor="waterfall")
 
 
+def _response_text(c) -> str:
+    """'; response: mesh force 1388 N (50 % of the mean), ...' of a crossing."""
+    r = c.response
+    if not r:
+        return ""
+    parts = [
+        f"{label} {r[key]:.4g} {unit} ({100 * r[key.rsplit('_', 1)[0] + '_fraction']:.3g} %)"
+        for label, key, unit in _RESPONSE_COLUMNS
+    ]
+    return "; steady response (of the mean): " + ", ".join(parts)
+
+
+#: The response entries of a crossing shown in the report: label, key, unit.
+_RESPONSE_COLUMNS = (
+    ("mesh force", "mesh_force_N", "N"),
+    ("input shaft", "input_shaft_torque_Nm", "N m"),
+    ("output shaft", "output_shaft_torque_Nm", "N m"),
+)
+
+
 def render_campbell(cd, run) -> Section:
-    """Campbell diagram (full and low-frequency view) and the crossings."""
+    """Campbell diagram (full and low-frequency view) and the crossings, each with the
+    steady response its excitation drives there when the diagram has responses."""
     from ..spectrum.plotting import plot_campbell
 
     risks = cd.risks
+    listed = cd.significant
     warnings = []
-    for c in risks[:MAX_LISTED]:
+    for c in listed[:MAX_LISTED]:
         warnings.append(
             ReportWarning(
                 "campbell",
                 f"resonance risk: {c.mode} at {c.frequency_hz:.4g} Hz meets "
-                f"{c.excitation} (order {c.order:.4g}) at {c.speed_rpm:.0f} rpm",
+                f"{c.excitation} (order {c.order:.4g}) at {c.speed_rpm:.0f} rpm"
+                + _response_text(c),
             )
         )
-    if len(risks) > MAX_LISTED:
+    if len(listed) > MAX_LISTED:
         warnings.append(
             ReportWarning(
                 "campbell",
-                f"{len(risks) - MAX_LISTED} more crossings in the operating range "
+                f"{len(listed) - MAX_LISTED} more crossings in the operating range "
                 "(see the Campbell section)",
+            )
+        )
+    quiet = len(risks) - len(listed)
+    if quiet:
+        warnings.append(
+            ReportWarning(
+                "campbell",
+                f"{quiet} further crossing(s) in the operating range drive responses below "
+                f"{100 * cd.response_threshold:.3g} % of the mean loads "
+                "(simulation.resonance_threshold; see the Campbell section)",
             )
         )
     fig, ax = new_figure(1, 2, size=(11, 4.4))
@@ -306,8 +339,11 @@ def render_campbell(cd, run) -> Section:
     if low:
         plot_campbell(cd, ax[0, 1], max_frequency_hz=1.3 * max(low))
         ax[0, 1].set_title("shaft modes", fontsize=9)
-    rows = [
-        (
+    with_resp = any(c.response for c in cd.crossings)
+    thr = cd.response_threshold
+    rows = []
+    for c in cd.crossings:
+        row = [
             c.mode,
             c.excitation,
             c.order,
@@ -315,26 +351,53 @@ def render_campbell(cd, run) -> Section:
             c.speed_rpm,
             c.frequency_hz,
             ("yes", "bad") if c.in_operating_range else "no",
-        )
-        for c in cd.crossings
+        ]
+        if with_resp:
+            r = c.response or {}
+            row += [r.get(key, "") for _, key, _ in _RESPONSE_COLUMNS]
+            sev = c.severity
+            text = "" if sev is None else f"{100 * sev:.3g}"
+            warned = c.in_operating_range and thr is not None and sev is not None and sev >= thr
+            row.append((text, "bad") if warned else text)
+        rows.append(tuple(row))
+    head = [
+        "mode",
+        "excitation",
+        "order",
+        "source",
+        "speed (rpm)",
+        "frequency (Hz)",
+        "in operating range",
     ]
+    note = ""
+    if with_resp:
+        head += [
+            "mesh force (N)",
+            "input shaft torque (N m)",
+            "output shaft torque (N m)",
+            "largest / mean load (%)",
+        ]
+        note = (
+            " Responses: the steady vibration that the crossing's excitation alone drives "
+            "at the crossing speed, peak amplitudes of the dynamic mesh force and of the "
+            "shaft torques, from the model about that speed's operating point on the "
+            "propeller law (engine and propeller orders on the linear model; mesh orders by "
+            "harmonic balance with the time-varying mesh stiffness); the last column is "
+            "the largest of them over its mean load."
+        )
+        if thr is not None:
+            note += (
+                f" Crossings in the operating range from {100 * thr:.3g} % "
+                "(simulation.resonance_threshold) are warned of, the most severe first."
+            )
     body = (
         '<p class="muted">Eigenfrequencies of the linearised drivetrain (mean mesh '
         "stiffness at the propeller-law torque of each speed) against engine speed, with "
-        "the excitation orders; crossing speeds solved by root finding.</p>"
+        "the excitation orders; crossing speeds solved by root finding."
+        + note
+        + "</p>"
         + figure(fig, "Campbell diagram")
-        + table(
-            [
-                "mode",
-                "excitation",
-                "order",
-                "source",
-                "speed (rpm)",
-                "frequency (Hz)",
-                "in operating range",
-            ],
-            rows,
-        )
+        + table(head, rows)
     )
     return Section("Campbell diagram", body, tuple(warnings), anchor="campbell")
 

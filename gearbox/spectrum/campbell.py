@@ -24,6 +24,7 @@ Excitation orders of a crossed beveloid marine drive, relative to the pinion:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -67,7 +68,10 @@ class Crossing:
     Attributes: ``mode`` (name), ``excitation`` (label), ``order``, ``source``,
     ``speed_rpm`` (pinion speed, rpm), ``frequency_hz`` (Hz),
     ``in_operating_range`` (the resonance risk flag), ``iterations`` (Brent
-    iterations), ``converged``.
+    iterations), ``converged``; ``response``: optional, the steady vibration this
+    excitation drives at the crossing speed, name -> value, with a ``*_fraction``
+    entry for each amplitude relative to its mean load (see
+    :meth:`CampbellDiagram.with_responses`).
     """
 
     mode: str
@@ -79,6 +83,15 @@ class Crossing:
     in_operating_range: bool
     iterations: int
     converged: bool
+    response: Mapping[str, float] | None = None
+
+    @property
+    def severity(self) -> float | None:
+        """The largest ``*_fraction`` entry of ``response`` (None without one)."""
+        if not self.response:
+            return None
+        fr = [float(v) for k, v in self.response.items() if k.endswith("_fraction")]
+        return max(fr) if fr else None
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,6 +110,9 @@ class CampbellDiagram:
         Every crossing inside the speed range, sorted by speed.
     operating_range_rpm : tuple (lo, hi) or None
         Crossings in this closed range are flagged ``in_operating_range``.
+    response_threshold : float or None
+        With responses (:meth:`with_responses`): the severity (response over mean
+        load) from which a risk counts as significant.
     """
 
     speeds_rpm: np.ndarray
@@ -105,11 +121,53 @@ class CampbellDiagram:
     excitations: tuple[ExcitationOrder, ...]
     crossings: tuple[Crossing, ...]
     operating_range_rpm: tuple[float, float] | None
+    response_threshold: float | None = None
 
     @property
     def risks(self) -> tuple[Crossing, ...]:
         """Crossings inside the operating range (resonance risks)."""
         return tuple(c for c in self.crossings if c.in_operating_range)
+
+    @property
+    def significant(self) -> tuple[Crossing, ...]:
+        """Risks whose severity reaches ``response_threshold``, the most severe first;
+        every risk (by speed) when the diagram has no responses or no threshold."""
+        if self.response_threshold is None or not any(c.response for c in self.risks):
+            return self.risks
+        hit = [
+            c
+            for c in self.risks
+            if c.severity is not None and c.severity >= self.response_threshold
+        ]
+        return tuple(sorted(hit, key=lambda c: -c.severity))
+
+    def with_responses(
+        self,
+        response: Callable[[Crossing], Mapping[str, float] | None],
+        threshold: float | None = None,
+    ) -> CampbellDiagram:
+        """The diagram with ``response(crossing)`` stored on every crossing (e.g. the
+        linear model's steady response to that excitation at the crossing speed) and
+        ``threshold`` as :attr:`response_threshold`."""
+        p = Problems()
+        if threshold is not None:
+            p.check(
+                math.isfinite(threshold) and threshold >= 0,
+                "threshold",
+                threshold,
+                "must be a finite fraction >= 0",
+            )
+        p.raise_if_any("campbell responses")
+        crossings = tuple(
+            dataclasses.replace(
+                c,
+                response=None
+                if (r := response(c)) is None
+                else {k: float(v) for k, v in r.items()},
+            )
+            for c in self.crossings
+        )
+        return dataclasses.replace(self, crossings=crossings, response_threshold=threshold)
 
     def to_dict(self) -> dict:
         """Plain-JSON form."""
@@ -122,6 +180,7 @@ class CampbellDiagram:
             "operating_range_rpm": None
             if self.operating_range_rpm is None
             else list(self.operating_range_rpm),
+            "response_threshold": self.response_threshold,
         }
 
     @classmethod
@@ -137,6 +196,7 @@ class CampbellDiagram:
             excitations=tuple(ExcitationOrder(**e) for e in data["excitations"]),
             crossings=tuple(Crossing(**c) for c in data["crossings"]),
             operating_range_rpm=None if rng is None else (float(rng[0]), float(rng[1])),
+            response_threshold=data.get("response_threshold"),
         )
 
 

@@ -213,6 +213,7 @@ def _orders(model) -> tuple:
         firing_harmonics=max(int(model.engine_harmonics), 1),
         blade_harmonics=max(int(model.blade_pass_harmonics), 1),
         half_orders=model.half_order_ripple > 0,
+        max_half_order=1.5,  # the half orders the model applies (0.5, 1, 1.5)
     )
 
 
@@ -382,9 +383,25 @@ def compute_campbell(ctx: StageContext):
         if np.all(freqs[:, i] < 1e-3):  # rigid-body rotation of the whole line
             continue
         curves[f"mode {i} ({kinds[i]})"] = (grid, freqs[:, i])
-    return spectrum.campbell(
+    diagram = spectrum.campbell(
         curves,
         _orders(model_at(scene, table)),
         (lo, hi),
         operating_range_rpm=(lo, hi),
     )
+    return diagram.with_responses(
+        lambda c: crossing_response(scene, table, c),
+        scene["simulation"]["resonance_threshold"],
+    )
+
+
+def crossing_response(scene: Scene, table, crossing) -> dict[str, float]:
+    """The steady vibration that a crossing's excitation drives at the crossing speed,
+    alone, on the propeller law there (:func:`gearbox.drivetrain.linear.order_responses`:
+    engine and propeller orders on the linear model, mesh orders by harmonic balance
+    with the time-varying mesh stiffness): peak amplitudes of the dynamic mesh force
+    (N) and of both shafts' torques (N m), each also over its mean load
+    (``*_fraction``); zeros for an order the model does not excite."""
+    linear = require("gearbox.drivetrain.linear", "order_responses")
+    model = model_at(scene, table, crossing.speed_rpm)
+    return linear.order_responses(model).peaks(crossing.order)
