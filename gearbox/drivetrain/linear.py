@@ -385,14 +385,16 @@ def mesh_harmonic_balance(
     Cb = _damping_at(model, C, sp)  # (B, n, n)
     wm = sp * model.pinion_teeth  # (B,)
     m = hs.size
-    A = np.zeros((sp.size, m, n, m, n), complex)
-    gg = np.outer(g, g)
-    for a, h in enumerate(hs):
-        wh = (h * wm)[:, None, None]
-        A[:, a, :, a, :] = K - wh**2 * M + 1j * wh * Cb
-        for b, j in enumerate(hs):
-            if j != h:
-                A[:, a, :, b, :] += kap[(h - j) % samples] * gg
+    # blocks (h, j): kappa_{h-j} g g^T off the diagonal, the linear model's on it
+    couple = kap[(hs[:, None] - hs[None, :]) % samples] * (hs[:, None] != hs[None, :])
+    A = np.broadcast_to(
+        (couple[:, None, :, None] * np.outer(g, g)[None, :, None, :])[None],
+        (sp.size, m, n, m, n),
+    ).copy()
+    wh = hs[None, :, None, None] * wm[:, None, None, None]  # (B, m, 1, 1)
+    diag = K - wh**2 * M + 1j * wh * Cb[:, None]  # (B, m, n, n)
+    idx = np.arange(m)
+    A[:, idx, :, idx, :] = diag.transpose(1, 0, 2, 3)
     P = pk[hs % samples][None, :] - 1j * (hs[None, :] * wm[:, None]) * fl.damping * ce[hs % samples]
     rhs = -P[..., None] * g  # (B, m, n)
     A = A.reshape(sp.size, m * n, m * n)

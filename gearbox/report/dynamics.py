@@ -301,7 +301,7 @@ _RESPONSE_COLUMNS = (
 def render_campbell(cd, run) -> Section:
     """Campbell diagram (full and low-frequency view) and the crossings, each with the
     steady response its excitation drives there when the diagram has responses."""
-    from ..spectrum.plotting import plot_campbell
+    from ..spectrum.plotting import plot_campbell, plot_order_cuts
 
     risks = cd.risks
     listed = cd.significant
@@ -390,6 +390,20 @@ def render_campbell(cd, run) -> Section:
                 f" Crossings in the operating range from {100 * thr:.3g} % "
                 "(simulation.resonance_threshold) are warned of, the most severe first."
             )
+    cuts = ""
+    if cd.order_cuts is not None:
+        names = [k for _, k, _ in _RESPONSE_COLUMNS if k in cd.order_cuts.amplitudes]
+        cfig, cax = new_figure(1, len(names), size=(4.4 * len(names), 4.0))
+        for i, name in enumerate(names):
+            plot_order_cuts(cd.order_cuts, name, cax[0, i], crossings=cd.risks)
+        cuts = figure(
+            cfig,
+            "Order cuts: the steady response of each excitation order against speed on the "
+            f"propeller law ({cd.order_cuts.speeds_rpm.size} speeds, the crossing speeds "
+            "among them; engine and propeller orders on the linear model, mesh orders by "
+            "harmonic balance with the time-varying mesh stiffness), peak amplitudes; "
+            "circles: the crossings in the operating range",
+        )
     body = (
         '<p class="muted">Eigenfrequencies of the linearised drivetrain (mean mesh '
         "stiffness at the propeller-law torque of each speed) against engine speed, with "
@@ -397,6 +411,7 @@ def render_campbell(cd, run) -> Section:
         + note
         + "</p>"
         + figure(fig, "Campbell diagram")
+        + cuts
         + table(head, rows)
     )
     return Section("Campbell diagram", body, tuple(warnings), anchor="campbell")

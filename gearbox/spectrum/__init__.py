@@ -9,7 +9,8 @@ single-sided peak amplitudes in the signal's unit.
 - :func:`order_spectrum` / :class:`OrderSpectrum`: over settled whole periods,
   rectangular window; order tracking by angle resampling where the speed varies.
 - :func:`waterfall`, :func:`runup_waterfall` / :class:`Waterfall`.
-- :func:`campbell` / :class:`CampbellDiagram`, :func:`excitation_orders`.
+- :func:`campbell` / :class:`CampbellDiagram` (with :class:`OrderCuts`),
+  :func:`excitation_orders`.
 - :func:`settling` / :class:`Settling`: how much the order amplitudes still
   change between the last two windows of whole periods.
 - Adapters: :func:`timeseries_spectra` (drivetrain TimeSeries channels),
@@ -25,6 +26,7 @@ from .adapters import timeseries_spectra as timeseries_spectra
 from .campbell import CampbellDiagram as CampbellDiagram
 from .campbell import Crossing as Crossing
 from .campbell import ExcitationOrder as ExcitationOrder
+from .campbell import OrderCuts as OrderCuts
 from .campbell import campbell as campbell
 from .campbell import excitation_orders as excitation_orders
 from .campbell import excitation_orders_from_scene as excitation_orders_from_scene
@@ -43,6 +45,7 @@ __all__ = [
     "CampbellDiagram",
     "Crossing",
     "ExcitationOrder",
+    "OrderCuts",
     "OrderSpectrum",
     "Settling",
     "Waterfall",

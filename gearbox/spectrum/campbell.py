@@ -37,6 +37,7 @@ __all__ = [
     "CampbellDiagram",
     "Crossing",
     "ExcitationOrder",
+    "OrderCuts",
     "campbell",
     "excitation_orders",
     "excitation_orders_from_scene",
@@ -95,6 +96,59 @@ class Crossing:
 
 
 @dataclass(frozen=True, eq=False)
+class OrderCuts:
+    """Amplitude of each excitation order against speed (order cuts).
+
+    Attributes
+    ----------
+    speeds_rpm : ndarray, shape (n_speeds,)
+        Pinion speeds (rpm), increasing.
+    excitations : tuple of ExcitationOrder, length n_orders
+    amplitudes : mapping name -> ndarray, shape (n_orders, n_speeds)
+        Peak amplitude of each order at each speed, per channel.
+    units : mapping name -> str
+    means : mapping name -> ndarray, shape (n_speeds,)
+        The mean load each channel vibrates about, where known (for fractions).
+    """
+
+    speeds_rpm: np.ndarray
+    excitations: tuple[ExcitationOrder, ...]
+    amplitudes: Mapping[str, np.ndarray]
+    units: Mapping[str, str]
+    means: Mapping[str, np.ndarray]
+
+    def fraction(self, name: str) -> np.ndarray:
+        """``amplitudes[name]`` over its mean at each speed, shape (n_orders, n_speeds)."""
+        return self.amplitudes[name] / np.abs(self.means[name])[None, :]
+
+    def to_dict(self) -> dict:
+        """Plain-JSON form."""
+        return {
+            "speeds_rpm": self.speeds_rpm.tolist(),
+            "excitations": [vars(e).copy() for e in self.excitations],
+            "amplitudes": {k: v.tolist() for k, v in self.amplitudes.items()},
+            "units": dict(self.units),
+            "means": {k: v.tolist() for k, v in self.means.items()},
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping) -> OrderCuts:
+        """Inverse of :meth:`to_dict`."""
+        exc = tuple(ExcitationOrder(**e) for e in data["excitations"])
+        speeds = np.asarray(data["speeds_rpm"], dtype=float)
+        return cls(
+            speeds_rpm=speeds,
+            excitations=exc,
+            amplitudes={
+                k: np.asarray(v, dtype=float).reshape(len(exc), speeds.size)
+                for k, v in data["amplitudes"].items()
+            },
+            units=dict(data["units"]),
+            means={k: np.asarray(v, dtype=float) for k, v in data["means"].items()},
+        )
+
+
+@dataclass(frozen=True, eq=False)
 class CampbellDiagram:
     """Mode frequencies and excitation orders over a speed range, with crossings.
 
@@ -113,6 +167,9 @@ class CampbellDiagram:
     response_threshold : float or None
         With responses (:meth:`with_responses`): the severity (response over mean
         load) from which a risk counts as significant.
+    order_cuts : OrderCuts or None
+        The forced response of each excitation order along the speed range, where
+        computed (:meth:`with_responses`).
     """
 
     speeds_rpm: np.ndarray
@@ -122,6 +179,7 @@ class CampbellDiagram:
     crossings: tuple[Crossing, ...]
     operating_range_rpm: tuple[float, float] | None
     response_threshold: float | None = None
+    order_cuts: OrderCuts | None = None
 
     @property
     def risks(self) -> tuple[Crossing, ...]:
@@ -145,10 +203,11 @@ class CampbellDiagram:
         self,
         response: Callable[[Crossing], Mapping[str, float] | None],
         threshold: float | None = None,
+        order_cuts: OrderCuts | None = None,
     ) -> CampbellDiagram:
         """The diagram with ``response(crossing)`` stored on every crossing (e.g. the
-        linear model's steady response to that excitation at the crossing speed) and
-        ``threshold`` as :attr:`response_threshold`."""
+        linear model's steady response to that excitation at the crossing speed),
+        ``threshold`` as :attr:`response_threshold` and ``order_cuts``."""
         p = Problems()
         if threshold is not None:
             p.check(
@@ -167,7 +226,9 @@ class CampbellDiagram:
             )
             for c in self.crossings
         )
-        return dataclasses.replace(self, crossings=crossings, response_threshold=threshold)
+        return dataclasses.replace(
+            self, crossings=crossings, response_threshold=threshold, order_cuts=order_cuts
+        )
 
     def to_dict(self) -> dict:
         """Plain-JSON form."""
@@ -181,6 +242,7 @@ class CampbellDiagram:
             if self.operating_range_rpm is None
             else list(self.operating_range_rpm),
             "response_threshold": self.response_threshold,
+            "order_cuts": None if self.order_cuts is None else self.order_cuts.to_dict(),
         }
 
     @classmethod
@@ -197,6 +259,9 @@ class CampbellDiagram:
             crossings=tuple(Crossing(**c) for c in data["crossings"]),
             operating_range_rpm=None if rng is None else (float(rng[0]), float(rng[1])),
             response_threshold=data.get("response_threshold"),
+            order_cuts=None
+            if data.get("order_cuts") is None
+            else OrderCuts.from_dict(data["order_cuts"]),
         )
 
 

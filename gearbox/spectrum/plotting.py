@@ -11,11 +11,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .campbell import CampbellDiagram, ExcitationOrder
+from .campbell import CampbellDiagram, Crossing, ExcitationOrder, OrderCuts
 from .orders import OrderSpectrum
 from .waterfall import Waterfall
 
-__all__ = ["plot_campbell", "plot_order_spectrum", "plot_waterfall"]
+__all__ = ["plot_campbell", "plot_order_cuts", "plot_order_spectrum", "plot_waterfall"]
 
 _SOURCE_STYLE = {
     "mesh": {"color": "tab:blue", "linestyle": "-"},
@@ -319,6 +319,59 @@ def plot_campbell(
     ax.set_xlabel("pinion (engine) speed (rpm)")
     ax.set_ylabel("frequency (Hz)")
     ax.legend(loc="best", fontsize=7)
+    return ax
+
+
+def plot_order_cuts(
+    cuts: OrderCuts,
+    name: str,
+    ax=None,
+    *,
+    relative: bool = False,
+    crossings: Sequence[Crossing] = (),
+    floor: float = 1e-3,
+):
+    """Order cuts: each excitation order's amplitude of channel ``name`` against speed.
+
+    One line per order (dashes by source, as in :func:`plot_campbell`), log
+    amplitude axis from ``floor`` times the largest value; ``relative`` plots the
+    amplitudes over the channel's mean load in %. ``crossings`` with a response are
+    marked (red circles) at their speed and response.
+    """
+    ax = ax if ax is not None else _new_ax()
+    amps = cuts.fraction(name) * 100.0 if relative else cuts.amplitudes[name]
+    top = float(np.max(amps)) if amps.size else 1.0
+    top = top if top > 0 else 1.0
+    for k, e in enumerate(cuts.excitations):
+        y = amps[k]
+        if not np.any(y > floor * top):
+            continue
+        dash = _SOURCE_STYLE.get(e.source, {}).get("linestyle", "-")
+        ax.plot(
+            cuts.speeds_rpm,
+            np.maximum(y, floor * top),
+            lw=1.0,
+            color=f"C{k % 10}",
+            linestyle=dash,
+            label=e.label,
+        )
+    for c in crossings:
+        if not c.response or name not in c.response:
+            continue
+        v = c.response[name]
+        if relative:
+            v = 100.0 * c.response[name.rsplit("_", 1)[0] + "_fraction"]
+        if v > floor * top:
+            ax.plot(c.speed_rpm, v, "o", ms=4, mfc="none", mec="tab:red", mew=1.0)
+    ax.set_yscale("log")
+    ax.minorticks_off()  # a log axis's minor ticks cost more to draw than the lines
+    ax.set_ylim(floor * top, 2.0 * top)
+    ax.set_xlim(float(cuts.speeds_rpm[0]), float(cuts.speeds_rpm[-1]))
+    ax.set_xlabel("speed (rpm)")
+    unit = "% of mean" if relative else cuts.units.get(name, "")
+    ax.set_ylabel(_label(name, unit))
+    ax.grid(True, which="major", alpha=0.3)
+    ax.legend(fontsize=6, ncol=2, loc="lower right")
     return ax
 
 

@@ -368,40 +368,53 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
 
 def compute_campbell(ctx: StageContext):
     """Campbell diagram: linear-model eigenfrequencies along the propeller law against
-    the excitation orders; crossings in the sweep's speed range flagged."""
+    the excitation orders; crossings in the sweep's speed range flagged, each with the
+    steady response its excitation drives there, and the order cuts (every order's
+    response along the speeds, the crossing speeds among them)."""
     spectrum = require("gearbox.spectrum", "campbell")
     linear = require("gearbox.drivetrain.linear", "modes")
     scene = ctx.scene
     table = ctx.inputs["tables"]
     lo, hi = scene["simulation"]["speed_sweep_rpm"][:2]
     grid = np.linspace(lo, hi, CAMPBELL_SPEEDS)
-    freqs = np.array([linear.modes(model_at(scene, table, n)).frequencies for n in grid])
-    op_modes = linear.modes(model_at(scene, table))
+    models = {float(n): model_at(scene, table, n) for n in grid}
+    freqs = np.array([linear.modes(m).frequencies for m in models.values()])
+    op_model = model_at(scene, table)
+    op_modes = linear.modes(op_model)
     kinds = [d.split(" mode")[0] for d in op_modes.descriptions()]
     curves = {}
     for i in range(freqs.shape[1]):
         if np.all(freqs[:, i] < 1e-3):  # rigid-body rotation of the whole line
             continue
         curves[f"mode {i} ({kinds[i]})"] = (grid, freqs[:, i])
-    diagram = spectrum.campbell(
-        curves,
-        _orders(model_at(scene, table)),
-        (lo, hi),
-        operating_range_rpm=(lo, hi),
-    )
+    excitations = _orders(op_model)
+    diagram = spectrum.campbell(curves, excitations, (lo, hi), operating_range_rpm=(lo, hi))
+    for c in diagram.crossings:
+        models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm))
+    speeds = np.array(sorted(models))
+    responses = [linear.order_responses(models[float(n)]) for n in speeds]
+    at = dict(zip(speeds.tolist(), responses, strict=True))
     return diagram.with_responses(
-        lambda c: crossing_response(scene, table, c),
+        lambda c: at[float(c.speed_rpm)].peaks(c.order),
         scene["simulation"]["resonance_threshold"],
+        _order_cuts(spectrum, speeds, excitations, responses),
     )
 
 
-def crossing_response(scene: Scene, table, crossing) -> dict[str, float]:
-    """The steady vibration that a crossing's excitation drives at the crossing speed,
-    alone, on the propeller law there (:func:`gearbox.drivetrain.linear.order_responses`:
-    engine and propeller orders on the linear model, mesh orders by harmonic balance
-    with the time-varying mesh stiffness): peak amplitudes of the dynamic mesh force
-    (N) and of both shafts' torques (N m), each also over its mean load
-    (``*_fraction``); zeros for an order the model does not excite."""
-    linear = require("gearbox.drivetrain.linear", "order_responses")
-    model = model_at(scene, table, crossing.speed_rpm)
-    return linear.order_responses(model).peaks(crossing.order)
+#: The channels of the order cuts and Campbell responses: name, OrderResponse mean.
+_CUT_CHANNELS = (
+    ("mesh_force_N", "mean_mesh_force"),
+    ("input_shaft_torque_Nm", "mean_input_torque"),
+    ("output_shaft_torque_Nm", "mean_output_torque"),
+)
+
+
+def _order_cuts(spectrum, speeds, excitations, responses):
+    """:class:`gearbox.spectrum.OrderCuts` from one OrderResponse per speed."""
+    amps = {
+        name: np.array([[r.peaks(e.order)[name] for r in responses] for e in excitations])
+        for name, _ in _CUT_CHANNELS
+    }
+    means = {name: np.array([getattr(r, attr) for r in responses]) for name, attr in _CUT_CHANNELS}
+    units = {name: "N" if name.endswith("_N") else "N m" for name, _ in _CUT_CHANNELS}
+    return spectrum.OrderCuts(speeds, tuple(excitations), amps, units, means)
