@@ -63,3 +63,27 @@ def test_modes_bad_input_exits_nonzero_without_traceback(tmp_path, capsys):
     )
     assert r.returncode == 2 and r.stdout == ""
     assert "missing.toml" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_modes_orders_lists_the_steady_response_per_order(capsys):
+    """--orders adds one row per excitation order, the library's order_responses at
+    the scene's speed, by order; the text form prints the same rows."""
+    from gearbox.drivetrain.linear import order_responses
+    from gearbox.drivetrain.model import DrivetrainModel
+    from gearbox.scene import load_scene
+
+    rc = main(["modes", str(CASE03), "--orders", "--json"])
+    rows = json.loads(capsys.readouterr().out)["order_responses"]
+    assert rc == 0
+    ref = order_responses(DrivetrainModel.from_scene(load_scene(CASE03)))
+    assert [r["order"] for r in rows] == sorted(ref.orders.tolist())
+    for r in rows:
+        assert r == pytest.approx(
+            {"order": r["order"], "source": r["source"]} | ref.peaks(r["order"])
+        )
+    mesh = [r for r in rows if r["source"] == "mesh"]
+    assert [r["order"] for r in mesh[:3]] == [29.0, 58.0, 87.0]
+    rc = main(["modes", str(CASE03), "--orders"])
+    text = capsys.readouterr().out
+    assert rc == 0 and "steady response per order" in text
+    assert len([ln for ln in text.splitlines() if ln.strip().startswith(("29 ", "58 "))]) == 2
