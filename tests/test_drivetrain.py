@@ -599,3 +599,22 @@ def test_shooting_finds_the_settled_periodic_response(base):
     b = mesh_force_metrics(brute, m)
     for k in ("mesh_force_dynamic_rms_N", "mesh_force_mesh_order_amplitude_N"):
         assert rel(a[k], b[k]) < 2e-5, k
+
+
+def test_dynamic_factor_of_a_known_record():
+    """max / mean of a mean plus a sine sampled at its crest: 1 + amplitude / mean
+    (exact to round-off); NaN samples (a run that stopped) are left out, an empty
+    record gives NaN."""
+    from gearbox.drivetrain.simulate import mesh_force_metrics_arrays
+
+    t = np.arange(1000)[None, :] / 1000.0
+    f = 900.0 + 250.0 * np.sin(2 * np.pi * 10 * t + 0.3)
+    f = np.concatenate([f, f], axis=0)
+    f[0, 500:] = np.nan
+    crest = 900.0 + 250.0 * np.sin(2 * np.pi * 10 * t + 0.3)[0, :500].max()
+    m = mesh_force_metrics_arrays(np.vstack([t, t]), f, np.array([10.0, 10.0]))
+    assert m["mesh_force_max_N"][0] == crest
+    assert m["dynamic_factor"][0] == pytest.approx(crest / m["mesh_force_mean_N"][0], rel=1e-15)
+    assert m["dynamic_factor"][1] == pytest.approx(1150.0 / 900.0, rel=1e-4)  # 100 samples a period
+    empty = mesh_force_metrics_arrays(t, np.full_like(t, np.nan), np.array([10.0]))
+    assert np.isnan(empty["dynamic_factor"][0]) and np.isnan(empty["mesh_force_max_N"][0])
