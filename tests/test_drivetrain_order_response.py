@@ -254,3 +254,30 @@ def test_bearings_and_governor(marine_run):
                     name,
                     e.label,
                 )
+
+
+def test_resonance_ratio_and_the_main_resonance_warning():
+    """N = mesh frequency / mesh mode along the diagram; a warning names the speeds where
+    N lies in ISO 6336-1's main resonance range (0.85, 1.15]. A constant 2000 Hz mesh
+    mode and mesh order 29: N = 29 n / 60 / 2000, in the band from 3517.2 rpm (grid of
+    1.5 rpm here)."""
+    from gearbox.report.dynamics import _resonance_text, resonance_ratio
+
+    ex = spectrum.excitation_orders(pinion_teeth=29, gear_teeth=45, cylinders=6, blades=3)
+    cd = spectrum.campbell(
+        {"mode 1 (shaft)": 50.0, "mode 3 (mesh)": 2000.0},
+        ex,
+        (1000.0, 4000.0),
+        operating_range_rpm=(1000.0, 4000.0),
+    )
+    n, ratio = resonance_ratio(cd)
+    np.testing.assert_allclose(ratio, 29 * n / 60 / 2000.0, rtol=1e-15)
+    text, warns = _resonance_text(cd)
+    assert "0.242 to 0.967" in text
+    (w,) = warns
+    first = float(w.text.split("from ")[1].split(" to")[0])
+    assert first == pytest.approx(0.85 * 2000 * 60 / 29, abs=1.5)
+    below = spectrum.campbell(
+        {"mode 3 (mesh)": 2000.0}, ex, (1000.0, 3400.0), operating_range_rpm=(1000.0, 3400.0)
+    )
+    assert _resonance_text(below)[1] == []

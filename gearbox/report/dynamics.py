@@ -300,6 +300,58 @@ _RESPONSE_COLUMNS = (
 )
 
 
+#: ISO 6336-1's main resonance range of the resonance ratio N = n / n_E1: from N_S
+#: (0.85 at line loads F_t K_A / b of 100 N/mm and more, lower below) to 1.15.
+MAIN_RESONANCE = (0.85, 1.15)
+
+
+def resonance_ratio(cd) -> tuple[np.ndarray, np.ndarray] | None:
+    """(speeds_rpm, N): ISO 6336-1's resonance ratio along the diagram's speeds, the
+    mesh frequency over the drive's mesh mode (the mode curve named '(mesh)'), which
+    for the gear pair alone is ISO 6336-1's n_E1 (docs/drivetrain.md); None without
+    a mesh mode or mesh order."""
+    modes = [j for j, name in enumerate(cd.mode_names) if name.endswith("(mesh)")]
+    mesh = [e.order for e in cd.excitations if e.source == "mesh"]
+    if not modes or not mesh:
+        return None
+    f = np.asarray(cd.mode_frequencies_hz[modes[0]], dtype=float)
+    return cd.speeds_rpm, min(mesh) * cd.speeds_rpm / 60.0 / f
+
+
+def _resonance_text(cd) -> tuple[str, list[ReportWarning]]:
+    """A sentence on the resonance ratio over the operating range, and a warning when
+    that range reaches ISO 6336-1's main resonance range."""
+    rr = resonance_ratio(cd)
+    if rr is None:
+        return "", []
+    n, ratio = rr
+    lo, hi = cd.operating_range_rpm or (float(n[0]), float(n[-1]))
+    inside = (n >= lo) & (n <= hi)
+    if not np.any(inside):
+        return "", []
+    r_lo, r_hi = float(ratio[inside].min()), float(ratio[inside].max())
+    i_top = int(np.flatnonzero(inside)[np.argmax(ratio[inside])])
+    text = (
+        f" Resonance ratio N = mesh frequency / mesh mode (ISO 6336-1's n / n_E1 with the "
+        f"drive's mesh mode): {r_lo:.3g} to {r_hi:.3g} over the operating range, the "
+        f"largest at {n[i_top]:.0f} rpm; ISO 6336-1's main resonance range is "
+        f"{MAIN_RESONANCE[0]:g} < N <= {MAIN_RESONANCE[1]:g} (its lower bound N_S is "
+        f"{MAIN_RESONANCE[0]:g} at line loads of 100 N/mm and more, lower below)."
+    )
+    band = inside & (ratio > MAIN_RESONANCE[0]) & (ratio <= MAIN_RESONANCE[1])
+    warns = []
+    if np.any(band):
+        warns.append(
+            ReportWarning(
+                "campbell",
+                f"mesh resonance: from {n[band][0]:.0f} to {n[band][-1]:.0f} rpm the resonance "
+                f"ratio N = mesh frequency / mesh mode is in ISO 6336-1's main resonance range "
+                f"({MAIN_RESONANCE[0]:g} < N <= {MAIN_RESONANCE[1]:g})",
+            )
+        )
+    return text, warns
+
+
 def render_campbell(cd, run) -> Section:
     """Campbell diagram (full and low-frequency view) and the crossings, each with the
     steady response its excitation drives there when the diagram has responses."""
@@ -325,6 +377,8 @@ def render_campbell(cd, run) -> Section:
                 "(see the Campbell section)",
             )
         )
+    ratio_text, ratio_warnings = _resonance_text(cd)
+    warnings += ratio_warnings
     quiet = len(risks) - len(listed)
     if quiet:
         warnings.append(
@@ -410,6 +464,7 @@ def render_campbell(cd, run) -> Section:
         '<p class="muted">Eigenfrequencies of the linearised drivetrain (mean mesh '
         "stiffness at the propeller-law torque of each speed) against engine speed, with "
         "the excitation orders; crossing speeds solved by root finding."
+        + esc(ratio_text)
         + note
         + "</p>"
         + figure(fig, "Campbell diagram")
