@@ -277,11 +277,10 @@ def _steady_amplitudes(model: DrivetrainModel, speeds: np.ndarray, exc: _Excitat
 
 @dataclass(frozen=True)
 class OrderResponse:
-    """The linear model's steady response to each of its periodic excitations.
-
-    Every excitation is solved alone, ``(K_lin - w^2 M + i w C_lin) X = F``, as in
-    :func:`periodic_start_states`; an amplitude A stands for Im(A e^{i w t}), so its
-    modulus is the peak value of that order's sinusoid.
+    """The steady response about the operating point to each periodic excitation
+    (:func:`order_responses`: engine and propeller orders each alone on the linear
+    model, the mesh orders together by harmonic balance); an amplitude A stands for
+    Im(A e^{i w t}), so its modulus is the peak value of that order's sinusoid.
 
     speeds: engine (= pinion) speeds (rad/s), shape (B,); orders: cycles per pinion
     revolution, shape (L,); sources: 'engine' (firing order and harmonics),
