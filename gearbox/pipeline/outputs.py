@@ -121,6 +121,8 @@ def _dynamics(op, folder: Path) -> list[Path]:
 
 def _spectra(sp, folder: Path) -> list[Path]:
     data = {"speed_rpm": sp.speed_rpm, "spectra": sp.spectra}
+    if getattr(sp, "linear", None):  # JSON keys are strings: orders as their repr
+        data["linear_model"] = {k: {repr(o): a for o, a in v.items()} for k, v in sp.linear.items()}
     return _json(folder / "spectra.json", data, compact=True)
 
 

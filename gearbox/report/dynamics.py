@@ -183,18 +183,31 @@ def render_spectra(sp, run) -> Section:
             )
         )
         rows = []
+        lin = getattr(sp, "linear", {}).get(name)
         for e in sp.excitations:
             try:
                 a = s.amplitude_at(e.order)
             except Exception:  # an order off the bins of this record or beyond Nyquist
                 continue
-            rows.append((e.label, e.order, e.source, a))
-        parts.append(table(["excitation", "order", "source", f"amplitude ({s.unit})"], rows))
+            row = (e.label, e.order, e.source, a)
+            if lin is not None:
+                b = lin.get(e.order, 0.0)
+                row += (b, 100.0 * (a / b - 1.0) if b > 0 else "")
+            rows.append(row)
+        head = ["excitation", "order", "source", f"amplitude ({s.unit})"]
+        if lin is not None:
+            head += [f"linear model ({s.unit})", "simulated / linear - 1 (%)"]
+        parts.append(table(head, rows))
     intro = (
         '<p class="muted">Single-sided peak amplitudes against pinion orders (cycles per '
         "pinion revolution), from the pinion angle (order tracking) over whole common "
         "periods of the excitation orders when the record holds one (rectangular "
-        "window), else over whole pinion revolutions with a flat-top window.</p>"
+        "window), else over whole pinion revolutions with a flat-top window. Beside the "
+        "simulated amplitudes, where the run has them, the steady response of the model "
+        "about the operating point to each order alone (engine and propeller orders on "
+        "the linear model, mesh orders by harmonic balance with the time-varying mesh "
+        "stiffness): where the two part, the drive runs out of the linear range (contact "
+        "loss, impacts) or orders mix.</p>"
     )
     return Section("Order spectra", intro + "".join(parts), anchor="spectra")
 

@@ -193,12 +193,16 @@ class Spectra:
     """Order spectra (pinion orders) of the operating point's channels.
 
     ``spectra``: channel -> :class:`gearbox.spectrum.OrderSpectrum`; ``excitations``:
-    the excitation orders of the drive (:func:`gearbox.spectrum.excitation_orders`).
+    the excitation orders of the drive (:func:`gearbox.spectrum.excitation_orders`);
+    ``linear``: channel -> {order: peak amplitude} of the same orders from the model
+    about the operating point (:func:`gearbox.drivetrain.linear.order_responses`),
+    beside which the simulated spectrum is read.
     """
 
     speed_rpm: float
     spectra: Mapping[str, Any]
     excitations: tuple
+    linear: Mapping[str, Mapping[float, float]] = field(default_factory=dict)
 
 
 def _orders(model) -> tuple:
@@ -256,8 +260,15 @@ def compute_spectra(ctx: StageContext) -> Spectra:
     op = ctx.inputs["dynamics"]
     if not op.series.success or op.series.time.size < 2:
         raise RuntimeError(f"the dynamics run did not succeed ({op.series.status})")
+    linear = require("gearbox.drivetrain.linear", "order_responses")
     exc = _orders(op.model)
-    return Spectra(op.speed_rpm, spectra_of(op.series, exc), tuple(exc))
+    r = linear.order_responses(op.model)
+    lin = {
+        name: {e.order: r.peaks(e.order)[name] for e in exc}
+        for name, _ in _CUT_CHANNELS
+        if name in SPECTRUM_CHANNELS and name in op.series.channels
+    }
+    return Spectra(op.speed_rpm, spectra_of(op.series, exc), tuple(exc), lin)
 
 
 # -- speed sweep: waterfall ----------------------------------------------------------------
