@@ -204,11 +204,14 @@ def test_order_responses_match_the_nonlinear_speed_sweep(marine_run):
             )
 
 
-def test_order_cuts_hold_the_crossings_and_survive_the_round_trip(marine_run):
+def test_order_cuts_hold_the_crossings_and_survive_the_round_trip(marine_run, tmp_path):
     """The Campbell stage's order cuts pass through every crossing's response (the
-    crossing speeds are among their speeds) and come back from JSON unchanged."""
+    crossing speeds are among their speeds), come back from JSON unchanged, and the
+    run's ``order_cuts.csv`` holds the same numbers (a row per speed)."""
+    import csv
     import json
 
+    from gearbox.pipeline.outputs import WRITERS
     from gearbox.spectrum import CampbellDiagram
 
     _, run = marine_run
@@ -229,6 +232,14 @@ def test_order_cuts_hold_the_crossings_and_survive_the_round_trip(marine_run):
         np.testing.assert_array_equal(back.order_cuts.amplitudes[name], amp)
         np.testing.assert_array_equal(back.order_cuts.means[name], cuts.means[name])
     assert back.order_cuts.excitations == cuts.excitations
+    paths = WRITERS["campbell"](cd, tmp_path)
+    assert {p.name for p in paths} == {"campbell.json", "order_cuts.csv"}
+    with open(tmp_path / "order_cuts.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [float(r["speed_rpm"]) for r in rows] == cuts.speeds_rpm.tolist()
+    for k, e in enumerate(cuts.excitations):
+        got = [float(r[f"mesh_force_N @ {e.label}"]) for r in rows]
+        assert got == cuts.amplitudes["mesh_force_N"][k].tolist()
 
 
 def test_bearings_and_governor(marine_run):

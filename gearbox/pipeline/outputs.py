@@ -6,7 +6,7 @@
   ``design.json``; ``sweep/<study>.csv``; ``tca.json`` (summary); ``ltca.json`` (summary); ``tables.nc`` (netCDF, needs the
   ``tables`` extra) and ``tables.csv``; ``dynamics.csv`` (time first) and
   ``dynamics.json`` (metrics, modes); ``spectra.json``; ``waterfall.json``;
-  ``campbell.json``; ``fmu/<identifier>.fmu``; results with their own
+  ``campbell.json`` and ``order_cuts.csv``; ``fmu/<identifier>.fmu``; results with their own
   ``write_files(folder)`` write themselves; any other result with ``to_dict()`` as
   ``<stage>.json``;
 - ``report.html`` when ``report`` is requested.
@@ -142,6 +142,27 @@ def _waterfall(sw, folder: Path) -> list[Path]:
     return _json(folder / "waterfall.json", data, compact=True)
 
 
+def _campbell(cd, folder: Path) -> list[Path]:
+    """``campbell.json``, and the order cuts as ``order_cuts.csv`` when it has them: a
+    row per speed, a column per channel and order (``mesh_force_N @ 2x mesh``)."""
+    files = _json(folder / "campbell.json", cd.to_dict())
+    cuts = getattr(cd, "order_cuts", None)
+    if cuts is None:
+        return files
+    head = ["speed_rpm"]
+    cols = [cuts.speeds_rpm]
+    for name, amp in cuts.amplitudes.items():
+        for e, row in zip(cuts.excitations, amp, strict=True):
+            head.append(f"{name} @ {e.label}")
+            cols.append(row)
+        head.append(f"{name} mean")
+        cols.append(cuts.means[name])
+    lines = [",".join(head)] + [
+        ",".join(repr(float(v)) for v in r) for r in zip(*cols, strict=True)
+    ]
+    return files + [write_atomic(folder / "order_cuts.csv", "\n".join(lines) + "\n")]
+
+
 def _tca(res, folder: Path) -> list[Path]:
     return _json(folder / "tca.json", res.summary())
 
@@ -159,6 +180,7 @@ WRITERS: dict[str, Callable[[Any, Path], list[Path]]] = {
     "dynamics": _dynamics,
     "spectra": _spectra,
     "waterfall": _waterfall,
+    "campbell": _campbell,
 }
 
 
