@@ -96,14 +96,20 @@ class Modes:
     mesh_energy_fraction: np.ndarray
 
     def descriptions(self) -> list[str]:
+        """Kind (rigid-body, shaft or mesh mode), frequency, the two coordinates moving
+        most and the share of strain energy in the mesh, per mode. A mode is rigid-body
+        below 1e-6 of the highest frequency: the eigensolver leaves the line's free
+        rotation at a few 1e-9 of it (8.5e-6 Hz beside 2170 Hz on the default scene),
+        not at zero."""
         out = []
+        rigid = 1e-6 * max(float(np.max(self.frequencies, initial=0.0)), 1.0)
         for i, f in enumerate(self.frequencies):
             phi = self.shapes[:, i]
             order = np.argsort(-np.abs(phi))[:2]
             dom = " and ".join(self.dof_names[j] for j in order)
             kind = (
                 "rigid-body"
-                if f < 1e-6
+                if f < rigid
                 else ("mesh" if self.mesh_energy_fraction[i] > 0.5 else "shaft")
             )
             out.append(
