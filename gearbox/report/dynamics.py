@@ -302,7 +302,7 @@ def _response_text(c) -> str:
         f"{label} {r[key]:.4g} {unit} ({100 * r[key.rsplit('_', 1)[0] + '_fraction']:.3g} %)"
         for label, key, unit in _RESPONSE_COLUMNS
     ]
-    return "; steady response (of the mean): " + ", ".join(parts)
+    return "; steady response, peak (% of the mean load): " + ", ".join(parts)
 
 
 #: The response entries of a crossing shown in the report: label, key, unit.
