@@ -196,6 +196,7 @@ def test_order_responses_match_the_nonlinear_speed_sweep(marine_run):
             e.order: sp.amplitudes[np.argmin(np.abs(sp.orders - e.order))] for e in sw.excitations
         }
         big = max(sims.values())
+        assert p.metrics["linear_mesh_order_amplitude_N"] == r.peaks(29.0)["mesh_force_N"]
         for e in sw.excitations:
             lin = r.peaks(e.order)["mesh_force_N"]
             assert abs(lin - sims[e.order]) <= 0.01 * sims[e.order] + 0.005 * big, (

@@ -288,14 +288,18 @@ class SweepPoint:
 
 
 def _point(model, ts, metrics, speed_rpm: float, torque: float) -> SweepPoint:
-    """A sweep point from a settled run ``ts`` of ``model`` and its metrics."""
+    """A sweep point from a settled run ``ts`` of ``model`` and its metrics, with the
+    mesh order's amplitude from the model about the operating point beside them
+    (``linear_mesh_order_amplitude_N``, :func:`gearbox.drivetrain.linear.order_responses`)."""
+    linear = require("gearbox.drivetrain.linear", "order_responses")
     spectra = spectra_of(ts, _orders(model)) if ts.success and ts.time.size > 1 else {}
+    lin = linear.order_responses(model).peaks(float(model.pinion_teeth))["mesh_force_N"]
     return SweepPoint(
         float(speed_rpm),
         float(torque),
         ts.status,
         spectra,
-        dict(metrics),
+        dict(metrics) | {"linear_mesh_order_amplitude_N": lin},
         int(ts.nfev),
         float(ts.wall_time),
     )
