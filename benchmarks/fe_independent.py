@@ -192,24 +192,8 @@ def level_line(pair: ParallelPair, position: float = 0.25, mesh: MeshOptions | N
         "half": 0.5 * fe.options.lattice_spacing * loads.blank.normal_module,
         "depth": fe.options.matching_depth * loads.blank.normal_module,
         "fe": fe,
-        "grid": type(grid)(**_fields(grid, np.flatnonzero(on))),
+        "grid": grid.take(np.flatnonzero(on)),
     }
-
-
-def _fields(grid, idx) -> dict:
-    """The fields of ``grid`` at its points ``idx`` (every per-point field indexed;
-    the axes are the grid's, not per point)."""
-    kw = {}
-    for f in dataclasses.fields(grid):
-        v = getattr(grid, f.name)
-        if f.name in ("pinion_axis", "gear_axis"):
-            pass
-        elif isinstance(v, np.ndarray) and v.shape[:1] == (grid.size,):
-            v = v[idx]
-        elif hasattr(v, "take"):
-            v = v.take(idx)
-        kw[f.name] = v
-    return kw
 
 
 # ------------------------------------------------------------ independent model
@@ -708,7 +692,7 @@ def line_of_constant_radius(pair: ParallelPair, gear: int, frac: float, n: int, 
     ``frac`` of the way from its form to its tip circle."""
     grid = parallel_grid(pair, 0.25, n_face=n)
     m = n * len(teeth)
-    kw = _fields(grid, np.full(m, int(np.flatnonzero(grid.pair == 0)[0])))
+    kw = grid.fields_at(np.full(m, int(np.flatnonzero(grid.pair == 0)[0])))
     dy = pair.face_width / n
     y = np.tile(-0.5 * pair.face_width + dy * (np.arange(n) + 0.5), len(teeth))
     r = pair.form_radius(gear) + frac * (pair.tip_radius(gear) - pair.form_radius(gear))

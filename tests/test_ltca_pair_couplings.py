@@ -8,7 +8,6 @@ gear solved at its default mesh, its orientation against the grid's geometry, an
 FE level's couplings stored in ``tests/data/fe_pair_couplings*.json``.
 """
 
-import dataclasses
 import json
 from dataclasses import replace
 from pathlib import Path
@@ -175,23 +174,6 @@ def test_bad_between_pairs_names_the_parameter():
     assert FastCompliance(foundation="normal").between_pairs == "even"
 
 
-def _subset(g, keep):
-    """The grid's points ``keep`` (per-point arrays indexed, the rest as they are)."""
-    n = g.size
-    fields = {}
-    for f in dataclasses.fields(g):
-        v = getattr(g, f.name)
-        if f.name in ("tooth1", "tooth2"):
-            fields[f.name] = v.take(keep)
-        elif (
-            f.name not in ("pinion_axis", "gear_axis")
-            and isinstance(v, np.ndarray)
-            and v.shape[:1] == (n,)
-        ):
-            fields[f.name] = v[keep]
-    return replace(g, **fields)
-
-
 def test_the_front_tooth_is_found_without_a_slot_shared_by_two_pairs():
     """Where no face slot holds points of two neighbouring pairs (short, inclined
     contact lines), the trend of the radius with the pair index orients the couplings
@@ -202,7 +184,7 @@ def test_the_front_tooth_is_found_without_a_slot_shared_by_two_pairs():
     keep = np.flatnonzero(
         ((g.pair == pairs[0]) & (g.slot < 6)) | ((g.pair == pairs[1]) & (g.slot >= 6))
     )
-    part = _subset(g, keep)
+    part = g.take(keep)
     assert not np.any(_neighbours(part)[0].size)
     comp = FastCompliance()
     for gear in (0, 1):

@@ -293,3 +293,30 @@ def test_cycle_result_round_trips_through_a_dict():
         a, b = getattr(r, name), getattr(back, name)
         assert a.dtype == b.dtype and np.array_equal(a, b), name
     assert back.profile_range == r.profile_range and back.meta == r.meta
+
+
+def test_grid_take_indexes_every_per_point_field_and_keeps_the_axes():
+    """ContactGrid.take: every field with one entry per point is indexed (PER_POINT
+    names them; a new per-point field left out of it would fail here), the grid-wide
+    fields, the axes among them, are kept."""
+    import dataclasses
+
+    from gearbox.ltca.grid import ContactGrid, ToothSections
+
+    g = parallel_grid(HELICAL, 0.3)
+    n = g.size
+    for f in dataclasses.fields(g):
+        v = getattr(g, f.name)
+        per_point = isinstance(v, ToothSections) or (
+            isinstance(v, np.ndarray)
+            and v.shape[:1] == (n,)
+            and f.name not in ("pinion_axis", "gear_axis")
+        )
+        assert per_point == (f.name in ContactGrid.PER_POINT), f.name
+    keep = np.flatnonzero(g.pair == g.pair.min())
+    part = g.take(keep)
+    assert part.size == keep.size
+    np.testing.assert_array_equal(part.position, g.position[keep])
+    np.testing.assert_array_equal(part.tooth2.radius, g.tooth2.radius[keep])
+    np.testing.assert_array_equal(part.pinion_axis, g.pinion_axis)
+    np.testing.assert_array_equal(part.sliding_velocity(), g.sliding_velocity()[keep])

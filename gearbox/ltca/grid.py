@@ -291,6 +291,44 @@ class ContactGrid:
         sense = np.sign(np.sum(np.sum(v1 * self.normal, 1) * np.sum(v2 * self.normal, 1)))
         return v1 - (sense * ratio)[:, None] * v2
 
+    #: The fields with one entry per point (arrays of length n, or ToothSections);
+    #: the others (ranges, slots, material, axes) belong to the whole grid.
+    PER_POINT = (
+        "pair",
+        "slot",
+        "face",
+        "width",
+        "line_length",
+        "separation",
+        "arm",
+        "transverse_projection",
+        "curvature_radius",
+        "profile",
+        "edge",
+        "position",
+        "normal",
+        "tooth1",
+        "tooth2",
+        "width2",
+        "transverse_projection2",
+    )
+
+    def fields_at(self, idx) -> dict:
+        """Every field's value at the points ``idx`` (per-point fields indexed, the
+        rest as they are), for a new grid: ``ContactGrid(**grid.fields_at(idx))``."""
+        idx = np.asarray(idx)
+        out = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name in self.PER_POINT:
+                v = v.take(idx) if isinstance(v, ToothSections) else v[idx]
+            out[f.name] = v
+        return out
+
+    def take(self, idx) -> ContactGrid:
+        """The grid of the points ``idx`` only."""
+        return ContactGrid(**self.fields_at(idx))
+
     @property
     def size(self) -> int:
         return int(self.separation.shape[0])
