@@ -20,6 +20,7 @@ from .model import DrivetrainModel
 __all__ = [
     "Modes",
     "OrderResponse",
+    "RESPONSE_CHANNELS",
     "largest_stable_step",
     "linear_matrices",
     "mesh_harmonic_balance",
@@ -250,7 +251,7 @@ def _excitations(model: DrivetrainModel, x_static: np.ndarray, mesh_harmonics: i
             forces.append(f)
             mesh.append(0j)
     g = model.mesh_vectors()[0]
-    h, F = _mesh_forcing(model, x_static)
+    h, F = _mesh_forcing(model, x_static) if mesh_harmonics > 0 else ((), ())
     for hh, Fh in zip(h[:mesh_harmonics], F[:mesh_harmonics], strict=True):
         orders.append(hh * model.pinion_teeth)
         sources.append("mesh")
@@ -279,6 +280,14 @@ def _steady_amplitudes(model: DrivetrainModel, speeds: np.ndarray, exc: _Excitat
     )
     F = np.broadcast_to(exc.forces, w.shape + (n,))[..., None]
     return w, np.linalg.solve(A, F)[..., 0]
+
+
+#: The response channels: output name, OrderResponse array, its mean load, unit.
+RESPONSE_CHANNELS = (
+    ("mesh_force_N", "mesh_force", "mean_mesh_force", "N"),
+    ("input_shaft_torque_Nm", "input_shaft_torque", "mean_input_torque", "N m"),
+    ("output_shaft_torque_Nm", "output_shaft_torque", "mean_output_torque", "N m"),
+)
 
 
 @dataclass(frozen=True)
@@ -321,11 +330,8 @@ class OrderResponse:
         (``*_fraction``); zeros for an order the model does not excite."""
         i = self.order_index(order)
         out = {}
-        for name, arr, mean in (
-            ("mesh_force_N", self.mesh_force, self.mean_mesh_force),
-            ("input_shaft_torque_Nm", self.input_shaft_torque, self.mean_input_torque),
-            ("output_shaft_torque_Nm", self.output_shaft_torque, self.mean_output_torque),
-        ):
+        for name, field, mean_field, _ in RESPONSE_CHANNELS:
+            arr, mean = getattr(self, field), getattr(self, mean_field)
             a = 0.0 if i is None else float(abs(arr[speed, i]))
             out[name] = a
             out[name.rsplit("_", 1)[0] + "_fraction"] = a / abs(mean) if mean else math.inf

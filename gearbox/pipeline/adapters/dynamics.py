@@ -265,7 +265,7 @@ def compute_spectra(ctx: StageContext) -> Spectra:
     r = linear.order_responses(op.model)
     lin = {
         name: {e.order: r.peaks(e.order)[name] for e in exc}
-        for name, _ in _CUT_CHANNELS
+        for name, *_ in linear.RESPONSE_CHANNELS
         if name in SPECTRUM_CHANNELS and name in op.series.channels
     }
     return Spectra(op.speed_rpm, spectra_of(op.series, exc), tuple(exc), lin)
@@ -416,20 +416,12 @@ def compute_campbell(ctx: StageContext):
     )
 
 
-#: The channels of the order cuts and Campbell responses: name, OrderResponse mean.
-_CUT_CHANNELS = (
-    ("mesh_force_N", "mean_mesh_force"),
-    ("input_shaft_torque_Nm", "mean_input_torque"),
-    ("output_shaft_torque_Nm", "mean_output_torque"),
-)
-
-
 def _order_cuts(spectrum, speeds, excitations, responses):
     """:class:`gearbox.spectrum.OrderCuts` from one OrderResponse per speed."""
-    amps = {
-        name: np.array([[r.peaks(e.order)[name] for r in responses] for e in excitations])
-        for name, _ in _CUT_CHANNELS
-    }
-    means = {name: np.array([getattr(r, attr) for r in responses]) for name, attr in _CUT_CHANNELS}
-    units = {name: "N" if name.endswith("_N") else "N m" for name, _ in _CUT_CHANNELS}
+    linear = require("gearbox.drivetrain.linear", "RESPONSE_CHANNELS")
+    amps, means, units = {}, {}, {}
+    for name, _, mean, unit in linear.RESPONSE_CHANNELS:
+        amps[name] = np.array([[r.peaks(e.order)[name] for r in responses] for e in excitations])
+        means[name] = np.array([getattr(r, mean) for r in responses])
+        units[name] = unit
     return spectrum.OrderCuts(speeds, tuple(excitations), amps, units, means)
