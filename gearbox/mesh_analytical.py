@@ -43,6 +43,7 @@ __all__ = [
     "HelicalPair",
     "analytical_table",
     "contact_line_length",
+    "friction_arms",
     "iso_mesh_stiffness",
     "pair_from_scene",
 ]
@@ -210,6 +211,62 @@ def contact_line_length(pair: HelicalPair, theta: np.ndarray) -> np.ndarray:
     return total
 
 
+def friction_arms(pair: HelicalPair, theta: np.ndarray, flank: str = "drive") -> np.ndarray:
+    """Moment arms (m) of the sliding friction about the pinion's and the gear's axis,
+    the load spread evenly along the contact lines, at pinion angles ``theta`` (rad);
+    shape theta + (2,). Conventions of :meth:`gearbox.ltca.grid.ContactGrid.friction_arms`.
+
+    In a parallel involute pair the flanks slide along the profile, in the transverse
+    plane: friction at roll distance x from the pinion's base-circle tangent point T_1
+    acts at the arm x about the pinion's axis and T_1T_2 - x about the gear's, and
+    reverses at the pitch point x_c = r_b1 tan(alpha_wt): arm_1 = sgn(x - x_c) x,
+    arm_2 = sgn(x - x_c) (T_1T_2 - x) (e.g. Vaishya & Singh, J. Sound Vib. 243 (2001)).
+    On the coast flank the contact runs along its path the other way: its roll distance
+    is the drive flank's mirrored about the path's middle.
+    """
+    th = np.asarray(theta, dtype=float)
+    g = pair.path_of_contact
+    pb = pair.base_pitch
+    b = pair.face_width
+    tb = math.tan(pair.base_helix_angle)
+    aw = pair.working_pressure_angle
+    rb1 = pair.base_radius(0)
+    line = pair.centre_distance * math.sin(aw)  # T_1 T_2
+    xc = rb1 * math.tan(aw)
+    xa = math.sqrt(pair.tip_radius(1) ** 2 - pair.base_radius(1) ** 2)
+    xa = line - xa  # start of the path (the gear's tip) from T_1
+
+    def prim1(x):  # integral of sgn(x - xc) x
+        return np.abs(x - xc) * (x + xc) / 2
+
+    def prim2(x):  # integral of sgn(x - xc) (line - x)
+        return line * np.abs(x - xc) - prim1(x)
+
+    s0 = np.mod(rb1 * th, pb)
+    num = np.zeros(th.shape + (2,))
+    den = np.zeros(th.shape)
+    jmax = int(math.ceil((g + b * tb) / pb)) + 2
+    for j in range(-jmax, jmax + 1):
+        sj = s0 + j * pb
+        if tb > 1e-12:
+            lo = np.clip(sj, 0.0, g)
+            hi = np.clip(sj + b * tb, 0.0, g)
+            if flank != "drive":
+                lo, hi = g - hi, g - lo
+            x0, x1 = xa + lo, xa + hi
+            num[..., 0] += prim1(x1) - prim1(x0)
+            num[..., 1] += prim2(x1) - prim2(x0)
+            den += hi - lo
+        else:
+            on = (sj >= 0) & (sj < g)
+            x = xa + (sj if flank == "drive" else g - sj)
+            sg = np.sign(x - xc)
+            num[..., 0] += np.where(on, sg * x, 0.0)
+            num[..., 1] += np.where(on, sg * (line - x), 0.0)
+            den += on
+    return num / den[..., None]
+
+
 def analytical_table(
     pair: HelicalPair,
     torques,
@@ -275,7 +332,18 @@ def analytical_table(
         line_of_action=loa,
         pinion_axis=np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]),
         gear_axis=np.array([[0.0, 0.0, -1.0], [centre, 0.0, 0.0]]),
-        extra={"contact_line_length_m": np.broadcast_to(length, (nf, nt, positions)).copy()},
+        extra={
+            "contact_line_length_m": np.broadcast_to(length, (nf, nt, positions)).copy(),
+            **{
+                f"friction_arm_{who}_m": np.stack(
+                    [
+                        np.broadcast_to(friction_arms(pair, angle, f)[:, i], (nt, positions))
+                        for f in flanks
+                    ]
+                )
+                for i, who in enumerate(("pinion", "gear"))
+            },
+        },
         attrs={
             "scene": scene,
             "method": "analytical: ISO 6336-1:2019 method B mean stiffness, contact-line-length variation",

@@ -59,6 +59,8 @@ _EXTRA_UNITS = {
     "max_contact_pressure_Pa": "Pa",
     "pattern_area_fraction": "1",
     "load_sharing": "1",
+    "friction_arm_pinion_m": "m",
+    "friction_arm_gear_m": "m",
 }
 
 

@@ -298,6 +298,13 @@ SCHEMA: dict[str, dict[str, Field]] = {
             0, "Mesh-order harmonics kept in the Fourier series of the tables (0 = all).", 0, 10000
         ),
         "backlash_mm": _f(0.1, "Circumferential backlash along the line of action (mm).", 0, 10),
+        "mesh_friction_coefficient": _f(
+            0.0,
+            "Mean coefficient of sliding friction in the mesh (Coulomb, along the flanks' "
+            "nominal sliding; 0 = none). Needs a mesh table with friction arms.",
+            0,
+            0.3,
+        ),
         "propeller_inertia_kgm2": _f(5.0, "Propeller inertia in air (kg m^2).", 0, None, True),
         "propeller_added_inertia_fraction": _f(
             0.25, "Added water inertia over propeller inertia.", 0, 10

@@ -135,9 +135,9 @@ def _eigenvalues_at_peak_stiffness(model, speeds=None) -> np.ndarray:
     A[:, :n, n:] = np.eye(n)
     A[:, n:, :n] = -K / m[:, None]
     A[:, n:, n:] = -C / m[:, None]
-    # C holds 2 kappa Omega_2 = 2 T_op (lambda_2 / lambda_1) / Omega_2 at the model's speed
+    # C holds 2 kappa Omega_2 = 2 T_op (T_2 / T_1) / Omega_2 at the model's speed
     ratio = model.gear_speed / model.speed
-    dc = 2 * model.torque * (model.drive.lambda2 / model.drive.lambda1) / ratio
+    dc = 2 * model.torque * model.torque_ratio / ratio
     A[:, n + 3, n + 3] -= (dc / speeds - dc / model.speed) / m[3]
     return np.linalg.eigvals(A)
 
@@ -239,12 +239,13 @@ def plan_steps(model, ts: np.ndarray, solver, *, targets=None) -> FixedStepPlan:
 
 
 def mesh_law_table(p, cells: int, xp):
-    """Cubic Hermite table of the mesh laws over one mesh cycle, shape (6, 2, cells + 1).
+    """Cubic Hermite table of the mesh laws over one mesh cycle, shape (R, 2, cells + 1).
 
     Rows: k_drive, k_coast (N/m), e_drive, e_coast (m), e'_drive, e'_coast (m/rad,
-    d e / d theta_1); [:, 0] values, [:, 1] derivatives with respect to phi = N_1 theta_1
-    times the cell width, at phi_j = 2 pi j / cells. From the Fourier coefficients
-    ``p['kc']``, ``p['ec']`` (docs/drivetrain.md §3).
+    d e / d theta_1), and with friction (``p['fc']`` not empty) mu phi_1 and mu phi_2 of
+    drive and coast (m; R = 10, else 6); [:, 0] values, [:, 1] derivatives with respect
+    to phi = N_1 theta_1 times the cell width, at phi_j = 2 pi j / cells. From the
+    Fourier coefficients ``p['kc']``, ``p['ec']``, ``p['fc']`` (docs/drivetrain.md §3).
     """
     kc, ec = p["kc"], p["ec"]
     h = (kc.shape[-1] - 1) // 2
@@ -256,6 +257,11 @@ def mesh_law_table(p, cells: int, xp):
     a = xp.concatenate([a, ad], axis=0)  # (6, h)
     b = xp.concatenate([b, bd], axis=0)
     a0 = xp.concatenate([rows[:, 0], xp.zeros(2)])
+    if p["fc"].shape[-1]:
+        fr = xp.swapaxes(p["fc"], 0, 1).reshape(4, -1)  # phi_1 drive, coast, phi_2 drive, coast
+        a = xp.concatenate([a, fr[:, 1 : 1 + h]], axis=0)
+        b = xp.concatenate([b, fr[:, 1 + h :]], axis=0)
+        a0 = xp.concatenate([a0, fr[:, 0]])
     phi = xp.arange(cells + 1) * (2 * math.pi / cells)
     arg = kk[:, None] * phi[None, :]  # (h, cells + 1)
     c, s = xp.cos(arg), xp.sin(arg)
@@ -265,12 +271,12 @@ def mesh_law_table(p, cells: int, xp):
 
 
 def _hermite(table, phi, cells: int, jnp, lax):
-    """The 6 mesh-law rows at phi = N_1 theta_1 (rad) from :func:`mesh_law_table`."""
+    """The mesh-law rows at phi = N_1 theta_1 (rad) from :func:`mesh_law_table`."""
     u = phi * (cells / (2 * math.pi))
     fl = jnp.floor(u)
     s = u - fl
     i = jnp.mod(fl, cells).astype(jnp.int32)
-    T = lax.dynamic_slice_in_dim(table, i, 2, axis=2)  # (6, 2, 2)
+    T = lax.dynamic_slice_in_dim(table, i, 2, axis=2)  # (R, 2, 2)
     s2 = s * s
     s3 = s2 * s
     return (
@@ -283,7 +289,7 @@ def _hermite(table, phi, cells: int, jnp, lax):
 
 def lean_rhs(t, z, p, laws_at, te0, rp):
     """d z / dt of the scaled state, as :func:`gearbox.drivetrain.model.rhs`, in scalar
-    arithmetic. laws_at(phi) -> the 6 mesh-law rows of :func:`mesh_law_table`; te0: engine
+    arithmetic. laws_at(phi) -> the mesh-law rows of :func:`mesh_law_table`; te0: engine
     torque without governor (N m) at t; rp: propeller ripple factor at t (-). Shape (2 n,).
     """
     import jax
@@ -306,6 +312,7 @@ def lean_rhs(t, z, p, laws_at, te0, rp):
     te = te0 - p["Kp"] * v[0] - p["Ki"] * (x[0] - p["qe0"])
     wp = p["Omega2"] + v[3]
     tp = p["kappa"] * wp * wp * rp
+    friction = r.shape[0] > 6  # docs/drivetrain.md §3a
     acc = []
     for i in range(n):
         q = -sum(K[i, j] * x[j] + C[i, j] * v[j] for j in range(n))
@@ -314,6 +321,10 @@ def lean_rhs(t, z, p, laws_at, te0, rp):
             q = q + te
         elif i == 3:
             q = q - tp
+        elif friction and i == 1:
+            q = q - r[6] * f[0] - r[7] * f[1]
+        elif friction and i == 2:
+            q = q + r[8] * f[0] + r[9] * f[1]
         acc.append(q * p["Minv"][i] / sc[n + i])
     return jnp.stack([v[i] / sc[i] for i in range(n)] + acc)
 

@@ -3,8 +3,11 @@
 The model linearised about the static equilibrium with the mean drive-flank mesh
 stiffness (docs/drivetrain.md §7): ``M x'' + C_lin x' + K_lin x = f``, with
 
-    K_lin = K_s + kbar G_d^T G_d (+ K_i on the engine with a governor)
-    C_lin = C_s + c_d G_d^T G_d + 2 kappa Omega_2 on the propeller (+ K_p on the engine)
+    K_lin = K_s + kbar W_d^T G_d (+ K_i on the engine with a governor)
+    C_lin = C_s + c_d W_d^T G_d + 2 kappa Omega_2 on the propeller (+ K_p on the engine)
+
+W_d = G_d + Phi_d, Phi_d the mesh friction's mean generalised direction (§3a; zero
+without friction, and then both matrices are symmetric).
 """
 
 from __future__ import annotations
@@ -72,12 +75,17 @@ def largest_stable_step(lam: np.ndarray, poly: np.ndarray, growth: float = STEP_
     return float(out[0]) if single else out
 
 
-def linear_matrices(model: DrivetrainModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(M, C_lin, K_lin), each shape (n, n), SI."""
+def linear_matrices(
+    model: DrivetrainModel, *, friction: bool = True
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(M, C_lin, K_lin), each shape (n, n), SI. friction: keep the mesh friction's
+    mean generalised direction (non-conservative: the matrices lose their symmetry);
+    False for the undamped modes."""
     K, C = model.structural_matrices()
     g = model.mesh_vectors()[0]
-    K = K + model.drive.mean_stiffness * np.outer(g, g)
-    C = C + model.drive.damping * np.outer(g, g)
+    w = g + model.friction_vectors()[0] if friction else g
+    K = K + model.drive.mean_stiffness * np.outer(w, g)
+    C = C + model.drive.damping * np.outer(w, g)
     C[3, 3] += 2 * model.propeller_coefficient * model.gear_speed
     if model.governor:
         C[0, 0] += model.governor_kp
@@ -135,10 +143,12 @@ class Modes:
 
 
 def modes(model: DrivetrainModel) -> Modes:
-    """Eigenfrequencies and mass-normalised mode shapes of ``K_lin phi = w^2 M phi``."""
+    """Eigenfrequencies and mass-normalised mode shapes of ``K_lin phi = w^2 M phi``,
+    the undamped and frictionless linear model (friction, like damping, is left out of
+    the modes)."""
     import scipy.linalg  # here: unpickling Modes (the report's worker) needs no scipy
 
-    M, _, K = linear_matrices(model)
+    M, _, K = linear_matrices(model, friction=False)
     w2, phi = scipy.linalg.eigh(K, M)
     w2 = np.clip(w2, 0.0, None)
     g = model.mesh_vectors()[0]
@@ -149,28 +159,49 @@ def modes(model: DrivetrainModel) -> Modes:
     return Modes(np.sqrt(w2) / (2 * math.pi), phi, model.dof_names, frac)
 
 
+def _drive_laws(model: DrivetrainModel, samples: int):
+    """The drive flank's laws at ``samples`` pinion angles over one mesh cycle: k (N/m),
+    e (m), de/dtheta_1 (m/rad), each (S,), and the mesh force's generalised direction
+    W(theta) = G_d + Phi_d(theta), (S, n) (docs/drivetrain.md §3a; G_d without friction)."""
+    fl = model.drive
+    th = np.arange(samples) * (2 * math.pi / model.pinion_teeth / samples)
+
+    def series(coef):
+        hh = (coef.size - 1) // 2
+        v, dv = fourier_eval(
+            coef[0], coef[1 : 1 + hh], coef[1 + hh :], model.pinion_teeth, th[:, None]
+        )
+        return np.asarray(v).ravel(), np.asarray(dv).ravel()
+
+    k, _ = series(fl.k_coef)
+    e, de = series(fl.e_coef)
+    W = np.broadcast_to(model.mesh_vectors()[0], (samples, model.n_dof)).copy()
+    mu = model.mesh_friction_coefficient
+    if mu > 0 and fl.friction_coef is not None:
+        W[:, 1] += mu * series(fl.friction_coef[0])[0]
+        W[:, 2] -= mu * series(fl.friction_coef[1])[0]
+    return k, e, de, W
+
+
 def _mesh_forcing(model: DrivetrainModel, x_static: np.ndarray, samples: int = 256):
     """Fourier coefficients (complex, per mesh harmonic) of the first-order mesh forcing.
 
-    f(theta) = k(theta) (delta_s - e(theta)) - kbar (delta_s - ebar), N; generalised force
-    -G_d f. Returns (harmonic numbers h, complex amplitudes F_h with f = sum Im(F_h e^{i h N1 theta}))
+    f(theta) = k(theta) (delta_s - e(theta)) - kbar (delta_s - ebar), N; its generalised
+    force -W(theta) (f(theta) + F) with F the static mesh force (the friction's arms
+    vary along the cycle under the static load too; -G_d f without friction). Returns
+    (harmonic numbers h, complex amplitudes F_h with f = sum Im(F_h e^{i h N1 theta}),
+    generalised force amplitudes, (H, n), likewise)
     """
     fl = model.drive
-    th = np.arange(samples) * (2 * math.pi / model.pinion_teeth / samples)
-    hk = (fl.k_coef.size - 1) // 2
-    he = (fl.e_coef.size - 1) // 2
-    k, _ = fourier_eval(
-        fl.k_coef[0], fl.k_coef[1 : 1 + hk], fl.k_coef[1 + hk :], model.pinion_teeth, th[:, None]
-    )
-    e, _ = fourier_eval(
-        fl.e_coef[0], fl.e_coef[1 : 1 + he], fl.e_coef[1 + he :], model.pinion_teeth, th[:, None]
-    )
+    k, e, _, W = _drive_laws(model, samples)
     ds = model.mesh_vectors()[0] @ x_static
     f = k * (ds - e) - fl.k_coef[0] * (ds - fl.e_coef[0])
+    q = -W * (f + fl.k_coef[0] * (ds - fl.e_coef[0]))[:, None]
     c = np.fft.rfft(f) / samples
+    cq = np.fft.rfft(q, axis=0) / samples
     h = np.arange(1, samples // 2)
     # f = sum 2 Re(c_h e^{i h w}) = sum Im(2 i c_h e^{i h w})
-    return h, 2j * c[1 : samples // 2]
+    return h, 2j * c[1 : samples // 2], 2j * cq[1 : samples // 2]
 
 
 def periodic_start_state(model: DrivetrainModel, *, mesh_harmonics: int = 12) -> np.ndarray:
@@ -250,12 +281,11 @@ def _excitations(model: DrivetrainModel, x_static: np.ndarray, mesh_harmonics: i
             sources.append("propeller")
             forces.append(f)
             mesh.append(0j)
-    g = model.mesh_vectors()[0]
-    h, F = _mesh_forcing(model, x_static) if mesh_harmonics > 0 else ((), ())
-    for hh, Fh in zip(h[:mesh_harmonics], F[:mesh_harmonics], strict=True):
+    h, F, Q = _mesh_forcing(model, x_static) if mesh_harmonics > 0 else ((), (), ())
+    for hh, Fh, Qh in zip(h[:mesh_harmonics], F[:mesh_harmonics], Q[:mesh_harmonics], strict=True):
         orders.append(hh * model.pinion_teeth)
         sources.append("mesh")
-        forces.append(-g * Fh)
+        forces.append(Qh)
         mesh.append(Fh)
     return _Excitations(
         np.asarray(orders, dtype=float),
@@ -340,11 +370,12 @@ class OrderResponse:
 
 def _damping_at(model: DrivetrainModel, C: np.ndarray, speeds: np.ndarray) -> np.ndarray:
     """C_lin at each of ``speeds`` (rad/s), (B, n, n): the propeller's speed damping
-    2 kappa Omega_2 = 2 T_op (lambda_2 / lambda_1) / Omega_2 taken at that speed."""
+    2 kappa Omega_2 = 2 T_op (T_2 / T_1) / Omega_2 taken at that speed
+    (:attr:`DrivetrainModel.torque_ratio`)."""
     ratio = model.pinion_teeth / model.gear_teeth
     Cb = np.broadcast_to(C, (speeds.size,) + C.shape).copy()
     Cb[:, 3, 3] += -2 * model.propeller_coefficient * model.gear_speed + 2 * model.torque * (
-        model.drive.lambda2 / model.drive.lambda1
+        model.torque_ratio
     ) / (speeds * ratio)
     return Cb
 
@@ -376,38 +407,41 @@ def mesh_harmonic_balance(
     sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
     n, H = model.n_dof, int(harmonics)
     fl = model.drive
-    th = np.arange(samples) * (2 * math.pi / model.pinion_teeth / samples)
-
-    def series(coef):
-        hh = (coef.size - 1) // 2
-        v, _ = fourier_eval(
-            coef[0], coef[1 : 1 + hh], coef[1 + hh :], model.pinion_teeth, th[:, None]
-        )
-        return np.asarray(v).ravel()
-
-    k, e = series(fl.k_coef), series(fl.e_coef)
+    k, e, de, W = _drive_laws(model, samples)
     g = model.mesh_vectors()[0]
     ds = g @ model.static_state()[:n]
+    F0 = fl.k_coef[0] * (ds - fl.e_coef[0])  # the static mesh force
     kap = np.fft.fft(k) / samples  # kappa_j at index j mod samples
-    pk = np.fft.fft(k * (ds - e) - fl.k_coef[0] * (ds - fl.e_coef[0])) / samples
-    ce = np.fft.fft(e) / samples
+    pk = np.fft.fft(k * (ds - e)) / samples
+    pk[0] -= F0
+    cd = np.fft.fft(de) / samples  # coefficients of de/dtheta_1
+    # the generalised force -W(theta) F: W k, W c and the forcing W k (ds - e), W e'
+    wk = np.fft.fft(W * k[:, None], axis=0) / samples  # (S, n)
+    wc = fl.damping * np.fft.fft(W, axis=0) / samples
+    wp = np.fft.fft(W * (k * (ds - e))[:, None], axis=0) / samples
+    wp[0] -= (g + model.friction_vectors()[0]) * F0  # the static state's balance
+    wd = np.fft.fft(W * de[:, None], axis=0) / samples
     hs = np.arange(-H, H + 1)
     M, C, K = linear_matrices(model)
     Cb = _damping_at(model, C, sp)  # (B, n, n)
     wm = sp * model.pinion_teeth  # (B,)
     m = hs.size
-    # blocks (h, j): kappa_{h-j} g g^T off the diagonal, the linear model's on it
-    couple = kap[(hs[:, None] - hs[None, :]) % samples] * (hs[:, None] != hs[None, :])
-    A = np.broadcast_to(
-        (couple[:, None, :, None] * np.outer(g, g)[None, :, None, :])[None],
-        (sp.size, m, n, m, n),
-    ).copy()
+    # blocks (h, j): (W k)_{h-j} g^T + i j w_m (W c)_{h-j} g^T, less the linear model's
+    # share on the diagonal, which holds K_lin - (h w_m)^2 M + i h w_m C_lin
+    dh = (hs[:, None] - hs[None, :]) % samples
+    eye = (hs[:, None] == hs[None, :])[..., None]
+    wbar = g + model.friction_vectors()[0]
+    stiff = wk[dh] - eye * fl.mean_stiffness * wbar  # (m, m, n)
+    damp = wc[dh] - eye * fl.damping * wbar
+    jw = hs[None, None, :, None] * wm[:, None, None, None]  # (B, 1, m, 1): column j
+    blk = stiff[None] + 1j * jw * damp[None]  # (B, m, m, n)
+    A = blk.transpose(0, 1, 3, 2)[..., None] * g  # (B, m, n, m, n): [b, h, row, j, col]
     wh = hs[None, :, None, None] * wm[:, None, None, None]  # (B, m, 1, 1)
     diag = K - wh**2 * M + 1j * wh * Cb[:, None]  # (B, m, n, n)
     idx = np.arange(m)
-    A[:, idx, :, idx, :] = diag.transpose(1, 0, 2, 3)
-    P = pk[hs % samples][None, :] - 1j * (hs[None, :] * wm[:, None]) * fl.damping * ce[hs % samples]
-    rhs = -P[..., None] * g  # (B, m, n)
+    A[:, idx, :, idx, :] += diag.transpose(1, 0, 2, 3)
+    # forcing -W (k (ds - e) - F0 - c e' Omega), Omega the speed
+    rhs = -(wp[hs % samples][None] - fl.damping * sp[:, None, None] * wd[hs % samples][None])
     A = A.reshape(sp.size, m * n, m * n)
     rhs = rhs.reshape(sp.size, m * n)
     keep = np.ones(m * n, bool)
@@ -416,6 +450,7 @@ def mesh_harmonic_balance(
     X[:, keep] = np.linalg.solve(A[:, keep][:, :, keep], rhs[:, keep][..., None])[..., 0]
     X = X.reshape(sp.size, m, n)
     gx = X @ g  # (B, m)
+    P = pk[hs % samples][None, :] - fl.damping * sp[:, None] * cd[hs % samples][None, :]
     f = np.einsum("hj,bj->bh", kap[(hs[:, None] - hs[None, :]) % samples], gx)
     f += 1j * hs[None, :] * wm[:, None] * fl.damping * gx + P
     # real signal sum_h c_h e^{i h w t}: order h > 0 is Im(2 i c_h e^{i h w t})
@@ -470,7 +505,7 @@ def order_responses(
         mesh_force=mesh,
         input_shaft_torque=t_in,
         output_shaft_torque=t_out,
-        mean_mesh_force=model.torque / fl.lambda1,
+        mean_mesh_force=model.mean_mesh_force,
         mean_input_torque=model.torque,
-        mean_output_torque=model.torque * fl.lambda2 / fl.lambda1,
+        mean_output_torque=model.torque * model.torque_ratio,
     )

@@ -19,7 +19,15 @@ import numpy as np
 from ..errors import Problems
 from ..meshtable import MeshTable, fourier_eval, fourier_fit
 
-__all__ = ["CHANNEL_UNITS", "DrivetrainModel", "energy", "outputs", "power", "rhs"]
+__all__ = [
+    "CHANNEL_UNITS",
+    "DrivetrainModel",
+    "energy",
+    "friction_torques",
+    "outputs",
+    "power",
+    "rhs",
+]
 
 _DOF_NAMES = ("engine", "pinion", "gear", "propeller", "pinion_bearing", "gear_bearing")
 
@@ -33,6 +41,9 @@ class MeshFlank:
     lte_coef: the same for the table's LTE (m), for the DTE channel.
     lambda1, lambda2: rotation radii (m). direction: mean line of action (Sf).
     damping: c_f (N s/m). backlash: b_f (m).
+    friction_coef: the same for the sliding friction's moment arms about the pinion's
+    and the gear's axis (m), shape (2, 1 + 2 h) (docs §3a); None where the table has
+    none.
     """
 
     k_coef: np.ndarray
@@ -43,10 +54,18 @@ class MeshFlank:
     direction: np.ndarray
     damping: float
     backlash: float
+    friction_coef: np.ndarray | None = None
 
     @property
     def mean_stiffness(self) -> float:
         return float(self.k_coef[0])
+
+    @property
+    def mean_friction_arms(self) -> tuple[float, float]:
+        """Cycle means of the friction arms about the pinion's and the gear's axis (m)."""
+        if self.friction_coef is None:
+            return 0.0, 0.0
+        return float(self.friction_coef[0, 0]), float(self.friction_coef[1, 0])
 
 
 @dataclass(frozen=True)
@@ -89,6 +108,7 @@ class DrivetrainModel:
     blade_pass_ripple: float = 0.05
     blade_pass_harmonics: int = 1
     phase: float = 0.0
+    mesh_friction_coefficient: float = 0.0
     meta: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self):
@@ -107,6 +127,17 @@ class DrivetrainModel:
             p.check(math.isfinite(v) and v > 0, name, v, "must be finite and > 0")
         for name in ("input_damping_ratio", "output_damping_ratio", "bearing_damping_ratio"):
             p.in_range(name, getattr(self, name), 0, 1)
+        p.in_range("mesh_friction_coefficient", self.mesh_friction_coefficient, 0, 0.3)
+        if self.mesh_friction_coefficient > 0:
+            for fl_name in ("drive", "coast"):
+                fl = getattr(self, fl_name)
+                p.check(
+                    fl is None or fl.friction_coef is not None,
+                    "mesh_friction_coefficient",
+                    self.mesh_friction_coefficient,
+                    f"needs the friction arms of the {fl_name} flank, which the mesh table "
+                    "lacks (friction_arm_pinion_m / friction_arm_gear_m); set it to 0",
+                )
         if self.bearing_dofs:
             for name in (
                 "pinion_bearing_stiffness",
@@ -185,6 +216,7 @@ class DrivetrainModel:
             propeller_blades=d["propeller_blades"],
             blade_pass_ripple=d["blade_pass_ripple"],
             blade_pass_harmonics=d["blade_pass_harmonics"],
+            mesh_friction_coefficient=d["mesh_friction_coefficient"],
             meta={"scene": scene.name, "table_method": table.attrs.get("method", "")},
         )
 
@@ -226,7 +258,23 @@ class DrivetrainModel:
             lc = np.concatenate(_fit(lte, mesh_harmonics, table.pinion_teeth, a0))
             inv_m = lam1**2 / j1 + lam2**2 / j2
             c = 2 * mesh_damping_ratio * math.sqrt(kc[0] / inv_m) if kc[0] > 0 else 0.0
-            return MeshFlank(kc, ec, lc, lam1, lam2, table.mean_direction(name, torque), c, b)
+            fc = None
+            if all(f"friction_arm_{w}_m" in table.extra for w in ("pinion", "gear")):
+                fc = np.stack(
+                    [
+                        np.concatenate(
+                            _fit(
+                                table.values_at(f"friction_arm_{w}_m", name, torque),
+                                mesh_harmonics,
+                                table.pinion_teeth,
+                                a0,
+                            )
+                        )
+                        for w in ("pinion", "gear")
+                    ]
+                )
+            direction = table.mean_direction(name, torque)
+            return MeshFlank(kc, ec, lc, lam1, lam2, direction, c, b, fc)
 
         drive = flank("drive", 0.0)
         coast = flank("coast", backlash) if "coast" in table.flanks else None
@@ -264,9 +312,24 @@ class DrivetrainModel:
         return self.pinion_teeth * self.speed / (2 * math.pi)
 
     @property
+    def torque_ratio(self) -> float:
+        """Mean gear torque over mean pinion torque in steady drive-flank contact:
+        (lambda_2 + mu phi_2) / (lambda_1 + mu phi_1) with the friction arms' cycle means
+        (docs §3a; lambda_2 / lambda_1 without friction)."""
+        mu = self.mesh_friction_coefficient
+        f1, f2 = self.drive.mean_friction_arms
+        return (self.drive.lambda2 + mu * f2) / (self.drive.lambda1 + mu * f1)
+
+    @property
+    def mean_mesh_force(self) -> float:
+        """Static drive-flank mesh force at T_op (N): T_op / (lambda_1 + mu phi_1)."""
+        mu = self.mesh_friction_coefficient
+        return self.torque / (self.drive.lambda1 + mu * self.drive.mean_friction_arms[0])
+
+    @property
     def propeller_coefficient(self) -> float:
         """kappa (N m s^2/rad^2): nominal torque balance (docs §6)."""
-        return self.torque * (self.drive.lambda2 / self.drive.lambda1) / self.gear_speed**2
+        return self.torque * self.torque_ratio / self.gear_speed**2
 
     def mass_vector(self) -> np.ndarray:
         m = [self.engine_inertia, self.pinion_inertia, self.gear_inertia, self.propeller_inertia]
@@ -369,18 +432,31 @@ class DrivetrainModel:
             pa.append(self.blade_pass_ripple / h)
         return np.array(eo), np.array(ea), np.array(po), np.array(pa)
 
+    def friction_vectors(self) -> np.ndarray:
+        """Phi, shape (2, n): the cycle means of the friction's generalised-force
+        direction per unit contact force, rows drive, coast (docs §3a): mu phi_1 on the
+        pinion, -mu phi_2 on the gear; zeros without friction."""
+        Phi = np.zeros((2, self.n_dof))
+        mu = self.mesh_friction_coefficient
+        for r, fl in enumerate((self.drive, self.coast)):
+            if fl is not None:
+                f1, f2 = fl.mean_friction_arms
+                Phi[r, 1], Phi[r, 2] = mu * f1, -mu * f2
+        return Phi
+
     def static_state(self) -> np.ndarray:
         """State y0 = [x, v] of the static equilibrium of the mean torques (docs §7), q_p = 0."""
         n = self.n_dof
         K, _ = self.structural_matrices()
         G = self.mesh_vectors()
+        W = G[0] + self.friction_vectors()[0]  # the mesh force's generalised direction
         kd = self.drive.mean_stiffness
         ed = float(self.drive.e_coef[0])
-        Kt = K + kd * np.outer(G[0], G[0])
+        Kt = K + kd * np.outer(W, G[0])
         f = np.zeros(n)
         f[0] = self.torque
         f[3] = -self.propeller_coefficient * self.gear_speed**2
-        f += kd * ed * G[0]
+        f += kd * ed * W
         keep = [i for i in range(n) if i != 3]
         x = np.zeros(n)
         x[keep] = np.linalg.solve(Kt[np.ix_(keep, keep)], f[keep])
@@ -419,6 +495,18 @@ class DrivetrainModel:
 
         zero = np.zeros(h)
         fl = [self.drive, self.coast]
+        mu = self.mesh_friction_coefficient
+        if mu > 0:
+            fc = np.stack(
+                [
+                    np.stack([pad(r) for r in f.friction_coef]) * mu
+                    if f is not None and f.friction_coef is not None
+                    else np.zeros((2, h))
+                    for f in fl
+                ]
+            )
+        else:
+            fc = np.zeros((2, 2, 0))  # no friction: nothing to evaluate (docs §3a)
         eo, ea, po, pa = self.excitation_orders()
         x0 = self.static_state()
         return {
@@ -428,6 +516,7 @@ class DrivetrainModel:
             "G": G,
             "kc": np.stack([pad(f.k_coef) if f else zero for f in fl]),
             "ec": np.stack([pad(f.e_coef) if f else zero for f in fl]),
+            "fc": fc,
             "cm": np.array([f.damping if f else 0.0 for f in fl]),
             "bl": np.array([f.backlash if f else 0.0 for f in fl]),
             "N1": np.array(float(self.pinion_teeth)),
@@ -465,7 +554,7 @@ class DrivetrainModel:
         n = self.n_dof
         out["Omega"] = w
         out["Omega2"] = w2
-        out["kappa"] = self.torque * (self.drive.lambda2 / self.drive.lambda1) / w2**2
+        out["kappa"] = self.torque * self.torque_ratio / w2**2
         out["scale"][:, n:] = out["scale"][:, :n] * (self.pinion_teeth * w)[:, None]
         out["Wn"] = np.stack([w, w, w2, w2, 0 * w, 0 * w], axis=1)[:, :n]
         return out
@@ -491,6 +580,8 @@ class DrivetrainModel:
                 f = dict(d[k])
                 for a in ("k_coef", "e_coef", "lte_coef", "direction"):
                     f[a] = np.asarray(f[a], dtype=float)
+                if f.get("friction_coef") is not None:
+                    f["friction_coef"] = np.asarray(f["friction_coef"], dtype=float)
                 d[k] = MeshFlank(**f)
         return cls(**d)
 
@@ -536,6 +627,32 @@ def mesh_laws(theta1, p, xp=np):
     return f[..., 0, :], df[..., 0, :], f[..., 1, :], df[..., 1, :]
 
 
+def friction_arms(theta1, p, xp=np):
+    """mu times the friction arms about the pinion's and the gear's axis (m) at pinion
+    angle theta1 (any shape S), shape S + (2 flanks, 2 arms); None without friction
+    (``p['fc']`` with no coefficients), docs §3a."""
+    fc = p["fc"]
+    if fc.shape[-1] == 0:
+        return None
+    a0, a, b = _split(fc, xp)
+    h = a.shape[-1]
+    kk = xp.arange(1, h + 1) * p["N1"]
+    arg = xp.asarray(theta1)[..., None] * kk
+    f = a0.reshape(4) + xp.cos(arg) @ a.reshape(4, h).T + xp.sin(arg) @ b.reshape(4, h).T
+    return f.reshape(f.shape[:-1] + (2, 2))
+
+
+def friction_torques(theta1, f, p, xp=np):
+    """Friction torques (N m) on the pinion and on the gear from the contact forces f
+    (N, shape S + (2,)) at theta1 (shape S): -sum_f mu phi_1f F_f and +sum_f mu phi_2f
+    F_f, each shape S; zeros without friction (docs §3a)."""
+    arms = friction_arms(theta1, p, xp)
+    if arms is None:
+        z = xp.zeros(xp.shape(f)[:-1])
+        return z, z
+    return -xp.sum(arms[..., 0] * f, axis=-1), xp.sum(arms[..., 1] * f, axis=-1)
+
+
 def mesh_forces(t, x, v, p, xp=np):
     """Contact forces F_f (N, shape (2,)), gaps s_f and the pinion angle (docs §3)."""
     theta1 = p["Omega"] * t + x[1] + p["phase"]
@@ -563,15 +680,18 @@ def rhs(t, z, p, xp=np):
     n = y.shape[0] // 2
     x = y[:n]
     v = y[n:]
-    f, _, _ = mesh_forces(t, x, v, p, xp)
+    f, _, theta1 = mesh_forces(t, x, v, p, xp)
     te, tp = external_torques(t, x, v, p, xp)
     q = -(p["K"] @ x) - (p["C"] @ v) - p["G"].T @ f
+    t1, t2 = friction_torques(theta1, f, p, xp)
     unit = xp.zeros(n)
     if xp is np:
         unit[0] = te
+        unit[1] = t1
+        unit[2] = t2
         unit[3] = -tp
     else:
-        unit = unit.at[0].set(te).at[3].set(-tp)
+        unit = unit.at[0].set(te).at[1].set(t1).at[2].set(t2).at[3].set(-tp)
     a = (q + unit) * p["Minv"]
     return xp.concatenate([v, a]) / p["scale"]
 
@@ -607,6 +727,8 @@ def power(t, y, p, xp=np):
     sp = xp.maximum(s, 0.0)
     te, tp = external_torques(t, x, v, p, xp)
     ext = te * (p["Wn"][0] + v[0]) - tp * (p["Wn"][3] + v[3])
+    t1, t2 = friction_torques(theta1, f, p, xp)
+    ext = ext + t1 * dth + t2 * (p["Wn"][2] + v[2])
     return ext + xp.sum(0.5 * dk * sp * sp * dth - f * de * dth)
 
 
@@ -628,6 +750,9 @@ CHANNEL_UNITS = {
     "propeller_torque_Nm": "N m",
     "pinion_bearing_force_N": "N",
     "gear_bearing_force_N": "N",
+    "pinion_friction_torque_Nm": "N m",
+    "gear_friction_torque_Nm": "N m",
+    "mesh_friction_power_W": "W",
 }
 
 
@@ -679,4 +804,12 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     if model.bearing_dofs:
         out["pinion_bearing_force_N"] = K[4, 4] * x[:, 4] + C[4, 4] * v[:, 4]
         out["gear_bearing_force_N"] = K[5, 5] * x[:, 5] + C[5, 5] * v[:, 5]
+    if p["fc"].shape[-1]:
+        t1, t2 = friction_torques(theta1, forces, p)
+        out["pinion_friction_torque_Nm"] = t1
+        out["gear_friction_torque_Nm"] = t2
+        # the friction's loss: minus the power of its torques on the two bodies
+        out["mesh_friction_power_W"] = -(
+            t1 * out["pinion_speed_rad_per_s"] + t2 * out["gear_speed_rad_per_s"]
+        )
     return out

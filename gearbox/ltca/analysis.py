@@ -97,7 +97,10 @@ class CycleResult:
     converged (T, P) bool; gap_residual (T, P) m; profile_range, face_range (m);
     loss_factor (T, P) mesh loss factor H (dimensionless), sliding_speed (T, P)
     largest sliding speed of a loaded point per unit pinion angular speed (m, i.e.
-    m/s per rad/s): both ``None`` where the grids carry no axes.
+    m/s per rad/s); friction_arm (T, P, 2) the sliding friction's load-weighted moment
+    arms about the pinion's and the gear's axis (m, :meth:`ContactGrid.friction_arms`:
+    a mean friction coefficient mu puts -mu F_n arm_1 on the pinion and +mu F_n arm_2
+    on the gear): all three ``None`` where the grids carry no axes.
     """
 
     torque: np.ndarray
@@ -128,6 +131,7 @@ class CycleResult:
     meta: dict = field(default_factory=dict)
     loss_factor: np.ndarray | None = None
     sliding_speed: np.ndarray | None = None
+    friction_arm: np.ndarray | None = None
 
     @property
     def edge_contact(self) -> np.ndarray:
@@ -316,9 +320,11 @@ def ltca_cycle(
     kinematics = all(g.pinion_axis is not None for g in grids)
     loss = np.zeros((T, P)) if kinematics else None
     sliding = np.zeros((T, P)) if kinematics else None
+    friction_arm = np.zeros((T, P, 2)) if kinematics else None
     for j, grid in enumerate(grids):
         C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
         vs = np.linalg.norm(grid.sliding_velocity(), axis=1) if kinematics else None
+        arms = grid.friction_arms() if kinematics else None
         phi0 = float(np.min(grid.separation / grid.arm))
         prev = None
         for t, torque in enumerate(torques):
@@ -375,6 +381,7 @@ def ltca_cycle(
             if kinematics:
                 loss[t, j] = float(F @ vs) / torque
                 sliding[t, j] = float(vs[F > 0].max())
+                friction_arm[t, j] = (F @ arms) / Fn
             a = hertz_half_width(q, grid.curvature_radius, E, nu) / grid.transverse_projection
             samples[t].append((grid.profile, grid.face, F > 0, a, p0, grid.slot, grid.width))
             if bar is not None:
@@ -443,6 +450,7 @@ def ltca_cycle(
         },
         loss_factor=loss,
         sliding_speed=sliding,
+        friction_arm=friction_arm,
     )
 
 

@@ -279,7 +279,35 @@ class ContactGrid:
         v1n = np.sum(np.cross(a1, self.position - o1) * self.normal, axis=1)
         return np.sum(v * self.normal, axis=1) / np.abs(v1n)
 
+    def friction_arms(self) -> np.ndarray | None:
+        """Moment arms of the sliding friction at each point, shape (n, 2), m: about
+        the pinion's axis and the gear's, each in its sense of rotation, of a unit
+        force along the pinion flank's sliding direction over the gear flank (the unit
+        :meth:`sliding_velocity`; zero where the flanks roll without sliding).
+
+        Friction mu F_i on the pinion opposes that sliding, so it puts the torque
+        -mu F_i arm_1 on the pinion and +mu F_i arm_2 on the gear. Per point
+        arm_1 - (z1 / z2) arm_2 = |v_s| per unit pinion speed: the torques' power is
+        the friction's loss. ``None`` where the grid has no axes.
+        """
+        kin = self._kinematics()
+        if kin is None:
+            return None
+        v, (a1, o1), (a2, o2) = kin
+        vs = v - np.sum(v * self.normal, axis=1, keepdims=True) * self.normal
+        speed = np.linalg.norm(vs, axis=1, keepdims=True)
+        u = np.divide(vs, speed, out=np.zeros_like(vs), where=speed > 0)
+        arm1 = np.sum(np.cross(self.position - o1, u) * a1, axis=1)
+        arm2 = np.sum(np.cross(self.position - o2, u) * a2, axis=1)
+        return np.stack([arm1, arm2], axis=1)
+
     def _relative_velocity(self):
+        kin = self._kinematics()
+        return None if kin is None else kin[0]
+
+    def _kinematics(self):
+        """The flanks' relative velocity per unit pinion speed (n, 3) and both axes,
+        the gear's turned to its sense of rotation; None without axes."""
         if self.pinion_axis is None:
             return None
         (a1, o1), (a2, o2) = self.pinion_axis, self.gear_axis
@@ -289,7 +317,7 @@ class ContactGrid:
         # the sense of the gear's rotation: the one whose normal velocity follows the
         # pinion's (one sign for the whole grid, from all its points)
         sense = np.sign(np.sum(np.sum(v1 * self.normal, 1) * np.sum(v2 * self.normal, 1)))
-        return v1 - (sense * ratio)[:, None] * v2
+        return v1 - np.reshape(sense * ratio, (-1, 1)) * v2, (a1, o1), (sense * a2, o2)
 
     #: The fields with one entry per point (arrays of length n, or ToothSections);
     #: the others (ranges, slots, material, axes) belong to the whole grid.

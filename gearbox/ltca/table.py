@@ -86,6 +86,10 @@ def mesh_table(
     if all(flanks[f].loss_factor is not None for f in names):
         extra["mesh_loss_factor"] = stack("loss_factor")
         extra["sliding_speed_per_pinion_speed_m"] = stack("sliding_speed")
+    if all(flanks[f].friction_arm is not None for f in names):
+        arms = stack("friction_arm")
+        extra["friction_arm_pinion_m"] = arms[..., 0]
+        extra["friction_arm_gear_m"] = arms[..., 1]
     return MeshTable(
         pinion_teeth=pinion_teeth,
         gear_teeth=gear_teeth,
