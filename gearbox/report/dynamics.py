@@ -67,6 +67,10 @@ def _parameters(m) -> list[tuple]:
         ),
         ("mesh damping (N s/m)", m.drive.damping),
         (
+            "mesh friction coefficient (Coulomb)",
+            m.mesh_friction_coefficient if m.mesh_friction_coefficient > 0 else "0 (none)",
+        ),
+        (
             "backlash along the line of action (mm)",
             (m.coast.backlash * 1e3) if m.coast is not None else "no coast flank",
         ),
@@ -225,9 +229,11 @@ def render_waterfall(sw, run) -> Section:
 
     warnings = []
     rows = []
+    friction = any("mesh_efficiency" in p.metrics for p in sw.points)
     for p in sw.points:
         m = p.metrics
         ok = p.status == "success"
+        eff = (100 * m["mesh_efficiency"],) if "mesh_efficiency" in m else ("",)
         rows.append(
             (
                 p.speed_rpm,
@@ -237,6 +243,7 @@ def render_waterfall(sw, run) -> Section:
                 m.get("mesh_force_mesh_order_amplitude_N"),
                 m.get("linear_mesh_order_amplitude_N", ""),
                 m.get("dynamic_factor", ""),
+                *(eff if friction else ()),
                 100 * m.get("contact_loss_fraction", 0.0),
                 p.nfev,
                 p.wall_time,
@@ -288,6 +295,7 @@ def render_waterfall(sw, run) -> Section:
                 "mesh-order amplitude (N)",
                 "mesh order, linear model (N)",
                 "dynamic factor (max / mean force)",
+                *(("mesh efficiency (%, friction)",) if friction else ()),
                 "contact loss (% of record)",
                 "RHS evaluations",
                 "wall time (s)",
