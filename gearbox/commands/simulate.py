@@ -94,7 +94,12 @@ def modes_summary(scene, model, table) -> dict:
 
 def summary(scene, args) -> tuple[dict, object, object, object]:
     """(summary dict, model, TimeSeries or None, table)."""
-    from ..drivetrain.simulate import default_solver, mesh_force_metrics, simulate
+    from ..drivetrain.simulate import (
+        default_solver,
+        friction_metrics,
+        mesh_force_metrics,
+        simulate,
+    )
     from ..errors import InputError, Problem
 
     model, table = model_from_args(scene, args)
@@ -137,6 +142,7 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
             "periodicity_residual": ts.attrs.get("periodicity_residual"),
             "shooting_converged": ts.attrs.get("shooting_converged"),
             **mesh_force_metrics(ts, model),
+            **friction_metrics(ts),
         }
     )
     return out, model, ts, table

@@ -27,6 +27,7 @@ from .timeseries import TimeSeries
 
 __all__ = [
     "default_solver",
+    "friction_metrics",
     "mesh_force_metrics",
     "mesh_force_metrics_arrays",
     "record_times",
@@ -79,6 +80,17 @@ def mesh_force_metrics(ts: TimeSeries, model: DrivetrainModel) -> dict[str, floa
     t = np.asarray(ts.time)
     m = mesh_force_metrics_arrays(t[None, :], f[None, :], np.array([model.mesh_frequency]))
     return {k: float(v[0]) for k, v in m.items()}
+
+
+def friction_metrics(ts: TimeSeries) -> dict[str, float]:
+    """With mesh friction (its channels in the record): the mean friction power (W) and
+    the mesh efficiency, 1 - that over the mean power the input shaft puts into the
+    pinion; nothing without friction."""
+    if "mesh_friction_power_W" not in ts.channels or ts.time.size == 0:
+        return {}
+    loss = float(np.mean(ts["mesh_friction_power_W"]))
+    into = float(np.mean(ts["input_shaft_torque_Nm"] * ts["pinion_speed_rad_per_s"]))
+    return {"mesh_friction_power_W": loss, "mesh_efficiency": 1.0 - loss / into}
 
 
 def mesh_force_metrics_arrays(

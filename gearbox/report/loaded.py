@@ -107,7 +107,9 @@ def render_ltca(lt, run) -> Section:
             '<p class="muted">Mesh loss factor H: the friction power per unit coefficient '
             "of friction over the transmitted power, the cycle's mean of "
             "sum F_i |v_sliding,i| / (T omega_1) over the loaded contact points (friction "
-            "does not act back on the loads). A mean coefficient mu loses mu H of the "
+            "does not act back on the loads; the drivetrain applies it with "
+            "drivetrain.mesh_friction_coefficient, see the dynamics section). A mean "
+            "coefficient mu loses mu H of the "
             f"power in the mesh: at {first.torque[t]:g} N m and mu = {_MU:g} (an assumed "
             "value; ISO/TR 14179-2 gives one from load, speed, oil and roughness) "
             + ", ".join(f"{n} flank {100 * (1 - _MU * v):.2f} %" for n, v in h.items())

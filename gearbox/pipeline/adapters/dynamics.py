@@ -143,17 +143,6 @@ def contact_metrics(series) -> dict[str, float]:
     }
 
 
-def friction_metrics(series) -> dict[str, float]:
-    """With mesh friction (its channels in the record): the mean friction power (W) and
-    the mesh efficiency, 1 - that over the mean power the input shaft puts into the
-    pinion; nothing without friction."""
-    if "mesh_friction_power_W" not in series.channels or series.time.size == 0:
-        return {}
-    loss = float(np.mean(series["mesh_friction_power_W"]))
-    into = float(np.mean(series["input_shaft_torque_Nm"] * series["pinion_speed_rad_per_s"]))
-    return {"mesh_friction_power_W": loss, "mesh_efficiency": 1.0 - loss / into}
-
-
 @dataclass(frozen=True)
 class OperatingPoint:
     """The drivetrain at the scene's operating point.
@@ -172,7 +161,9 @@ class OperatingPoint:
 
 
 def _simulate(model, solver, sim: Mapping[str, Any]):
-    simulate = require("gearbox.drivetrain.simulate", "simulate", "mesh_force_metrics")
+    simulate = require(
+        "gearbox.drivetrain.simulate", "simulate", "mesh_force_metrics", "friction_metrics"
+    )
     if getattr(solver, "name", "") == "diffrax":
         jaxcache.attach()  # the run's compiled executables (a new process skips tracing)
     ts = simulate.simulate(
@@ -183,7 +174,7 @@ def _simulate(model, solver, sim: Mapping[str, Any]):
         samples_per_cycle=int(sim["samples_per_mesh_cycle"]),
     )
     metrics = dict(simulate.mesh_force_metrics(ts, model)) | contact_metrics(ts)
-    return ts, metrics | friction_metrics(ts)
+    return ts, metrics | simulate.friction_metrics(ts)
 
 
 def compute_dynamics(ctx: StageContext) -> OperatingPoint:
