@@ -17,7 +17,10 @@ The :class:`~gearbox.drivetrain.model.DrivetrainModel` becomes a real exudyn sys
   with the pinion-angle-dependent stiffness k_f(theta_1) and the excitation
   e_f(theta_1) as truncated Fourier series (docs/drivetrain.md §3). A connector sees
   only relative motion; the pinion angle theta_1 = Omega t + q_1 + theta_10 needs the
-  generic object.
+  generic object. With mesh friction (``mesh_friction_coefficient`` mu > 0) the same
+  function adds each flank's friction torques -mu phi_1f(theta_1) F_f on the pinion and
+  +mu phi_2f(theta_1) F_f on the gear, the moment arms phi_1f, phi_2f again Fourier
+  series in theta_1 (docs/drivetrain.md §3a); with mu = 0 nothing of it is built.
 
 User functions are exudyn *symbolic* user functions by default: the expression is
 recorded once in Python and evaluated in C++, with no Python call per right-hand side
@@ -160,6 +163,10 @@ class _Flank:
     G: ndarray, shape (n,): delta_f = G . x (m per coordinate unit).
     k, e: FourierSeries in theta_1: tangent stiffness (N/m), no-load excitation (m).
     c: mesh damping (N s/m); b: gap offset (m, 0 for drive, backlash for coast).
+    f1, f2: FourierSeries in theta_1 of mu phi_1 and mu phi_2, the friction coefficient
+    times the friction's moment arms about the pinion's and the gear's axis (m,
+    docs/drivetrain.md §3a): torques -f1 F_f on the pinion, +f2 F_f on the gear; None
+    without friction.
     """
 
     name: str
@@ -168,10 +175,32 @@ class _Flank:
     e: Any
     c: float
     b: float
+    f1: Any = None
+    f2: Any = None
 
     def __post_init__(self):
         object.__setattr__(self, "k_harmonics", _harmonics(self.k))
         object.__setattr__(self, "e_harmonics", _harmonics(self.e))
+        if self.friction:
+            object.__setattr__(self, "f1_harmonics", _harmonics(self.f1))
+            object.__setattr__(self, "f2_harmonics", _harmonics(self.f2))
+
+    @property
+    def friction(self) -> bool:
+        """Whether the flank carries friction torques (mu > 0)."""
+        return self.f1 is not None
+
+    @property
+    def W(self) -> np.ndarray:
+        """Mean generalised direction of the contact force, shape (n,): the force enters
+        as -W F_f with W = G + mu (phi_1 bar on the pinion, -phi_2 bar on the gear), the
+        arms' cycle means (``DrivetrainModel.friction_vectors``); G without friction."""
+        if not self.friction:
+            return self.G
+        w = self.G.copy()
+        w[1] += float(self.f1.a0)
+        w[2] -= float(self.f2.a0)
+        return w
 
 
 @dataclass(frozen=True)
@@ -213,6 +242,14 @@ class _Plan:
             object.__setattr__(self, "_arrays", [_flank_arrays(fl) for fl in self.flanks])
         return self.__dict__["_arrays"]
 
+    @property
+    def friction_arrays(self) -> list:
+        """Per flank, (w, R, phi) arrays of mu phi_1 and mu phi_2, or None (python path)."""
+        if "_friction_arrays" not in self.__dict__:
+            arrays = [_friction_arrays(fl) if fl.friction else None for fl in self.flanks]
+            object.__setattr__(self, "_friction_arrays", arrays)
+        return self.__dict__["_friction_arrays"]
+
 
 def _series(coef: np.ndarray, teeth: int, floor: float = 0.0):
     """FourierSeries from the model's coefficient row [a0, a_1..a_h, b_1..b_h].
@@ -241,6 +278,8 @@ def _plan_from_model(model) -> _Plan:
     Same parameters as :meth:`DrivetrainModel.params` (docs/drivetrain.md §4-7): the
     shafts' and bearings' damping from :meth:`structural_matrices`, the mesh vectors
     from :meth:`mesh_vectors`, the excitation orders from :meth:`excitation_orders`.
+    With mesh friction (mu > 0) each flank's friction arms times mu (docs §3a), their
+    harmonics floored at 1e-12 mu lambda_1 (lambda_2): about 1e-12 of the mesh torque.
     """
     n = model.n_dof
     K, C = model.structural_matrices()
@@ -261,10 +300,18 @@ def _plan_from_model(model) -> _Plan:
             ("governor", 0, -1, float(model.governor_ki), float(model.governor_kp), float(y0[0]))
         )
     static = abs(model.torque / model.drive.lambda1 / model.drive.mean_stiffness)  # m
+    mu = float(model.mesh_friction_coefficient)
     flanks = []
     for r, (name, fl) in enumerate((("drive", model.drive), ("coast", model.coast))):
         if fl is None:
             continue
+        arms = {}
+        if mu > 0 and fl.friction_coef is not None:  # docs/drivetrain.md §3a
+            fc = np.asarray(fl.friction_coef, dtype=float)
+            arms = {
+                f"f{i + 1}": _series(mu * fc[i], model.pinion_teeth, 1e-12 * mu * lam)
+                for i, lam in enumerate((float(fl.lambda1), float(fl.lambda2)))
+            }
         flanks.append(
             _Flank(
                 name,
@@ -273,6 +320,7 @@ def _plan_from_model(model) -> _Plan:
                 _series(fl.e_coef, model.pinion_teeth, 1e-12 * static),
                 float(fl.damping),
                 float(fl.backlash),
+                **arms,
             )
         )
     eo, ea, po, pa = model.excitation_orders()
@@ -339,24 +387,60 @@ def _fourier_derivative_terms(series, harmonics, theta, sin):
     return f
 
 
+def _harmonic_arrays(harmonics):
+    """numpy arrays (w, R, phi), each shape (h,), of a series' harmonics."""
+    arr = np.array(harmonics, dtype=float).reshape(-1, 3)
+    return arr[:, 0].copy(), arr[:, 1].copy(), arr[:, 2].copy()
+
+
 def _flank_arrays(fl: _Flank):
     """numpy arrays (w, R, phi) of the stiffness and error series (python path)."""
-    out = []
-    for hs in (fl.k_harmonics, fl.e_harmonics):
-        arr = np.array(hs, dtype=float).reshape(-1, 3)
-        out.append((arr[:, 0].copy(), arr[:, 1].copy(), arr[:, 2].copy()))
+    return [_harmonic_arrays(hs) for hs in (fl.k_harmonics, fl.e_harmonics)]
+
+
+def _friction_arrays(fl: _Flank):
+    """numpy arrays (w, R, phi) of the series mu phi_1 and mu phi_2 (python path)."""
+    return [_harmonic_arrays(hs) for hs in (fl.f1_harmonics, fl.f2_harmonics)]
+
+
+def _friction_direction_symbolic(fl: _Flank, pos: dict[int, int], size: int, theta, u, gv):
+    """Symbolic direction W_f(theta_1) of one flank's generalised force -W_f F_f with
+    friction, length ``size``: gv (= -G_f) plus -mu phi_1(theta_1) on the pinion and
+    +mu phi_2(theta_1) on the gear (docs/drivetrain.md §3a).
+
+    The arms are evaluated only for u = delta - b > e_lo: below, the flank is out of
+    contact (F_f = 0) whatever they are, so a separated flank costs no series.
+    """
+    import exudyn as exu
+
+    esym = exu.symbolic
+    zero = esym.Real(0.0)
+    e_lo, _ = _bounds(fl.e, fl.e_harmonics)
+    out = esym.Vector(gv)
+    for dof, series, harmonics, sign in (
+        (1, fl.f1, fl.f1_harmonics, -1.0),
+        (2, fl.f2, fl.f2_harmonics, 1.0),
+    ):
+        unit = [0.0] * size
+        unit[pos[dof]] = sign
+        arm = _fourier_terms(series, harmonics, theta, esym.cos)
+        out = out + esym.IfThenElse(u > e_lo, arm, zero) * esym.Vector(unit)
     return out
 
 
-def flank_force_symbolic(plan: _Plan, fl: _Flank, pos: dict[int, int], size: int, q, q_t, k, e, de):
+def flank_force_symbolic(
+    plan: _Plan, fl: _Flank, pos: dict[int, int], size: int, q, q_t, k, e, de, theta=None
+):
     """Symbolic generalised force vector -G_f F_f of one flank, length ``size``.
 
     k, e, de: expressions (or symbolic variables) for k_f(theta_1) (N/m), e_f (m) and
-    e_f' (m/rad). Contact law of docs/drivetrain.md §3. The contact test uses the
-    bounds e_lo <= e_f <= e_hi of the flank's error series where they decide: u =
-    delta - b > e_hi means contact, u <= e_lo none, and only in between is the gap s
-    itself tested. Same result, one series evaluation fewer per call in loaded running
-    and none for a flank out of contact (exudyn's trees have no common
+    e_f' (m/rad). With friction (``fl.friction``) the vector is -W_f(theta) F_f, the
+    friction torques included (:func:`_friction_direction_symbolic`; theta: the pinion
+    angle expression, rad, needed then). Contact law of docs/drivetrain.md §3. The
+    contact test uses the bounds e_lo <= e_f <= e_hi of the flank's error series where
+    they decide: u = delta - b > e_hi means contact, u <= e_lo none, and only in between
+    is the gap s itself tested. Same result, one series evaluation fewer per call in
+    loaded running and none for a flank out of contact (exudyn's trees have no common
     subexpressions: each use of e re-evaluates it).
     """
     import exudyn as exu
@@ -378,6 +462,8 @@ def flank_force_symbolic(plan: _Plan, fl: _Flank, pos: dict[int, int], size: int
     F = esym.IfThenElse(
         u > e_hi, force, esym.IfThenElse(u > e_lo, esym.IfThenElse(s > 0.0, force, zero), zero)
     )
+    if fl.friction:
+        return F * _friction_direction_symbolic(fl, pos, size, theta, u, gv)
     return F * esym.Vector(gv)
 
 
@@ -387,7 +473,8 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
     ``pos`` maps a model coordinate to its index in the user function's q, q_t.
     Contact law (docs/drivetrain.md §3): s_f = G_f x - e_f(theta_1) - b_f,
     sdot_f = G_f v - e_f'(theta_1) (Omega + v_1), F_f = H(s_f) max(0, k_f s_f + c_f sdot_f),
-    theta_1 = Omega t + q_1 + theta_10.
+    theta_1 = Omega t + q_1 + theta_10. With friction (docs §3a) each flank adds
+    -mu phi_1f(theta_1) F_f on the pinion and +mu phi_2f(theta_1) F_f on the gear.
 
     Symbolic: an exudyn vector expression ``sum_f (-G_f) * F_f``: each flank force is one
     sub-expression, evaluated once per call (a list of per-coordinate expressions would
@@ -405,7 +492,7 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
             e = _fourier_terms(fl.e, fl.e_harmonics, theta, esym.cos)
             de = _fourier_derivative_terms(fl.e, fl.e_harmonics, theta, esym.sin)
             k = _fourier_terms(fl.k, fl.k_harmonics, theta, esym.cos)
-            term = flank_force_symbolic(plan, fl, pos, size, q, q_t, k, e, de)
+            term = flank_force_symbolic(plan, fl, pos, size, q, q_t, k, e, de, theta)
             total = term if total is None else total + term
         return total
     out = np.zeros(size)
@@ -413,7 +500,9 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
     va = np.asarray(q_t, dtype=float)
     idx = np.array(list(pos.values()))
     dofs = np.array(list(pos.keys()))
-    for fl, ((wk, Rk, pk), (we, Re, pe)) in zip(plan.flanks, plan.flank_arrays, strict=True):
+    for fl, ((wk, Rk, pk), (we, Re, pe)), fr in zip(
+        plan.flanks, plan.flank_arrays, plan.friction_arrays, strict=True
+    ):
         G = fl.G[dofs]
         arg = we * theta - pe
         s = float(G @ qa[idx]) - (fl.e.a0 + float(Re @ np.cos(arg))) - fl.b
@@ -421,7 +510,12 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
             k = fl.k.a0 + float(Rk @ np.cos(wk * theta - pk))
             de = -float((we * Re) @ np.sin(arg))
             sdot = float(G @ va[idx]) - de * (plan.omega + va[ip])
-            out[idx] -= G * max(0.0, k * s + fl.c * sdot)
+            F = max(0.0, k * s + fl.c * sdot)
+            out[idx] -= G * F
+            if fr is not None:  # friction torques (docs/drivetrain.md §3a)
+                (w1, R1, p1), (w2, R2, p2) = fr
+                out[ip] -= (fl.f1.a0 + float(R1 @ np.cos(w1 * theta - p1))) * F
+                out[pos[2]] += (fl.f2.a0 + float(R2 @ np.cos(w2 * theta - p2))) * F
     return out
 
 
@@ -732,8 +826,12 @@ def _build_components(plan: _Plan, solver: ExudynSolver) -> ExudynSystem:
         )
     )
 
-    # Mesh: generic ODE2 object over the coordinates its flanks touch (docs §3).
-    mesh_dofs = sorted({1} | {d for fl in plan.flanks for d in np.flatnonzero(fl.G).tolist()})
+    # Mesh: generic ODE2 object over the coordinates its flanks touch (docs §3), and the
+    # gear's, where the friction torque acts (§3a).
+    friction = {2} if any(fl.friction for fl in plan.flanks) else set()
+    mesh_dofs = sorted(
+        {1} | friction | {d for fl in plan.flanks for d in np.flatnonzero(fl.G).tolist()}
+    )
     fn = _mesh_force(plan, mesh_dofs, symbolic)
     if symbolic:
         fn, kp = _record_symbolic(mbs, fn, "generic", len(mesh_dofs))
@@ -799,13 +897,15 @@ def _linearised(plan: _Plan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
     The drive flank enters with its *largest* stiffness a0 + sum R_k (an upper bound of
     k(theta)) and its damping; the propeller load adds its speed derivative
-    dT_p/dv = 2 kappa Omega_2 as damping (docs/drivetrain.md §3, §6).
+    dT_p/dv = 2 kappa Omega_2 as damping (docs/drivetrain.md §3, §6). With friction the
+    mesh terms are k W G^T and c W G^T, W the force's mean direction (:attr:`_Flank.W`,
+    docs §3a, as ``linear.linear_matrices``).
     """
     K, C = _structural(plan)
     fl = plan.flanks[0]
     kmax = float(fl.k.a0) + sum(R for _, R, _ in fl.k_harmonics)
-    K = K + kmax * np.outer(fl.G, fl.G)
-    C = C + fl.c * np.outer(fl.G, fl.G)
+    K = K + kmax * np.outer(fl.W, fl.G)
+    C = C + fl.c * np.outer(fl.W, fl.G)
     C[plan.prop_index, plan.prop_index] += 2.0 * plan.prop_kappa * plan.omega2
     return plan.inertia.astype(float), K, C
 
