@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from gearbox.drivetrain.linear import periodic_start_state, periodic_start_states
-from gearbox.drivetrain.model import DrivetrainModel, mesh_laws, rhs
+from gearbox.drivetrain.model import DrivetrainModel, friction_arms, mesh_laws, rhs
 from gearbox.drivetrain.simulate import mesh_force_metrics, simulate
 from gearbox.errors import InputError
 from gearbox.mesh_analytical import analytical_table, pair_from_scene
@@ -59,18 +59,26 @@ def with_lte(m: DrivetrainModel, seed: int = 0) -> DrivetrainModel:
 
 
 def exact_laws(p):
+    """The mesh-law rows of :func:`fs.mesh_law_table` from the Fourier series, the
+    friction arms' rows (phi_1 drive, coast, phi_2 drive, coast) when there are any."""
+
     def laws_at(phi):
         k, _, e, de = mesh_laws(phi / p["N1"], p, jnp)
-        return jnp.concatenate([k, e, de])
+        arms = friction_arms(phi / p["N1"], p, jnp)  # (flank, arm) or None
+        return jnp.concatenate([k, e, de] + ([] if arms is None else [arms.T.reshape(4)]))
 
     return laws_at
 
 
-@pytest.mark.parametrize("variant", ["default", "bearings_governor"])
+@pytest.mark.parametrize("variant", ["default", "bearings_governor", "friction"])
 def test_lean_rhs_equals_model_rhs(base, variant):
     # Same equations in another arrangement: equal to rounding (1e-12 of the largest
-    # component) on states that put each flank in and out of contact.
+    # component) on states that put each flank in and out of contact; with mesh
+    # friction (docs/drivetrain.md §3a) the table has four rows more.
     s, table, m = base
+    if variant == "friction":
+        m = DrivetrainModel.from_scene(case03(mesh_friction_coefficient=0.1), table)
+        assert fs.mesh_law_table(m.params(), 64, np).shape[0] == 10
     if variant == "bearings_governor":
         sc = case03(
             bearing_dofs=True,

@@ -14,18 +14,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _textbook import loss_factor
 
 from gearbox import load_scene, spectrum
 from gearbox.drivetrain.linear import order_responses
-from gearbox.drivetrain.model import DrivetrainModel, friction_arms, mesh_laws, rhs
+from gearbox.drivetrain.model import DrivetrainModel
 from gearbox.errors import InputError
 from gearbox.mesh_analytical import analytical_table, pair_from_scene
 
 pytest.importorskip("diffrax")
-import jax.numpy as jnp  # noqa: E402
 
-from gearbox.drivetrain import diffrax_backend  # noqa: E402, F401  (jax in float64)
-from gearbox.drivetrain import fixed_step as fs  # noqa: E402
 from gearbox.drivetrain.simulate import default_solver, simulate  # noqa: E402
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
@@ -76,37 +74,6 @@ def test_static_state_balances_the_mean_torques(model):
     assert m.torque_ratio < m.drive.lambda2 / m.drive.lambda1
 
 
-def test_lean_rhs_with_friction_equals_model_rhs(model):
-    # The fixed-step solver's scalar right-hand side against the reference, with the
-    # friction rows of its mesh-law table: equal to rounding (1e-12 of the largest
-    # component) on states that put each flank in and out of contact
-    m = model
-    p = m.params()
-    pj = {k: jnp.asarray(v) for k, v in p.items()}
-
-    def laws_at(phi):
-        th = phi / pj["N1"]
-        k, _, e, de = mesh_laws(th, pj, jnp)
-        arms = friction_arms(th, pj, jnp)  # (flank, arm) -> rows phi_1 d, c, phi_2 d, c
-        return jnp.concatenate([k, e, de, arms.T.reshape(4)])
-
-    assert fs.mesh_law_table(pj, 64, jnp).shape[0] == 10
-    rng = np.random.default_rng(2)
-    n = m.n_dof
-    y_s = m.static_state()
-    g = m.mesh_vectors()[0]
-    for i in range(24):
-        t = rng.uniform(0, 0.1)
-        y = y_s + rng.normal(size=2 * n) * p["scale"] * 0.5
-        if i % 4 == 0:  # drive flank off, coast flank hit
-            y[1] -= (g @ y[:n] + 2 * m.coast.backlash) / g[1]
-        z = y / p["scale"]
-        te0, rp = fs._time_excitations(pj, jnp.asarray(t), jnp)
-        got = np.asarray(fs.lean_rhs(t, jnp.asarray(z), pj, laws_at, te0, rp))
-        want = rhs(t, z, p)
-        assert np.allclose(got, want, rtol=0, atol=1e-12 * np.abs(want).max()), i
-
-
 def test_friction_loss_is_the_textbook_loss_factor_and_the_power_balances():
     """Quasi-static (300 rpm, the engine and propeller ripple off): the simulated
     friction power is mu H T omega lambda_1 / (lambda_1 + mu phi_1) (the normal force
@@ -130,14 +97,7 @@ def test_friction_loss_is_the_textbook_loss_factor_and_the_power_balances():
     loss = float(np.mean(c["mesh_friction_power_W"]))
     h = pair_from_scene(s)
     u = h.teeth[1] / h.teeth[0]
-    aw = h.working_pressure_angle
-    rb1, rb2 = h.base_radius(0), h.base_radius(1)
-    xc = rb1 * math.tan(aw)
-    line = h.centre_distance * math.sin(aw)
-    e1 = (math.sqrt(h.tip_radius(0) ** 2 - rb1**2) - xc) / h.base_pitch
-    e2 = (math.sqrt(h.tip_radius(1) ** 2 - rb2**2) - (line - xc)) / h.base_pitch
-    cb = math.cos(h.base_helix_angle)
-    hv = math.pi * (u + 1) / (h.teeth[0] * u * cb) * (e1**2 + e2**2) / h.contact_ratio
+    hv = loss_factor(h)
     lam1 = m.drive.lambda1
     f1, f2 = m.drive.mean_friction_arms
     carried = MU * m.torque * m.speed * lam1 / (lam1 + MU * f1)  # mu T omega per unit H
