@@ -1,6 +1,7 @@
 """Mesh friction in the FMUs (docs/drivetrain.md §3a): the drivetrain and gearbox FMUs of
-the default scene with mu = 0.1 (``drivetrain.mesh_friction_coefficient``; the analytical
-mesh table carries the friction arms) against the Python reference, FMI 2.0 and 3.0.
+the default scene with mu = 0.1 set here (``drivetrain.mesh_friction_coefficient``; the
+analytical mesh table carries the friction arms) against the Python reference, FMI 2.0
+and 3.0.
 
 The reference is the one of tests/test_fmu.py: the scipy solver (DOP853, rtol 1e-10) on
 the numpy right-hand side ``gearbox.drivetrain.model.rhs``, which applies the friction
@@ -13,7 +14,7 @@ from __future__ import annotations
 import shutil
 import xml.etree.ElementTree as ET
 import zipfile
-from ctypes import c_double
+from ctypes import byref, c_double
 from dataclasses import replace
 from pathlib import Path
 
@@ -42,6 +43,43 @@ FRICTION_OUTPUTS = {
 }
 
 pytestmark = pytest.mark.skipif(find_c_compiler() is None, reason="needs a C compiler (gcc or $CC)")
+
+
+class _Log:
+    """fmi2 callbacks with a Python logger behind fmpy's varargs-formatting proxy (as in
+    tests/test_fmu.py)."""
+
+    def __init__(self):
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
+        from fmpy.logging import addLoggerProxy
+
+        self.messages = []
+
+        def log(env, name, status, category, message):
+            self.messages.append((status, message.decode()))
+
+        self.callbacks = fmi2CallbackFunctions()
+        self.callbacks.logger = fmi2CallbackLoggerTYPE(log)
+        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(self.callbacks))
+
+
+_LOGS: list[_Log] = []
+
+
+def _log() -> _Log:
+    """A logger kept alive for the session: fmpy's proxy holds one logger for every
+    instance (default callbacks included), and a collected one would crash the next
+    message logged in this process."""
+    _LOGS.append(_Log())
+    return _LOGS[-1]
 
 
 def _without_arms(table):
@@ -207,7 +245,10 @@ def _light_load(backlash_mm: float) -> dict:
         # separation of the drive flank, then coast contact at zero backlash: friction on
         # the coast flank too (measured 1.0e-5 / 1.1e-5, 1.6e-6 / 1.9e-6 with 255
         # intervals handed over, 1.4e-5 / 1.3e-5 over 0.02 s): the kinks of the force
-        # limit both integrators; the bound of tests/test_fmu.py's variant
+        # limit both integrators; the bound of tests/test_fmu.py's variant. The fixed-step
+        # figure hangs on where step ends fall: the hand-over tests the gaps, not the
+        # clipping of a negative force with the gap closed (2.1e-4 at mu = 0.05, where a
+        # step ends in that state at 6.43 ms)
         (_light_load(0.0), 0.02, 1e-4),
     ],
     ids=["bearings_governor", "contact_loss_coast_contact"],
@@ -312,8 +353,9 @@ def test_fixed_step_rule_follows_the_friction(built, model_table):
     """solver.stability_limit is the Python rule's (gearbox.drivetrain.fixed_step, whose
     linearisation carries the mean friction direction W = G + Phi): measured 8.7e-12
     relative, 1e-9 allowed as in tests/test_fmu.py; the friction moves the limit by
-    8.4e-4, so a frictionless linearisation would fail. mu beyond the scene's range
-    (0.3) is refused."""
+    8.4e-4, so a frictionless linearisation would fail. The parameter is tunable: a new
+    mu during the run moves the limit; one beyond the scene's range (0.3) is refused with
+    a message and changes nothing."""
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
 
@@ -322,6 +364,7 @@ def test_fixed_step_rule_follows_the_friction(built, model_table):
 
     model, _ = model_table
     limit = float(step_targets(model, DiffraxSolver())[1][0])
+    log = _log()
     path = built["drivetrain"].fmu
     md = read_model_description(path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
@@ -333,13 +376,21 @@ def test_fixed_step_rule_follows_the_friction(built, model_table):
             modelIdentifier=md.coSimulation.modelIdentifier,
             instanceName="rule",
         )
-        fmu.instantiate()
+        fmu.instantiate(callbacks=log.callbacks)
         fmu.setupExperiment(startTime=0.0)
         fmu.enterInitializationMode()
         fmu.exitInitializationMode()
-        assert fmu.getReal([vr["solver.stability_limit"]])[0] == pytest.approx(limit, rel=1e-9)
+        lim = vr["solver.stability_limit"]
+        assert fmu.getReal([lim])[0] == pytest.approx(limit, rel=1e-9)
+        fmu.doStep(0.0, 1e-3)
+        fmu.setReal([vr["mesh.friction_coefficient"]], [0.2])
+        assert abs(fmu.getReal([lim])[0] / limit - 1) > 1e-4
         with pytest.raises(Exception, match="fmi2SetReal"):
             fmu.setReal([vr["mesh.friction_coefficient"]], [0.5])  # beyond the range
+        assert "mesh.friction_coefficient = 0.5 is invalid" in log.messages[-1][1], log.messages
+        assert fmu.getReal([vr["mesh.friction_coefficient"]]) == [0.2]
+        fmu.doStep(1e-3, 1e-3)
+        assert np.isfinite(fmu.getReal([vr["mesh.force"]])[0])
         fmu.terminate()
         fmu.freeInstance()
     finally:

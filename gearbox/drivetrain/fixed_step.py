@@ -367,7 +367,8 @@ def fixed_solve_fn(method: str, cells: int, chunked: bool = False, terms=None):
     steps ``out`` (shape (n_t, 2 n)) of the fixed-step run with step starts ``t`` and
     sizes ``h`` (shape (S,), a :class:`FixedStepPlan`; a step with h = 0 leaves the
     state unchanged), and the number of steps that end out of the nominal contact (drive
-    flank open or coast flank closed: the fixed step crosses these kinks unlocated). Compiled once per method, table size and array shapes (pad plans with
+    flank carrying no load or coast flank carrying load, gap or force clipped: the fixed
+    step crosses these kinks unlocated). Compiled once per method, table size and array shapes (pad plans with
     :meth:`FixedStepPlan.padded` to :func:`bucket` sizes to share compilations).
     Differentiable (``jax.grad`` through the scan).
 
@@ -409,13 +410,17 @@ def fixed_solve_fn(method: str, cells: int, chunked: bool = False, terms=None):
         te0, rp = _time_excitations(p, t[:, None] + h[:, None] * c[None, :], jnp, terms)
 
         def lost(zs, valid):
-            """Steps that end with the drive flank open or the coast flank closed."""
+            """Steps that end with the drive flank carrying no load or the coast flank
+            carrying load: a flank carries load where its gap is closed and k s + c s'
+            > 0 (the force law's two kinks, docs/drivetrain.md §3)."""
             y = zs * p["scale"]
             n = y.shape[-1] // 2
             phi = p["N1"] * (p["Omega"] * (t + h) + y[:, 1] + p["phase"])
-            r = jax.vmap(laws_at)(phi)  # (S, 6)
+            r = jax.vmap(laws_at)(phi)  # (S, R)
             gap = y[:, :n] @ p["G"].T - r[:, 2:4] - p["bl"]
-            return jnp.sum(valid & ((gap[:, 0] <= 0) | (gap[:, 1] > 0)))
+            rate = y[:, n:] @ p["G"].T - r[:, 4:6] * (p["Omega"] + y[:, n + 1])[:, None]
+            load = (gap > 0) & (r[:, 0:2] * gap + p["cm"] * rate > 0)
+            return jnp.sum(valid & (~load[:, 0] | load[:, 1]))
 
         return body, (t, h, te0, rp), lost
 

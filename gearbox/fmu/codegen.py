@@ -158,6 +158,7 @@ UNITS: dict[str, tuple[dict[str, int], tuple[str, float] | None]] = {
     "N.s/m": ({"kg": 1, "s": -1}, None),
     "N.m": ({"kg": 1, "m": 2, "s": -2}, None),
     "N.m/s": ({"kg": 1, "m": 2, "s": -3}, None),
+    "W": ({"kg": 1, "m": 2, "s": -3}, None),
     "N.m/rad": ({"kg": 1, "m": 2, "s": -2, "rad": -1}, None),
     "N.m.s/rad": ({"kg": 1, "m": 2, "s": -1, "rad": -1}, None),
     "N.m.s2/rad2": ({"kg": 1, "m": 2, "rad": -2}, None),

@@ -11,7 +11,10 @@
 Every FMU integrates the equations of docs/drivetrain.md (the same as
 ``gearbox.drivetrain.model.rhs``); the mesh tables travel as samples per torque level
 in ``resources/`` and are fitted at instantiation, so the mean torque stays a
-parameter.
+parameter. A table with the sliding friction's moment arms (``friction_arm_pinion_m``,
+``friction_arm_gear_m``) ships them too: the mesh FMUs then have the parameter
+``mesh.friction_coefficient`` (start: the model's ``mesh_friction_coefficient``) and
+the friction torques as outputs (docs/drivetrain.md §3a).
 """
 
 from __future__ import annotations
@@ -43,12 +46,41 @@ def _harmonics(model) -> int:
     return (len(model.drive.k_coef) - 1) // 2
 
 
+#: the table's fields of the friction arms about the pinion's and the gear's axis (m)
+FRICTION_ARMS = ("friction_arm_pinion_m", "friction_arm_gear_m")
+
+
+def _friction(model, table) -> bool:
+    """Whether the table carries the friction arms (then the FMU applies the friction
+    torques with ``mesh.friction_coefficient``); InputError naming
+    ``mesh_friction_coefficient`` when the model has friction and the table no arms."""
+    from ..errors import InputError, Problem
+
+    arms = all(k in table.extra for k in FRICTION_ARMS)
+    mu = float(model.mesh_friction_coefficient)
+    if mu > 0 and not arms:
+        raise InputError(
+            Problem(
+                "mesh_friction_coefficient",
+                mu,
+                "needs the mesh table's friction arms (friction_arm_pinion_m, "
+                "friction_arm_gear_m), which this table lacks; set it to 0 or use a table "
+                "with them (the analytical table, or gearbox ltca with the grids' axes)",
+            ),
+            "cannot build the FMU with mesh friction",
+        )
+    return arms
+
+
 def mesh_resources(model, table) -> dict[str, str]:
     """Table samples for the FMU's ``resources/``: meta, torque levels, samples.
 
     ``mesh_samples.txt`` rows: (flank, torque, position) with flank drive first; columns
-    tangent stiffness (N/m), LTE (m), mesh point P (m, Sf), line of action n (Sf).
+    tangent stiffness (N/m), LTE (m), mesh point P (m, Sf), line of action n (Sf), and
+    where the table has them the friction arms about the pinion's and the gear's axis
+    (m; :func:`_friction`).
     """
+    friction = _friction(model, table)
     flanks = [f for f in ("drive", "coast") if f in table.flanks]
     if model.coast is None:
         flanks = ["drive"]
@@ -74,6 +106,7 @@ def mesh_resources(model, table) -> dict[str, str]:
                         table.lte[i, j, p],
                         *table.mesh_point[i, j, p],
                         *table.line_of_action[i, j, p],
+                        *([table.extra[k][i, j, p] for k in FRICTION_ARMS] if friction else []),
                     ]
                 )
 
@@ -95,7 +128,12 @@ def mesh_resources(model, table) -> dict[str, str]:
         "mesh_samples.txt": fmt(
             "samples",
             "rows: flank (drive, coast) x torque x position; columns: tangent stiffness (N/m), "
-            "LTE (m), P_x P_y P_z (m), n_x n_y n_z",
+            "LTE (m), P_x P_y P_z (m), n_x n_y n_z"
+            + (
+                ", friction arm about the pinion's axis phi_1 (m), about the gear's phi_2 (m)"
+                if friction
+                else ""
+            ),
             rows,
         ),
     }
@@ -222,7 +260,7 @@ def _propeller_params(model, *, full: bool) -> list[Variable]:
     return v
 
 
-def _gearbox_params(model) -> list[Variable]:
+def _gearbox_params(model, *, friction: bool) -> list[Variable]:
     v = [
         _p(
             "input_shaft.stiffness",
@@ -285,6 +323,20 @@ def _gearbox_params(model) -> list[Variable]:
             0.01,
         ),
     ]
+    if friction:
+        v.append(
+            _p(
+                "mesh.friction_coefficient",
+                "1",
+                "Mean sliding friction coefficient mu of the mesh (Coulomb; 0: none): torques "
+                "-mu phi_1 F on the pinion and +mu phi_2 F on the gear per flank, phi the "
+                "table's friction arms; their cycle means enter the static state and the "
+                "propeller coefficient kappa",
+                model.mesh_friction_coefficient,
+                0,
+                0.3,
+            )
+        )
     if model.bearing_dofs:
         v += [
             _p(
@@ -331,7 +383,7 @@ def _mesh_damping_ratio(model) -> float:
     return float(d.damping / c_unit)
 
 
-def _gearbox_outputs(model) -> list[Variable]:
+def _gearbox_outputs(model, *, friction: bool) -> list[Variable]:
     v = [
         _out("pinion.phi", "rad", "Pinion angle (absolute)"),
         _out("pinion.w", "rad/s", "Pinion speed"),
@@ -353,6 +405,24 @@ def _gearbox_outputs(model) -> list[Variable]:
         _out("mesh.deflection", "m", "Mesh deflection delta_drive along the line of action"),
         _out("mesh.dte", "m", "Dynamic transmission error delta_drive - LTE_drive(theta_1)"),
     ]
+    if friction:
+        v += [
+            _out(
+                "mesh.pinion_friction_torque",
+                "N.m",
+                "Mesh friction torque on the pinion -mu sum_f phi_1f F_f",
+            ),
+            _out(
+                "mesh.gear_friction_torque",
+                "N.m",
+                "Mesh friction torque on the gear +mu sum_f phi_2f F_f",
+            ),
+            _out(
+                "mesh.friction_power",
+                "W",
+                "Mesh friction loss: minus the power of the friction torques on pinion and gear",
+            ),
+        ]
     if model.bearing_dofs:
         v += [
             _out("pinion_bearing.force", "N", "Pinion bearing force along the line of action"),
@@ -382,7 +452,17 @@ def _states(model, dofs: list[int]) -> tuple[list[Variable], list[Variable]]:
 
 
 def _mesh_c(
-    model, identifier, description, variables, dofs, *, engine, propeller, readme, resources
+    model,
+    identifier,
+    description,
+    variables,
+    dofs,
+    *,
+    engine,
+    propeller,
+    friction,
+    readme,
+    resources,
 ) -> FmuModel:
     h = _harmonics(model)
     nstate = len(dofs)
@@ -391,6 +471,7 @@ def _mesh_c(
         f"#define GBX_WITH_ENGINE {int(engine)}\n"
         f"#define GBX_WITH_PROPELLER {int(propeller)}\n"
         f"#define GBX_BEARINGS {int(model.bearing_dofs)}\n"
+        f"#define GBX_FRICTION {int(friction)}\n"
         f"#define GBX_MAX_HARMONICS {h}\n"
         f"#define GBX_ENGINE_HARMONICS {model.engine_harmonics}\n"
         f"#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
@@ -406,18 +487,20 @@ def _mesh_c(
     double *torque, *samples, *coef, *grid, *egrid, *pgrid;
     double fmesh, fe, fp, lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
     double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
-    double x0[6], qe0;"""
+    double x0[6], qe0;
+    double mu, farm[2][2], W[2][6]; /* friction: mu, mean arms phi_1, phi_2, G + Phi */"""
     return FmuModel(identifier, description, tuple(variables), data, code, resources, readme)
 
 
 def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> FmuModel:
     """The whole drivetrain as one FMU (engine torque and propeller load as extra inputs)."""
+    friction = _friction(model, table)
     dofs = list(range(model.n_dof))
     states, ders = _states(model, dofs)
     variables = (
         _engine_params(model, full=True)
         + _propeller_params(model, full=True)
-        + _gearbox_params(model)
+        + _gearbox_params(model, friction=friction)
         + [
             Variable(
                 "engine.torque_input", "input", "N.m", "Extra engine torque added to T_e", start=0.0
@@ -436,7 +519,7 @@ def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> F
             _out("propeller.w", "rad/s", "Propeller speed"),
             _out("propeller.torque", "N.m", "Propeller load torque T_p incl. torque input"),
         ]
-        + _gearbox_outputs(model)
+        + _gearbox_outputs(model, friction=friction)
         + states
         + ders
     )
@@ -452,6 +535,7 @@ def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> F
         dofs,
         engine=True,
         propeller=True,
+        friction=friction,
         readme=_readme("drivetrain", identifier, desc),
         resources=mesh_resources(model, table),
     )
@@ -459,13 +543,14 @@ def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> F
 
 def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuModel:
     """The gearbox alone: engine and propeller flange angles and speeds are inputs."""
+    friction = _friction(model, table)
     dofs = [i for i in range(model.n_dof) if i not in (0, 3)]
     states, ders = _states(model, dofs)
     y0 = model.static_state()
     variables = (
         _engine_params(model, full=False)
         + _propeller_params(model, full=False)
-        + _gearbox_params(model)
+        + _gearbox_params(model, friction=friction)
         + [
             Variable(
                 "input_flange.phi",
@@ -514,7 +599,7 @@ def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuMode
                 start=0.0,
             ),
         ]
-        + _gearbox_outputs(model)
+        + _gearbox_outputs(model, friction=friction)
         + states
         + ders
     )
@@ -538,6 +623,7 @@ def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuMode
         dofs,
         engine=False,
         propeller=False,
+        friction=friction,
         readme=_readme("gearbox", identifier, desc),
         resources=mesh_resources(model, table),
     )

@@ -40,6 +40,10 @@ DRIVETRAIN_COLUMNS = {
     "mesh.force": "mesh_force_N",
     "mesh.deflection": "mesh_deflection_m",
     "mesh.dte": "dynamic_transmission_error_m",
+    # with mesh friction (mu > 0) only
+    "mesh.pinion_friction_torque": "pinion_friction_torque_Nm",
+    "mesh.gear_friction_torque": "gear_friction_torque_Nm",
+    "mesh.friction_power": "mesh_friction_power_W",
 }
 
 
@@ -72,7 +76,7 @@ def regenerate(scene_path: str | Path, out: str | Path) -> list[Path]:
     ident = fmus["drivetrain"].identifier
     write_atomic(
         folders["drivetrain"] / f"{ident}_ref.csv",
-        _csv(tt, {k: ch[v] for k, v in DRIVETRAIN_COLUMNS.items()}),
+        _csv(tt, {k: ch[v] for k, v in DRIVETRAIN_COLUMNS.items() if v in ch}),
     )
     with tempfile.TemporaryDirectory() as tmp:
         builds = build_cosim_fmus(model, table, tmp)
