@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{b9700c69-2027-3b0d-091d-b20be89fc91e}"
+#define MODEL_GUID "{d7d04066-e4e6-ec91-3ec9-5c73fd07c21f}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 50
+#define GBX_NR 54
 #define GBX_NX 4
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -27,44 +27,48 @@
 #define VR_output_shaft_damping_ratio 9
 #define VR_mesh_damping_ratio 10
 #define VR_mesh_backlash 11
-#define VR_input_flange_phi 12
-#define VR_input_flange_w 13
-#define VR_input_flange_a 14
-#define VR_output_flange_phi 15
-#define VR_output_flange_w 16
-#define VR_output_flange_a 17
-#define VR_pinion_phi 18
-#define VR_pinion_w 19
-#define VR_gear_phi 20
-#define VR_gear_w 21
-#define VR_input_shaft_torque 22
-#define VR_output_shaft_torque 23
-#define VR_input_shaft_torque_rate 24
-#define VR_output_shaft_torque_rate 25
-#define VR_mesh_force 26
-#define VR_mesh_deflection 27
-#define VR_mesh_dte 28
-#define VR_q_pinion 29
-#define VR_q_gear 30
-#define VR_v_pinion 31
-#define VR_v_gear 32
-#define VR_der_q_pinion 33
-#define VR_der_q_gear 34
-#define VR_der_v_pinion 35
-#define VR_der_v_gear 36
-#define VR_solver_rtol 37
-#define VR_solver_max_step 38
-#define VR_solver_method 39
-#define VR_solver_fixed_step 40
-#define VR_solver_steps_per_period 41
-#define VR_solver_steps_per_mesh_period 42
-#define VR_solver_contact_rtol 43
-#define VR_solver_step_size 44
-#define VR_solver_stability_limit 45
-#define VR_solver_handed_over 46
-#define VR_solver_steps 47
-#define VR_solver_rejected 48
-#define VR_solver_rhs_evaluations 49
+#define VR_mesh_friction_coefficient 12
+#define VR_input_flange_phi 13
+#define VR_input_flange_w 14
+#define VR_input_flange_a 15
+#define VR_output_flange_phi 16
+#define VR_output_flange_w 17
+#define VR_output_flange_a 18
+#define VR_pinion_phi 19
+#define VR_pinion_w 20
+#define VR_gear_phi 21
+#define VR_gear_w 22
+#define VR_input_shaft_torque 23
+#define VR_output_shaft_torque 24
+#define VR_input_shaft_torque_rate 25
+#define VR_output_shaft_torque_rate 26
+#define VR_mesh_force 27
+#define VR_mesh_deflection 28
+#define VR_mesh_dte 29
+#define VR_mesh_pinion_friction_torque 30
+#define VR_mesh_gear_friction_torque 31
+#define VR_mesh_friction_power 32
+#define VR_q_pinion 33
+#define VR_q_gear 34
+#define VR_v_pinion 35
+#define VR_v_gear 36
+#define VR_der_q_pinion 37
+#define VR_der_q_gear 38
+#define VR_der_v_pinion 39
+#define VR_der_v_gear 40
+#define VR_solver_rtol 41
+#define VR_solver_max_step 42
+#define VR_solver_method 43
+#define VR_solver_fixed_step 44
+#define VR_solver_steps_per_period 45
+#define VR_solver_steps_per_mesh_period 46
+#define VR_solver_contact_rtol 47
+#define VR_solver_step_size 48
+#define VR_solver_stability_limit 49
+#define VR_solver_handed_over 50
+#define VR_solver_steps 51
+#define VR_solver_rejected 52
+#define VR_solver_rhs_evaluations 53
 
 /* state indices */
 #define X_q_pinion 0
@@ -94,6 +98,7 @@ typedef struct {
     double fmesh, fe, fp, lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
     double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
     double x0[6], qe0;
+    double mu, farm[2][2], W[2][6]; /* friction: mu, mean arms phi_1, phi_2, G + Phi */
 } GbxModelData;
 
 #endif /* config_h */

@@ -22,49 +22,54 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"output_shaft.damping_ratio", 0, -1, 0.02, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 9 parameter */
     {"mesh.damping_ratio", 0, -1, 0.05, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 10 parameter */
     {"mesh.backlash", 0, -1, 0.0001, 0.0, 0.01, 0, 0, 1.0, 0}, /* vr 11 parameter */
-    {"input_flange.phi", 1, 13, 0.1609658073999087, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 12 input */
-    {"input_flange.w", 1, 14, 366.51914291880917, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 13 input */
-    {"input_flange.a", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 14 input */
-    {"output_flange.phi", 1, 16, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 15 input */
-    {"output_flange.w", 1, 17, 236.20122543656592, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 16 input */
-    {"output_flange.a", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 17 input */
-    {"pinion.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 18 output */
-    {"pinion.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 19 output */
-    {"gear.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 20 output */
-    {"gear.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 21 output */
-    {"input_shaft.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 22 output */
-    {"output_shaft.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 23 output */
-    {"input_shaft.torque_rate", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 24 output */
-    {"output_shaft.torque_rate", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 25 output */
-    {"mesh.force", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 26 output */
-    {"mesh.deflection", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 27 output */
-    {"mesh.dte", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 28 output */
-    {"q.pinion", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 29 state */
-    {"q.gear", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 30 state */
-    {"v.pinion", 3, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 31 state */
-    {"v.gear", 3, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 32 state */
-    {"der(q.pinion)", 4, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 33 derivative */
-    {"der(q.gear)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 34 derivative */
-    {"der(v.pinion)", 4, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 35 derivative */
-    {"der(v.gear)", 4, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 36 derivative */
-    {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 37 parameter */
-    {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 38 parameter */
-    {"solver.method", 0, -1, 1.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 39 parameter */
-    {"solver.fixed_step", 0, -1, 0.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 40 parameter */
-    {"solver.steps_per_period", 0, -1, 12.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 41 parameter */
-    {"solver.steps_per_mesh_period", 0, -1, 32.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 42 parameter */
-    {"solver.contact_rtol", 0, -1, 1e-09, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 43 parameter */
-    {"solver.step_size", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 44 output */
-    {"solver.stability_limit", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 45 output */
-    {"solver.handed_over", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 46 output */
-    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 47 output */
-    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 48 output */
-    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 49 output */
+    {"mesh.friction_coefficient", 0, -1, 0.05, 0.0, 0.3, 0, 0, 1.0, 0}, /* vr 12 parameter */
+    {"input_flange.phi", 1, 14, 0.16013470301214008, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 13 input */
+    {"input_flange.w", 1, 15, 366.51914291880917, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 14 input */
+    {"input_flange.a", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 15 input */
+    {"output_flange.phi", 1, 17, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 16 input */
+    {"output_flange.w", 1, 18, 236.20122543656592, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 17 input */
+    {"output_flange.a", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 18 input */
+    {"pinion.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 19 output */
+    {"pinion.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 20 output */
+    {"gear.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 21 output */
+    {"gear.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 22 output */
+    {"input_shaft.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 23 output */
+    {"output_shaft.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 24 output */
+    {"input_shaft.torque_rate", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 25 output */
+    {"output_shaft.torque_rate", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 26 output */
+    {"mesh.force", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 27 output */
+    {"mesh.deflection", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 28 output */
+    {"mesh.dte", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 29 output */
+    {"mesh.pinion_friction_torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 30 output */
+    {"mesh.gear_friction_torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 31 output */
+    {"mesh.friction_power", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 32 output */
+    {"q.pinion", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 33 state */
+    {"q.gear", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 34 state */
+    {"v.pinion", 3, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 35 state */
+    {"v.gear", 3, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 36 state */
+    {"der(q.pinion)", 4, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 37 derivative */
+    {"der(q.gear)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 38 derivative */
+    {"der(v.pinion)", 4, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 39 derivative */
+    {"der(v.gear)", 4, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 40 derivative */
+    {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 41 parameter */
+    {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 42 parameter */
+    {"solver.method", 0, -1, 1.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 43 parameter */
+    {"solver.fixed_step", 0, -1, 0.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 44 parameter */
+    {"solver.steps_per_period", 0, -1, 12.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 45 parameter */
+    {"solver.steps_per_mesh_period", 0, -1, 32.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 46 parameter */
+    {"solver.contact_rtol", 0, -1, 1e-09, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 47 parameter */
+    {"solver.step_size", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 48 output */
+    {"solver.stability_limit", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 49 output */
+    {"solver.handed_over", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 50 output */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 51 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 52 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 53 output */
 };
 
 #define GBX_WITH_ENGINE 0
 #define GBX_WITH_PROPELLER 0
 #define GBX_BEARINGS 0
+#define GBX_FRICTION 1
 #define GBX_MAX_HARMONICS 24
 #define GBX_ENGINE_HARMONICS 3
 #define GBX_BLADE_HARMONICS 1
@@ -78,6 +83,7 @@ static const int GBX_STATE_OF_DOF[4] = {-1, 0, 1, -1};
  *   M dv/dt = Q_ext - K_s x - C_s v - sum_f G_f F_f                         (section 7)
  *   F_f = H(s_f) max(0, k_f(theta_1) s_f + c_f sdot_f)                      (section 3)
  *   s_f = G_f . x - e_f(theta_1) - b_f,  sdot_f = G_f . v - e_f'(theta_1)(Omega + v_1)
+ *   Q_ext,1 += -mu sum_f phi_1f(theta_1) F_f,  Q_ext,2 += +mu sum_f phi_2f(theta_1) F_f  (3a)
  *
  * x = [q_e, q_1, q_2, q_p (, y_1, y_2)] deviations from the nominal rotation
  * (theta_1 = Omega t + q_1). The mesh laws k_f, e_f, LTE_f are truncated Fourier series
@@ -88,13 +94,29 @@ static const int GBX_STATE_OF_DOF[4] = {-1, 0, 1, -1};
  * the series' exact values and first and second derivatives at ng = 32 h nodes; the
  * outputs evaluate the series themselves.
  *
+ * Mesh friction (GBX_FRICTION, the table has friction arms): the sliding friction's
+ * moment arms phi_1f, phi_2f about the pinion's and the gear's axis are two more table
+ * columns, fitted and gridded like k_f; mu = mesh.friction_coefficient (0: none). The
+ * mean arms enter the propeller coefficient kappa = T_op (lambda_2 + mu phi_2) /
+ * (lambda_1 + mu phi_1) / Omega_2^2 and the static state (DrivetrainModel.torque_ratio,
+ * static_state).
+ *
  * Build switches: GBX_WITH_ENGINE, GBX_WITH_PROPELLER (0: that shaft end is an input
- * flange), GBX_BEARINGS (bearing translations along the drive line of action). */
+ * flange), GBX_BEARINGS (bearing translations along the drive line of action),
+ * GBX_FRICTION (friction arms in the table: mesh.friction_coefficient and its outputs). */
 
 #define NDOF (GBX_BEARINGS ? 6 : 4)
 #define TWO_PI 6.283185307179586
 #define GBX_GRID_PER_HARMONIC 32 /* grid cells per mesh period and harmonic */
-#define GBX_CELL 18              /* doubles per cell: 3 quintics (see mesh_grid) */
+/* doubles per cell: 3 quintics, 5 with the friction arms (see mesh_grid) */
+#define GBX_CELL (18 + 12 * GBX_FRICTION)
+/* columns of mesh_samples.txt: k, LTE, P (3), n (3) (, phi_1, phi_2) */
+#define GBX_SAMPLE_COLS (8 + 2 * GBX_FRICTION)
+/* Fourier series per flank in coef: k, e, LTE (, phi_1, phi_2) */
+#define GBX_SERIES (3 + 2 * GBX_FRICTION)
+/* coef: k, e, LTE of flank f at (3 f + 0, 1, 2) nc; the friction arm w (0: about the
+ * pinion's axis, 1: the gear's) of flank f at (6 + 2 f + w) nc; work arrays after */
+#define GBX_ARM(d, f, w, nc) ((d)->coef + (6 + 2 * (f) + (w)) * (nc))
 
 /* ------------------------------------------------------------------ tables */
 
@@ -137,17 +159,22 @@ int gbx_model_load(ModelInstance *m) {
             return fail(m, "torque levels must be > 0 and increasing");
     }
     if (gbx_read_table(m, "mesh_samples.txt", &rows, &cols, &d->samples) != 0) return 1;
-    if (rows != d->nf * d->nt * d->np || cols != 8)
-        return fail(m, "mesh_samples.txt must have n_flanks*n_torques*n_positions rows of 8 values");
+    if (rows != d->nf * d->nt * d->np || cols != GBX_SAMPLE_COLS)
+        return fail(m, GBX_FRICTION ? "mesh_samples.txt must have n_flanks*n_torques*n_positions rows "
+                                      "of 10 values (with the friction arms)"
+                                    : "mesh_samples.txt must have n_flanks*n_torques*n_positions rows "
+                                      "of 8 values");
     n = rows;
     for (i = 0; i < n; i++) {
-        const double *r = d->samples + 8 * i;
+        const double *r = d->samples + GBX_SAMPLE_COLS * i;
         if (!(r[0] > 0.0)) return fail(m, "tangent mesh stiffness must be > 0 N/m");
         if (fabs(sqrt(r[5] * r[5] + r[6] * r[6] + r[7] * r[7]) - 1.0) > 1e-6)
             return fail(m, "line of action must be a unit vector");
     }
     n = 1 + 2 * d->h;
-    d->coef = (double *)gbx_calloc(m, (size_t)(6 * n + 9 * d->np), sizeof(double));
+    /* the series of both flanks, then the work arrays of gbx_model_update */
+    d->coef = (double *)gbx_calloc(
+        m, (size_t)(2 * GBX_SERIES * n + (9 + 2 * GBX_FRICTION) * d->np), sizeof(double));
     if (!d->coef) return fail(m, "out of memory");
     d->ng = GBX_GRID_PER_HARMONIC * d->h;
     d->grid = (double *)gbx_calloc(m, (size_t)(GBX_CELL * d->ng * d->nf + 2 * d->ng), sizeof(double));
@@ -206,7 +233,8 @@ static void fourier_fit(int np, int h, const double *v, double *c) {
  * coordinate tau in [0, 1): k, e and de/dphi. Each interpolates its field's value and
  * first and second derivatives at both nodes (quintic Hermite, C2 across cells). For
  * a harmonic of order k the error is below (k dphi)^6 / 46080 of its amplitude: with
- * ng = 32 h nodes, (2 pi / 32)^6 / 46080 = 1.3e-9 at the highest harmonic h. */
+ * ng = 32 h nodes, (2 pi / 32)^6 / 46080 = 1.3e-9 at the highest harmonic h. With
+ * GBX_FRICTION two more quintics follow in each cell: the friction arms phi_1, phi_2. */
 /* k, k', k'', e, e', e'', e''' (derivatives in phi) of the series at node j */
 static void grid_node(const double *kc, const double *ec, int h, int ng, int j, const double *cs,
                       const double *sn, double *v) {
@@ -228,6 +256,23 @@ static void grid_node(const double *kc, const double *ec, int h, int ng, int j, 
         v[6] -= q2 * q * ed;
     }
 }
+
+#if GBX_FRICTION
+/* value, first and second derivative in phi of the series c at node j */
+static void grid_node_series(const double *c, int h, int ng, int j, const double *cs,
+                             const double *sn, double *v) {
+    int k;
+    v[0] = c[0];
+    v[1] = v[2] = 0.0;
+    for (k = 1; k <= h; k++) {
+        int r = (int)(((long)k * j) % ng);
+        double q = (double)k, fv = c[k] * cs[r] + c[h + k] * sn[r];
+        v[0] += fv;
+        v[1] += q * (c[h + k] * cs[r] - c[k] * sn[r]);
+        v[2] -= q * q * fv;
+    }
+}
+#endif
 
 /* a[0..5] of p(tau) = sum a_i tau^i with p, p', p'' = (f, d, s) at 0 and 1 (d, s per dphi) */
 static void quintic(double f0, double d0, double s0, double f1, double d1, double s1, double dx,
@@ -267,6 +312,21 @@ static void mesh_grid(GbxModelData *d) {
             quintic(v0[4], v0[5], v0[6], v1[4], v1[5], v1[6], dx, a + 12);
             memcpy(v0, v1, sizeof v0);
         }
+#if GBX_FRICTION
+        {
+            int w;
+            for (w = 0; w < 2; w++) {
+                const double *fc = GBX_ARM(d, f, w, nc);
+                grid_node_series(fc, h, ng, 0, cs, sn, v0);
+                for (j = 0; j < ng; j++) {
+                    grid_node_series(fc, h, ng, (j + 1) % ng, cs, sn, v1);
+                    quintic(v0[0], v0[1], v0[2], v1[0], v1[1], v1[2], dx,
+                            d->grid + GBX_CELL * (f * ng + j) + 18 + 6 * w);
+                    memcpy(v0, v1, 3 * sizeof v0[0]);
+                }
+            }
+        }
+#endif
     }
 }
 
@@ -372,9 +432,13 @@ static int solve(int n, double A[6][6], double *b) {
 int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
     GbxModelData *d = &m->data;
     const int nc = 1 + 2 * d->h, np = d->np;
-    double T = P(engine_mean_torque), w = 0.0, lam1d = 0.0;
+    double T = P(engine_mean_torque), w = 0.0, lam1d = 0.0, t1, t2;
     int j0 = 0, j1 = 0, f, i, j;
-    double *kt = d->coef + 6 * nc, *lte = kt + np, *e = lte + np, *Pn = e + np; /* Pn: 6 np */
+    /* Pn: 6 np; arms: 2 np (GBX_FRICTION) */
+    double *kt = d->coef + 2 * GBX_SERIES * nc, *lte = kt + np, *e = lte + np, *Pn = e + np;
+#if GBX_FRICTION
+    double *arm = Pn + 6 * np;
+#endif
     double je = P(engine_inertia), j1n = P(pinion_inertia), j2n = P(gear_inertia), jp = P(propeller_inertia);
     double K[6][6], b[6];
     /* operating torque inside the table (DrivetrainModel: MeshTable._torque_weights) */
@@ -391,16 +455,21 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
         w = w < 0.0 ? 0.0 : (w > 1.0 ? 1.0 : w);
     }
     d->has_coast = d->nf > 1;
+    for (f = 0; f < 2; f++) d->farm[f][0] = d->farm[f][1] = 0.0;
     for (f = 0; f < d->nf; f++) {
         double l1 = 0.0, l2 = 0.0, dir[3] = {0.0, 0.0, 0.0}, nn, fn, inv_m;
         for (i = 0; i < np; i++) {
-            const double *r0 = d->samples + 8 * ((f * d->nt + j0) * np + i);
-            const double *r1 = d->samples + 8 * ((f * d->nt + j1) * np + i);
-            double v[8];
-            for (j = 0; j < 8; j++) v[j] = (1.0 - w) * r0[j] + w * r1[j];
+            const double *r0 = d->samples + GBX_SAMPLE_COLS * ((f * d->nt + j0) * np + i);
+            const double *r1 = d->samples + GBX_SAMPLE_COLS * ((f * d->nt + j1) * np + i);
+            double v[GBX_SAMPLE_COLS];
+            for (j = 0; j < GBX_SAMPLE_COLS; j++) v[j] = (1.0 - w) * r0[j] + w * r1[j];
             kt[i] = v[0];
             lte[i] = v[1];
             for (j = 0; j < 6; j++) Pn[6 * i + j] = v[2 + j];
+#if GBX_FRICTION
+            arm[i] = v[8];
+            arm[np + i] = v[9];
+#endif
         }
         for (i = 0; i < np; i++) {
             const double *p = Pn + 6 * i, *nv = p + 3;
@@ -434,6 +503,12 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
         fourier_fit(np, d->h, kt, d->coef + (3 * f + 0) * nc);
         fourier_fit(np, d->h, e, d->coef + (3 * f + 1) * nc);
         fourier_fit(np, d->h, lte, d->coef + (3 * f + 2) * nc);
+#if GBX_FRICTION
+        fourier_fit(np, d->h, arm, GBX_ARM(d, f, 0, nc));
+        fourier_fit(np, d->h, arm + np, GBX_ARM(d, f, 1, nc));
+        d->farm[f][0] = GBX_ARM(d, f, 0, nc)[0];
+        d->farm[f][1] = GBX_ARM(d, f, 1, nc)[0];
+#endif
         d->ebound[f] = 0.0;
         for (j = 0; j < nc; j++) d->ebound[f] += fabs(d->coef[(3 * f + 1) * nc + j]);
         d->ebound[f] *= 1.0 + 1e-6; /* also bounds the grid's e (error below 1e-8) */
@@ -461,7 +536,28 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
     d->fmesh = d->n1 * d->Omega / TWO_PI;
     d->Omega2 = d->Omega * d->n1 / d->n2;
     d->T = T;
-    d->kappa = T * (d->lam2[0] / d->lam1[0]) / (d->Omega2 * d->Omega2);
+    /* the mean torque ratio T_2 / T_1 in drive contact with friction, and the mesh force's
+     * generalised direction W = G_drive + Phi_drive (DrivetrainModel.torque_ratio,
+     * friction_vectors) */
+#if GBX_FRICTION
+    d->mu = P(mesh_friction_coefficient);
+#else
+    d->mu = 0.0;
+#endif
+    for (f = 0; f < 2; f++) {
+        for (j = 0; j < 6; j++) d->W[f][j] = d->G[f][j];
+        if (f < d->nf) {
+            d->W[f][1] += d->mu * d->farm[f][0];
+            d->W[f][2] -= d->mu * d->farm[f][1];
+        }
+    }
+    t1 = d->lam1[0] + d->mu * d->farm[0][0];
+    t2 = d->lam2[0] + d->mu * d->farm[0][1];
+    if (!(t1 > 0.0 && t2 > 0.0))
+        ERR("mesh.friction_coefficient = %g: the drive flank's torque arms lambda_1 + mu phi_1 = %g m "
+            "and lambda_2 + mu phi_2 = %g m must be > 0",
+            d->mu, t1, t2);
+    d->kappa = T * (t2 / t1) / (d->Omega2 * d->Omega2);
 #if GBX_WITH_ENGINE
     {
         double z = P(engine_cylinders), mo[GBX_ENGINE_HARMONICS + 3], w[GBX_ENGINE_HARMONICS + 3];
@@ -525,10 +621,10 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
         K[5][5] += d->kb[1];
 #endif
         for (i = 0; i < NDOF; i++)
-            for (j = 0; j < NDOF; j++) K[i][j] += kd * d->G[0][i] * d->G[0][j];
+            for (j = 0; j < NDOF; j++) K[i][j] += kd * d->W[0][i] * d->G[0][j];
         b[0] = T;
         b[3] = -d->kappa * d->Omega2 * d->Omega2;
-        for (i = 0; i < NDOF; i++) b[i] += kd * ed * d->G[0][i];
+        for (i = 0; i < NDOF; i++) b[i] += kd * ed * d->W[0][i];
         for (i = 0; i < NDOF; i++)
             if (i != 3) keep[nk++] = i;
         for (a = 0; a < nk; a++) {
@@ -587,11 +683,15 @@ static double series_value(const double *c, int h, const double *cs, const doubl
 
 /* k_f, e_f and de_f/dtheta_1 of every flank at pinion angle theta = Omega t + x1: from
  * the grid (fast: the right-hand side) or from the series (exact: the outputs, with
- * LTE_drive) */
+ * LTE_drive); with arms (GBX_FRICTION) also the friction arms phi_1f, phi_2f as
+ * arms[2 f], arms[2 f + 1] (m) */
 static void mesh_laws(const GbxModelData *d, double t, double x1, const int *want, int exact,
-                      double *kf, double *ef, double *de, double *lte_drive) {
+                      double *kf, double *ef, double *de, double *lte_drive, double *arms) {
     const int h = d->h, nc = 1 + 2 * h;
     int f, k;
+#if !GBX_FRICTION
+    (void)arms;
+#endif
     if (!exact) {
         /* mesh phase in periods: f_mesh t + n1 x1 / (2 pi) = n1 theta_1 / (2 pi) */
         double tau;
@@ -602,6 +702,12 @@ static void mesh_laws(const GbxModelData *d, double t, double x1, const int *wan
             kf[f] = quintic_value(a, tau);
             ef[f] = quintic_value(a + 6, tau);
             de[f] = d->n1 * quintic_value(a + 12, tau);
+#if GBX_FRICTION
+            if (arms) {
+                arms[2 * f] = quintic_value(a + 18, tau);
+                arms[2 * f + 1] = quintic_value(a + 24, tau);
+            }
+#endif
         }
         return;
     }
@@ -622,17 +728,25 @@ static void mesh_laws(const GbxModelData *d, double t, double x1, const int *wan
         for (f = 0; f < d->nf; f++) {
             kf[f] = series_value(d->coef + (3 * f) * nc, h, cs, sn);
             series(d->coef + (3 * f + 1) * nc, h, d->n1, cs, sn, &ef[f], &de[f]);
+#if GBX_FRICTION
+            if (arms) {
+                arms[2 * f] = series_value(GBX_ARM(d, f, 0, nc), h, cs, sn);
+                arms[2 * f + 1] = series_value(GBX_ARM(d, f, 1, nc), h, cs, sn);
+            }
+#endif
         }
         if (lte_drive) *lte_drive = series_value(d->coef + 2 * nc, h, cs, sn);
     }
 }
 
-/* Mesh forces F[2] (N) at (t, x, v), docs section 3; LTE_drive when asked (exact laws) */
+/* Mesh forces F[2] (N) at (t, x, v), docs section 3; LTE_drive when asked (exact laws);
+ * the friction torques tf[2] on the pinion and the gear (N m, section 3a) when asked */
 static void mesh(const ModelInstance *m, double t, const double *x, const double *v, double *F,
-                 int exact, double *lte_drive) {
+                 int exact, double *lte_drive, double *tf) {
     const GbxModelData *d = &m->data;
-    double kf[2], ef[2], de[2], delta[2] = {0.0, 0.0}, ddelta[2] = {0.0, 0.0};
+    double kf[2], ef[2], de[2], delta[2] = {0.0, 0.0}, ddelta[2] = {0.0, 0.0}, arms[4];
     int f, i, want[2] = {0, 0}, any = lte_drive != NULL;
+    int friction = GBX_FRICTION && tf != NULL && d->mu != 0.0;
     for (f = 0; f < d->nf; f++) {
         /* G_f is zero at the engine and the propeller (i = 0, 3) */
         delta[f] = d->G[f][1] * x[1] + d->G[f][2] * x[2];
@@ -646,8 +760,9 @@ static void mesh(const ModelInstance *m, double t, const double *x, const double
         any |= want[f];
     }
     F[0] = F[1] = 0.0;
+    if (tf) tf[0] = tf[1] = 0.0;
     if (!any) return;
-    mesh_laws(d, t, x[1], want, exact, kf, ef, de, lte_drive);
+    mesh_laws(d, t, x[1], want, exact, kf, ef, de, lte_drive, friction ? arms : NULL);
     for (f = 0; f < d->nf; f++) {
         double s;
         if (!want[f]) continue;
@@ -656,16 +771,23 @@ static void mesh(const ModelInstance *m, double t, const double *x, const double
         if (s > 0.0) {
             double Ff = kf[f] * s + d->cm[f] * sd;
             F[f] = Ff > 0.0 ? Ff : 0.0; /* no tension (NaN gives 0, as fmax) */
+            if (friction && F[f] > 0.0) {
+                /* friction opposes the sliding: -mu phi_1 F on the pinion, +mu phi_2 F on
+                 * the gear (gearbox.drivetrain.model.friction_torques) */
+                tf[0] -= d->mu * arms[2 * f] * F[f];
+                tf[1] += d->mu * arms[2 * f + 1] * F[f];
+            }
         }
     }
 }
 
 static void accelerations(const ModelInstance *m, double t, const double *x, const double *v,
-                          int exact, double *a, double *te_out, double *tp_out, double *F) {
+                          int exact, double *a, double *te_out, double *tp_out, double *F,
+                          double *tf) {
     const GbxModelData *d = &m->data;
     double tin, tout, te = 0.0, tp = 0.0;
     int i, f;
-    mesh(m, t, x, v, F, exact, NULL);
+    mesh(m, t, x, v, F, exact, NULL, tf);
     tin = d->k_in * (x[0] - x[1]) + d->c_in * (v[0] - v[1]);
     tout = d->k_out * (x[2] - x[3]) + d->c_out * (v[2] - v[3]);
 #if GBX_WITH_ENGINE
@@ -687,8 +809,8 @@ static void accelerations(const ModelInstance *m, double t, const double *x, con
 #else
     a[0] = gbx_input(m, VR_input_flange_a, t);
 #endif
-    a[1] = tin;
-    a[2] = -tout;
+    a[1] = tin + tf[0];
+    a[2] = -tout + tf[1];
 #if GBX_WITH_PROPELLER
     a[3] = (tout - tp) * d->minv[3];
 #else
@@ -719,10 +841,10 @@ void gbx_model_initial_state(ModelInstance *m) {
 }
 
 void gbx_model_derivatives(const ModelInstance *m, double t, const double *s, double *ds) {
-    double x[6], v[6], a[6], F[2];
+    double x[6], v[6], a[6], F[2], tf[2];
     int i;
     coordinates(m, t, s, x, v);
-    accelerations(m, t, x, v, 0, a, NULL, NULL, F);
+    accelerations(m, t, x, v, 0, a, NULL, NULL, F, tf);
     for (i = 0; i < NDOF; i++) {
         int k = GBX_STATE_OF_DOF[i];
         if (k >= 0) {
@@ -734,11 +856,11 @@ void gbx_model_derivatives(const ModelInstance *m, double t, const double *s, do
 
 void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
     const GbxModelData *d = &m->data;
-    double x[6], v[6], a[6], F[2], te, tp, lte, defl = 0.0;
+    double x[6], v[6], a[6], F[2], tf[2], te, tp, lte, defl = 0.0;
     int i;
     coordinates(m, t, s, x, v);
-    accelerations(m, t, x, v, 1, a, &te, &tp, F);
-    mesh(m, t, x, v, F, 1, &lte);
+    accelerations(m, t, x, v, 1, a, &te, &tp, F, tf);
+    mesh(m, t, x, v, F, 1, &lte, NULL);
     for (i = 0; i < NDOF; i++) defl += d->G[0][i] * x[i];
     m->r[VR_pinion_phi] = d->Omega * t + x[1];
     m->r[VR_pinion_w] = d->Omega + v[1];
@@ -747,6 +869,12 @@ void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
     m->r[VR_mesh_force] = F[0] - F[1];
     m->r[VR_mesh_deflection] = defl;
     m->r[VR_mesh_dte] = defl - lte;
+#if GBX_FRICTION
+    m->r[VR_mesh_pinion_friction_torque] = tf[0];
+    m->r[VR_mesh_gear_friction_torque] = tf[1];
+    /* the friction's loss: minus the power of its torques on pinion and gear */
+    m->r[VR_mesh_friction_power] = -(tf[0] * (d->Omega + v[1]) + tf[1] * (d->Omega2 + v[2]));
+#endif
     m->r[VR_input_shaft_torque] = d->k_in * (x[0] - x[1]) + d->c_in * (v[0] - v[1]);
     m->r[VR_output_shaft_torque] = d->k_out * (x[2] - x[3]) + d->c_out * (v[2] - v[3]);
     m->r[VR_input_shaft_torque_rate] = d->k_in * (v[0] - v[1]) + d->c_in * (a[0] - a[1]);
@@ -772,8 +900,10 @@ void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
 /* Linearised state equations with the drive mesh at its largest stiffness a_0 + sum_k
  * |c_k| (gearbox.drivetrain.fixed_step._eigenvalues_at_peak_stiffness with
  * gearbox.drivetrain.linear.linear_matrices): shafts, bearings, mesh stiffness and
- * damping on the drive line of action, the propeller's speed damping 2 kappa Omega_2
- * and the governor; only the rows and columns of this FMU's states (flanges held).
+ * damping on the drive line of action (with friction the mean friction direction W =
+ * G + Phi on the rows: kmax G G^T + kbar Phi G^T, c (G + Phi) G^T), the propeller's
+ * speed damping 2 kappa Omega_2 and the governor; only the rows and columns of this
+ * FMU's states (flanges held).
  * Returns the mesh frequency (Hz). */
 double gbx_model_linear(const ModelInstance *m, double *A) {
     const GbxModelData *d = &m->data;
@@ -783,8 +913,8 @@ double gbx_model_linear(const ModelInstance *m, double *A) {
     for (k = 1; k <= d->h; k++) kmax += hypot(d->coef[k], d->coef[d->h + k]);
     for (i = 0; i < 6; i++)
         for (j = 0; j < 6; j++) {
-            K[i][j] = kmax * d->G[0][i] * d->G[0][j];
-            C[i][j] = d->cm[0] * d->G[0][i] * d->G[0][j];
+            K[i][j] = (kmax * d->G[0][i] + d->kbar[0] * (d->W[0][i] - d->G[0][i])) * d->G[0][j];
+            C[i][j] = d->cm[0] * d->W[0][i] * d->G[0][j];
         }
     K[0][0] += d->k_in, K[1][1] += d->k_in, K[0][1] -= d->k_in, K[1][0] -= d->k_in;
     K[2][2] += d->k_out, K[3][3] += d->k_out, K[2][3] -= d->k_out, K[3][2] -= d->k_out;
@@ -818,20 +948,31 @@ double gbx_model_linear(const ModelInstance *m, double *A) {
     return d->fmesh;
 }
 
-/* Drive flank closed and coast flank open at (t, x), from the grid's e (the right-hand
- * side's laws): gearbox.drivetrain.fixed_step's contact test. */
+/* Drive flank carrying load and coast flank not at (t, x, v), from the grid's laws (the
+ * right-hand side's): gearbox.drivetrain.fixed_step's contact test. A flank carries load
+ * where its gap is closed and k s + c s' > 0 (the force law's two kinks). */
 int gbx_model_in_contact(const ModelInstance *m, double t, const double *s) {
     const GbxModelData *d = &m->data;
-    double x[6], v[6], kf[2], ef[2], de[2], delta[2] = {0.0, 0.0};
+    double x[6], v[6], kf[2], ef[2], de[2], delta[2] = {0.0, 0.0}, ddelta[2] = {0.0, 0.0};
+    double gap[2], load[2];
     int f, i, want[2] = {0, 0};
     coordinates(m, t, s, x, v);
     for (f = 0; f < d->nf; f++) {
         delta[f] = d->G[f][1] * x[1] + d->G[f][2] * x[2];
-        for (i = 4; i < NDOF; i++) delta[f] += d->G[f][i] * x[i];
+        ddelta[f] = d->G[f][1] * v[1] + d->G[f][2] * v[2];
+        for (i = 4; i < NDOF; i++) {
+            delta[f] += d->G[f][i] * x[i];
+            ddelta[f] += d->G[f][i] * v[i];
+        }
         want[f] = delta[f] + d->ebound[f] - d->bl[f] > 0.0;
     }
     if (!want[0]) return 0; /* drive flank surely open */
-    mesh_laws(d, t, x[1], want, 0, kf, ef, de, NULL);
-    if (!(delta[0] - ef[0] - d->bl[0] > 0.0)) return 0;
-    return !(want[1] && delta[1] - ef[1] - d->bl[1] > 0.0);
+    mesh_laws(d, t, x[1], want, 0, kf, ef, de, NULL, NULL);
+    for (f = 0; f < d->nf; f++) {
+        if (!want[f]) continue;
+        gap[f] = delta[f] - ef[f] - d->bl[f];
+        load[f] = kf[f] * gap[f] + d->cm[f] * (ddelta[f] - de[f] * (d->Omega + v[1]));
+    }
+    if (!(gap[0] > 0.0 && load[0] > 0.0)) return 0;
+    return !(want[1] && gap[1] > 0.0 && load[1] > 0.0);
 }
