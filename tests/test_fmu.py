@@ -14,12 +14,12 @@ import stat
 import subprocess
 import xml.etree.ElementTree as ET
 import zipfile
-from ctypes import byref
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
+from _fmu_helpers import fmu_log, light_load
 
 fmpy = pytest.importorskip("fmpy")
 
@@ -199,32 +199,6 @@ def test_tunable_parameter_changes_the_run_and_fixed_one_is_guarded(built, model
         shutil.rmtree(d, ignore_errors=True)
 
 
-class _Log:
-    """fmi2 callbacks with a Python logger behind fmpy's varargs-formatting proxy."""
-
-    def __init__(self):
-        from fmpy.fmi2 import (
-            fmi2CallbackAllocateMemoryTYPE,
-            fmi2CallbackFreeMemoryTYPE,
-            fmi2CallbackFunctions,
-            fmi2CallbackLoggerTYPE,
-        )
-        from fmpy.logging import addLoggerProxy
-
-        self.messages = []
-
-        def log(env, name, status, category, message):
-            self.messages.append((status, message.decode()))
-
-        from fmpy import calloc, free
-
-        self.callbacks = fmi2CallbackFunctions()
-        self.callbacks.logger = fmi2CallbackLoggerTYPE(log)
-        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(byref(self.callbacks))
-
-
 def _slave(path_dir, md, name="robust"):
     from fmpy.fmi2 import FMU2Slave
 
@@ -252,7 +226,7 @@ def test_invalid_parameter_is_an_error_with_a_message(built, name, value):
     md = read_model_description(path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     d = extract(path)
-    log = _Log()
+    log = fmu_log()
     try:
         fmu = _slave(d, md)
         fmu.instantiate(callbacks=log.callbacks)
@@ -281,7 +255,7 @@ def test_mean_torque_outside_the_table_fails_initialization(built, model_table):
     md = read_model_description(path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     d = extract(path)
-    log = _Log()
+    log = fmu_log()
     try:
         fmu = _slave(d, md)
         fmu.instantiate(callbacks=log.callbacks)
@@ -312,7 +286,7 @@ def test_missing_or_corrupt_resource_fails_at_instantiation(built, damage, expec
     path = built["drivetrain"].fmu
     md = read_model_description(path)
     d = extract(path)
-    log = _Log()
+    log = fmu_log()
     try:
         f = Path(d) / "resources" / "mesh_samples.txt"
         lines = f.read_text().splitlines()
@@ -395,15 +369,6 @@ def test_valgrind_finds_no_leak_or_invalid_access(built, tmp_path):
     assert proc.stderr.strip() == "", proc.stderr
 
 
-def _light_load(backlash_mm: float) -> dict:
-    """60 N m at 3500 rpm with an eightfold firing ripple: the drive flank separates."""
-    return {
-        "engine_power_kW": 60.0 * 3500 * np.pi / 30 / 1e3,
-        "firing_torque_ripple": 8.0,
-        "backlash_mm": backlash_mm,
-    }
-
-
 @pytest.mark.parametrize(
     "variant, stop, tol",
     [
@@ -412,7 +377,7 @@ def _light_load(backlash_mm: float) -> dict:
         ({"bearing_dofs": True, "governor": True}, 0.01, 5e-5),
         # separation of the drive flank, then coast contact at zero backlash: the force
         # kinks limit both integrators (measured 1.3e-5 CS, 1.7e-5 ME over 0.02 s)
-        (_light_load(0.0), 0.02, 1e-4),
+        (light_load(0.0), 0.02, 1e-4),
     ],
     ids=["bearings_governor", "contact_loss_coast_contact"],
 )
@@ -458,7 +423,7 @@ def test_calls_in_the_wrong_state_are_errors_with_a_message(built):
     path = built["drivetrain"].fmu
     md = read_model_description(path)
     d = extract(path)
-    log = _Log()
+    log = fmu_log()
     try:
         fmu = _slave(d, md)
         fmu.instantiate(callbacks=log.callbacks)
@@ -618,7 +583,7 @@ def test_fixed_step_hands_contact_loss_to_adaptive_steps(tmp_path):
     the AC RMS against scipy at rtol 1e-10 over 0.02 s, with the default scene's mesh
     friction; a step whose gap is closed but whose force is clipped at zero counts as
     out of contact: checking the gap alone left one at 6.43 ms, 2.1e-4)."""
-    scene = load_scene(SCENE).replaced(drivetrain=_light_load(0.0))
+    scene = load_scene(SCENE).replaced(drivetrain=light_load(0.0))
     model, table = model_from_scene(scene)
     fmu = build_fmu(drivetrain_fmu(model, table), tmp_path).fmu
     stop = 0.02
@@ -655,7 +620,7 @@ def test_fixed_step_hands_contact_loss_to_adaptive_steps(tmp_path):
     ],
 )
 def test_invalid_step_parameter_is_an_error_with_a_message(built, name, value, where):
-    log = _Log()
+    log = fmu_log()
     fmu, vr, d = _cs_instance(built["drivetrain"].fmu, log)
     try:
         if where == "fmi2SetReal":
@@ -675,7 +640,7 @@ def test_invalid_step_parameter_is_an_error_with_a_message(built, name, value, w
 
 
 def test_fixed_step_beyond_the_limit_during_the_run_is_refused(built):
-    log = _Log()
+    log = fmu_log()
     fmu, vr, d = _cs_instance(built["drivetrain"].fmu, log)
     try:
         fmu.exitInitializationMode()

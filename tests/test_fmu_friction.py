@@ -14,12 +14,13 @@ from __future__ import annotations
 import shutil
 import xml.etree.ElementTree as ET
 import zipfile
-from ctypes import byref, c_double
+from ctypes import c_double
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
+from _fmu_helpers import fmu_log, light_load
 
 fmpy = pytest.importorskip("fmpy")
 
@@ -43,43 +44,6 @@ FRICTION_OUTPUTS = {
 }
 
 pytestmark = pytest.mark.skipif(find_c_compiler() is None, reason="needs a C compiler (gcc or $CC)")
-
-
-class _Log:
-    """fmi2 callbacks with a Python logger behind fmpy's varargs-formatting proxy (as in
-    tests/test_fmu.py)."""
-
-    def __init__(self):
-        from fmpy import calloc, free
-        from fmpy.fmi2 import (
-            fmi2CallbackAllocateMemoryTYPE,
-            fmi2CallbackFreeMemoryTYPE,
-            fmi2CallbackFunctions,
-            fmi2CallbackLoggerTYPE,
-        )
-        from fmpy.logging import addLoggerProxy
-
-        self.messages = []
-
-        def log(env, name, status, category, message):
-            self.messages.append((status, message.decode()))
-
-        self.callbacks = fmi2CallbackFunctions()
-        self.callbacks.logger = fmi2CallbackLoggerTYPE(log)
-        self.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        self.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(byref(self.callbacks))
-
-
-_LOGS: list[_Log] = []
-
-
-def _log() -> _Log:
-    """A logger kept alive for the session: fmpy's proxy holds one logger for every
-    instance (default callbacks included), and a collected one would crash the next
-    message logged in this process."""
-    _LOGS.append(_Log())
-    return _LOGS[-1]
 
 
 def _without_arms(table):
@@ -225,16 +189,6 @@ def test_friction_matches_python_reference(
     )
 
 
-def _light_load(backlash_mm: float) -> dict:
-    """60 N m at 3500 rpm with an eightfold firing ripple: the drive flank separates
-    (tests/test_fmu.py)."""
-    return {
-        "engine_power_kW": 60.0 * 3500 * np.pi / 30 / 1e3,
-        "firing_torque_ripple": 8.0,
-        "backlash_mm": backlash_mm,
-    }
-
-
 @pytest.mark.parametrize(
     "variant, stop, tol",
     [
@@ -245,11 +199,8 @@ def _light_load(backlash_mm: float) -> dict:
         # separation of the drive flank, then coast contact at zero backlash: friction on
         # the coast flank too (measured 1.0e-5 / 1.1e-5, 1.6e-6 / 1.9e-6 with 255
         # intervals handed over, 1.4e-5 / 1.3e-5 over 0.02 s): the kinks of the force
-        # limit both integrators; the bound of tests/test_fmu.py's variant. The fixed-step
-        # figure hangs on where step ends fall: the hand-over tests the gaps, not the
-        # clipping of a negative force with the gap closed (2.1e-4 at mu = 0.05, where a
-        # step ends in that state at 6.43 ms)
-        (_light_load(0.0), 0.02, 1e-4),
+        # limit both integrators; the bound of tests/test_fmu.py's variant
+        (light_load(0.0), 0.02, 1e-4),
     ],
     ids=["bearings_governor", "contact_loss_coast_contact"],
 )
@@ -364,7 +315,7 @@ def test_fixed_step_rule_follows_the_friction(built, model_table):
 
     model, _ = model_table
     limit = float(step_targets(model, DiffraxSolver())[1][0])
-    log = _log()
+    log = fmu_log()
     path = built["drivetrain"].fmu
     md = read_model_description(path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
