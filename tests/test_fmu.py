@@ -369,33 +369,50 @@ def test_valgrind_finds_no_leak_or_invalid_access(built, tmp_path):
     assert proc.stderr.strip() == "", proc.stderr
 
 
+@pytest.mark.parametrize("mu", [0.0, 0.1], ids=["no_friction", "friction"])
 @pytest.mark.parametrize(
     "variant, stop, tol",
     [
         # bearing translations and governor: smooth, as the default scene (measured 6e-7
-        # CS, 5e-6 ME over 0.01 s)
+        # CS, 5e-6 ME over 0.01 s; with mu = 0.1, mesh force / friction torques: DOPRI5
+        # 7.6e-7 / 6.5e-8, fixed-step 3.2e-6 / 3.1e-7, CVode 5.0e-6 / 4.9e-7)
         ({"bearing_dofs": True, "governor": True}, 0.01, 5e-5),
         # separation of the drive flank, then coast contact at zero backlash: the force
-        # kinks limit both integrators (measured 1.3e-5 CS, 1.7e-5 ME over 0.02 s)
+        # kinks limit both integrators (measured 1.3e-5 CS, 1.7e-5 ME over 0.02 s; with
+        # mu = 0.1, friction on the coast flank too: 1.0e-5 / 1.1e-5, 1.6e-6 / 1.9e-6
+        # fixed-step with the hand-over, 1.4e-5 / 1.3e-5)
         (light_load(0.0), 0.02, 1e-4),
     ],
     ids=["bearings_governor", "contact_loss_coast_contact"],
 )
-def test_model_variants_match_python_reference(tmp_path, variant, stop, tol):
-    scene = load_scene(SCENE).replaced(drivetrain=variant)
+def test_model_variants_match_python_reference(tmp_path, variant, stop, tol, mu):
+    scene = load_scene(SCENE).replaced(drivetrain={**variant, "mesh_friction_coefficient": mu})
     model, table = model_from_scene(scene)
     fmu = build_fmu(drivetrain_fmu(model, table), tmp_path).fmu
     t_ref = np.linspace(0.0, stop, int(round(stop / 1e-4)) + 1)
     tt, y, info = integrate_scipy(model, model.static_state(), t_ref, ScipySolver(rtol=1e-10))
     assert info["status"] == "success"
     ref = outputs(model, tt, y)
+    pairs = {"mesh.force": "mesh_force_N"}
+    if mu:
+        pairs["mesh.pinion_friction_torque"] = "pinion_friction_torque_Nm"
+        pairs["mesh.gear_friction_torque"] = "gear_friction_torque_Nm"
     if "backlash_mm" in variant:
-        assert ref["mesh_force_N"].min() < 0.0  # the coast flank is in contact somewhere
-    for interface in ("CoSimulation", "ModelExchange"):
+        coast = ref["mesh_force_N"] < 0.0
+        assert coast.any()  # the coast flank is in contact somewhere
+        if mu:  # and carries friction there
+            assert np.abs(ref["pinion_friction_torque_Nm"][coast]).max() > 0.1
+    for interface, rtol in (
+        ("CoSimulation", 1e-8),
+        ("CoSimulation", None),  # the fixed-step integrator
+        ("ModelExchange", 1e-8),
+    ):
         t, ch, _ = simulate_fmu(
-            fmu, interface=interface, stop_time=stop, step=1e-4, rtol=1e-8, outputs=["mesh.force"]
+            fmu, interface=interface, stop_time=stop, step=1e-4, rtol=rtol, outputs=list(pairs)
         )
-        assert ac_relative_error(t, ch["mesh.force"], tt, ref["mesh_force_N"]) < tol, interface
+        for var, channel in pairs.items():
+            err = ac_relative_error(t, ch[var], tt, ref[channel])
+            assert err < tol, (interface, rtol, var, err)
 
 
 @pytest.mark.parametrize("scene", sorted(p.name for p in (ROOT / "models").glob("*.toml")))
