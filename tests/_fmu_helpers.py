@@ -51,3 +51,51 @@ def light_load(backlash_mm: float) -> dict:
         "firing_torque_ripple": 8.0,
         "backlash_mm": backlash_mm,
     }
+
+
+def me_derivatives(path, times, states, *, start=None, inputs=None, name="rhs"):
+    """The Model Exchange FMU at ``path`` evaluated at each (t, x) of ``times`` (S,) and
+    ``states`` (S, m): (its initial continuous states (m,), the derivatives (S, m)).
+    start: {variable: value} set before leaving initialization; inputs(t, i) ->
+    {variable: value} set before the i-th evaluation."""
+    import shutil
+    from ctypes import c_double
+
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Model
+
+    md = read_model_description(path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    d = extract(path)
+    m = states.shape[1]
+    out = np.empty_like(states, dtype=float)
+    try:
+        fmu = FMU2Model(
+            guid=md.guid,
+            unzipDirectory=d,
+            modelIdentifier=md.modelExchange.modelIdentifier,
+            instanceName=name,
+        )
+        fmu.instantiate()
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        if start:
+            fmu.setReal([vr[k] for k in start], list(start.values()))
+        fmu.exitInitializationMode()
+        x0 = (c_double * m)()
+        fmu.getContinuousStates(x0, m)
+        fmu.enterContinuousTimeMode()
+        for i, (t, x) in enumerate(zip(times, states, strict=True)):
+            fmu.setTime(float(t))
+            if inputs is not None:
+                values = inputs(t, i)
+                fmu.setReal([vr[k] for k in values], list(values.values()))
+            fmu.setContinuousStates((c_double * m)(*x), m)
+            dx = (c_double * m)()
+            fmu.getDerivatives(dx, m)
+            out[i] = np.array(dx)
+        fmu.terminate()
+        fmu.freeInstance()
+    finally:
+        shutil.rmtree(d, ignore_errors=True)
+    return np.array(x0), out
