@@ -1,5 +1,6 @@
-"""Helpers shared by the FMU tests: a kept-alive fmi2 logger and the light-load scene
-variant whose drive flank separates."""
+"""Helpers shared by the FMU tests: a kept-alive fmi2 logger, the light-load scene
+variant whose drive flank separates, Co-Simulation instances and Model Exchange
+derivatives."""
 
 from ctypes import byref
 
@@ -99,3 +100,33 @@ def me_derivatives(path, times, states, *, start=None, inputs=None, name="rhs"):
     finally:
         shutil.rmtree(d, ignore_errors=True)
     return np.array(x0), out
+
+
+def cs_slave(path_dir, md, name="robust"):
+    from fmpy.fmi2 import FMU2Slave
+
+    return FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=path_dir,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName=name,
+    )
+
+
+def cs_instance(path, log=None, start=None, name="fixed"):
+    """(slave in initialization mode, vr map, unzip dir) of a Co-Simulation FMU."""
+    from fmpy import extract, read_model_description
+
+    md = read_model_description(path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    d = extract(path)
+    fmu = cs_slave(d, md, name)
+    if log is None:
+        fmu.instantiate()
+    else:
+        fmu.instantiate(callbacks=log.callbacks)
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    for k, v in (start or {}).items():
+        fmu.setReal([vr[k]], [v])
+    return fmu, vr, d

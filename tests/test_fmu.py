@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _fmu_helpers import fmu_log, light_load, me_derivatives
+from _fmu_helpers import cs_instance, cs_slave, fmu_log, light_load, me_derivatives
 
 fmpy = pytest.importorskip("fmpy")
 
@@ -199,17 +199,6 @@ def test_tunable_parameter_changes_the_run_and_fixed_one_is_guarded(built, model
         shutil.rmtree(d, ignore_errors=True)
 
 
-def _slave(path_dir, md, name="robust"):
-    from fmpy.fmi2 import FMU2Slave
-
-    return FMU2Slave(
-        guid=md.guid,
-        unzipDirectory=path_dir,
-        modelIdentifier=md.coSimulation.modelIdentifier,
-        instanceName=name,
-    )
-
-
 @pytest.mark.parametrize(
     "name, value",
     [
@@ -228,7 +217,7 @@ def test_invalid_parameter_is_an_error_with_a_message(built, name, value):
     d = extract(path)
     log = fmu_log()
     try:
-        fmu = _slave(d, md)
+        fmu = cs_slave(d, md)
         fmu.instantiate(callbacks=log.callbacks)
         fmu.setupExperiment(startTime=0.0)
         fmu.enterInitializationMode()
@@ -257,7 +246,7 @@ def test_mean_torque_outside_the_table_fails_initialization(built, model_table):
     d = extract(path)
     log = fmu_log()
     try:
-        fmu = _slave(d, md)
+        fmu = cs_slave(d, md)
         fmu.instantiate(callbacks=log.callbacks)
         fmu.setReal([vr["engine.mean_torque"]], [2.0 * float(table.torque[-1])])
         fmu.setupExperiment(startTime=0.0)
@@ -302,7 +291,7 @@ def test_missing_or_corrupt_resource_fails_at_instantiation(built, damage, expec
             lines[5] = "-1 " + lines[5].split(" ", 1)[1]
         if damage != "delete":
             f.write_text("\n".join(lines) + "\n")
-        fmu = _slave(d, md)
+        fmu = cs_slave(d, md)
         with pytest.raises(Exception, match="instantiate"):
             fmu.instantiate(callbacks=log.callbacks)
         assert any(expect in m for _, m in log.messages), log.messages
@@ -442,7 +431,7 @@ def test_calls_in_the_wrong_state_are_errors_with_a_message(built):
     d = extract(path)
     log = fmu_log()
     try:
-        fmu = _slave(d, md)
+        fmu = cs_slave(d, md)
         fmu.instantiate(callbacks=log.callbacks)
         with pytest.raises(Exception, match="fmi2DoStep"):
             fmu.doStep(0.0, 1e-3)  # before initialization
@@ -501,25 +490,6 @@ def test_right_hand_side_grids_agree_with_the_series(built, model_table, cylinde
 # ---------------------------------------------------------------- fixed-step Tsit5
 
 
-def _cs_instance(path, log=None, start=None, name="fixed"):
-    """(slave in initialization mode, vr map, unzip dir) of a Co-Simulation FMU."""
-    from fmpy import extract, read_model_description
-
-    md = read_model_description(path)
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    d = extract(path)
-    fmu = _slave(d, md, name)
-    if log is None:
-        fmu.instantiate()
-    else:
-        fmu.instantiate(callbacks=log.callbacks)
-    fmu.setupExperiment(startTime=0.0)
-    fmu.enterInitializationMode()
-    for k, v in (start or {}).items():
-        fmu.setReal([vr[k]], [v])
-    return fmu, vr, d
-
-
 def test_fixed_step_rule_is_the_python_rule_and_follows_tunable_parameters(built, model_table):
     """solver.step_size and solver.stability_limit of the drivetrain FMU are those of
     gearbox.drivetrain.fixed_step (eigenvalues at peak mesh stiffness, Tsit5's stability
@@ -529,7 +499,7 @@ def test_fixed_step_rule_is_the_python_rule_and_follows_tunable_parameters(built
 
     model, _ = model_table
     target, limit, _ = (float(v[0]) for v in step_targets(model, DiffraxSolver()))
-    fmu, vr, d = _cs_instance(built["drivetrain"].fmu)
+    fmu, vr, d = cs_instance(built["drivetrain"].fmu)
     try:
         fmu.exitInitializationMode()
         out = [vr["solver.step_size"], vr["solver.stability_limit"]]
@@ -610,7 +580,7 @@ def test_fixed_step_hands_contact_loss_to_adaptive_steps(tmp_path):
 )
 def test_invalid_step_parameter_is_an_error_with_a_message(built, name, value, where):
     log = fmu_log()
-    fmu, vr, d = _cs_instance(built["drivetrain"].fmu, log)
+    fmu, vr, d = cs_instance(built["drivetrain"].fmu, log)
     try:
         if where == "fmi2SetReal":
             with pytest.raises(Exception, match="fmi2SetReal"):
@@ -630,7 +600,7 @@ def test_invalid_step_parameter_is_an_error_with_a_message(built, name, value, w
 
 def test_fixed_step_beyond_the_limit_during_the_run_is_refused(built):
     log = fmu_log()
-    fmu, vr, d = _cs_instance(built["drivetrain"].fmu, log)
+    fmu, vr, d = cs_instance(built["drivetrain"].fmu, log)
     try:
         fmu.exitInitializationMode()
         fmu.doStep(0.0, 1e-3)

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _fmu_helpers import fmu_log, me_derivatives
+from _fmu_helpers import cs_instance, fmu_log, me_derivatives
 
 fmpy = pytest.importorskip("fmpy")
 
@@ -240,29 +240,14 @@ def test_fixed_step_rule_follows_the_friction(built, model_table):
     8.4e-4, so a frictionless linearisation would fail. The parameter is tunable: a new
     mu during the run moves the limit; one beyond the scene's range (0.3) is refused with
     a message and changes nothing."""
-    from fmpy import extract, read_model_description
-    from fmpy.fmi2 import FMU2Slave
-
     from gearbox.drivetrain.diffrax_backend import DiffraxSolver
     from gearbox.drivetrain.fixed_step import step_targets
 
     model, _ = model_table
     limit = float(step_targets(model, DiffraxSolver())[1][0])
     log = fmu_log()
-    path = built["drivetrain"].fmu
-    md = read_model_description(path)
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    d = extract(path)
+    fmu, vr, d = cs_instance(built["drivetrain"].fmu, log, name="rule")
     try:
-        fmu = FMU2Slave(
-            guid=md.guid,
-            unzipDirectory=d,
-            modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName="rule",
-        )
-        fmu.instantiate(callbacks=log.callbacks)
-        fmu.setupExperiment(startTime=0.0)
-        fmu.enterInitializationMode()
         fmu.exitInitializationMode()
         lim = vr["solver.stability_limit"]
         assert fmu.getReal([lim])[0] == pytest.approx(limit, rel=1e-9)
