@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{34314c95-cf79-12b6-5283-ec33c89753c1}"
+#define MODEL_GUID "{98255808-8fd9-9131-5995-350d57901060}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

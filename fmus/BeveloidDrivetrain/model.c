@@ -29,7 +29,7 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"output_shaft.damping_ratio", 0, -1, 0.02, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 16 parameter */
     {"mesh.damping_ratio", 0, -1, 0.05, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 17 parameter */
     {"mesh.backlash", 0, -1, 0.0001, 0.0, 0.01, 0, 0, 1.0, 0}, /* vr 18 parameter */
-    {"mesh.friction_coefficient", 0, -1, 0.05, 0.0, 0.3, 0, 0, 1.0, 0}, /* vr 19 parameter */
+    {"mesh.friction_coefficient", 0, -1, 0.0, 0.0, 0.3, 0, 0, 1.0, 0}, /* vr 19 parameter */
     {"engine.torque_input", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 20 input */
     {"propeller.torque_input", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 21 input */
     {"engine.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 22 output */

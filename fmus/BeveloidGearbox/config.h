@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{d7d04066-e4e6-ec91-3ec9-5c73fd07c21f}"
+#define MODEL_GUID "{12b2f0e7-a094-d222-89e2-67e4a849e76b}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

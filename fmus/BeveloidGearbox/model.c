@@ -22,8 +22,8 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"output_shaft.damping_ratio", 0, -1, 0.02, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 9 parameter */
     {"mesh.damping_ratio", 0, -1, 0.05, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 10 parameter */
     {"mesh.backlash", 0, -1, 0.0001, 0.0, 0.01, 0, 0, 1.0, 0}, /* vr 11 parameter */
-    {"mesh.friction_coefficient", 0, -1, 0.05, 0.0, 0.3, 0, 0, 1.0, 0}, /* vr 12 parameter */
-    {"input_flange.phi", 1, 14, 0.16013470301214008, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 13 input */
+    {"mesh.friction_coefficient", 0, -1, 0.0, 0.0, 0.3, 0, 0, 1.0, 0}, /* vr 12 parameter */
+    {"input_flange.phi", 1, 14, 0.1609658073999087, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 13 input */
     {"input_flange.w", 1, 15, 366.51914291880917, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 14 input */
     {"input_flange.a", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 15 input */
     {"output_flange.phi", 1, 17, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 16 input */

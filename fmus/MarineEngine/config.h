@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER MarineEngine
-#define MODEL_GUID "{1de4e09d-69ec-c2ce-2e56-35ddff2aaf93}"
+#define MODEL_GUID "{5302d706-e690-5f10-dcff-32addeb39cac}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

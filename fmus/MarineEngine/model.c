@@ -18,7 +18,7 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"engine.half_order_ripple", 0, -1, 0.02, 0.0, 10.0, 0, 0, 1.0, 0}, /* vr 5 parameter */
     {"engine.governor_kp", 0, -1, 0.0, 0.0, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 6 parameter */
     {"engine.governor_ki", 0, -1, 0.0, 0.0, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 7 parameter */
-    {"engine.initial_deviation", 0, -1, 0.16013470301214008, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 1}, /* vr 8 parameter */
+    {"engine.initial_deviation", 0, -1, 0.1609658073999087, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 1}, /* vr 8 parameter */
     {"input_shaft.torque", 1, 10, 802.1409131831526, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 9 input */
     {"input_shaft.torque_rate", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 10 input */
     {"engine.a", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 11 output */

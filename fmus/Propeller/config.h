@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER Propeller
-#define MODEL_GUID "{0f9ef29d-d900-98e3-e820-f30951bd130b}"
+#define MODEL_GUID "{f92c1c44-021b-52a8-c51c-ffb391a54f0c}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

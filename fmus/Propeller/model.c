@@ -11,11 +11,11 @@
 
 const gbx_var GBX_VARS[GBX_NR] = {
     {"propeller.nominal_speed", 0, -1, 236.20122543656592, 0.0, HUGE_VAL, 1, 0, 1.0, 1}, /* vr 0 parameter */
-    {"propeller.nominal_torque", 0, -1, 1236.1377812718029, 0.0, HUGE_VAL, 1, 0, 1.0, 1}, /* vr 1 parameter */
+    {"propeller.nominal_torque", 0, -1, 1244.7014170083403, 0.0, HUGE_VAL, 1, 0, 1.0, 1}, /* vr 1 parameter */
     {"propeller.inertia", 0, -1, 0.1, 0.0, HUGE_VAL, 1, 0, 1.0, 0}, /* vr 2 parameter */
     {"propeller.blades", 0, -1, 3.0, 1.0, 12.0, 0, 0, 1.0, 0}, /* vr 3 parameter */
     {"propeller.blade_pass_ripple", 0, -1, 0.05, 0.0, 10.0, 0, 0, 1.0, 0}, /* vr 4 parameter */
-    {"output_shaft.torque", 1, 6, 1236.1377812718029, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 5 input */
+    {"output_shaft.torque", 1, 6, 1244.7014170083403, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 5 input */
     {"output_shaft.torque_rate", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 6 input */
     {"propeller.a", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 7 output */
     {"propeller.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 8 output */
