@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import Problems
-from .meshtable import MeshTable
+from .meshtable import FRICTION_ARMS, MeshTable
 
 __all__ = [
     "HelicalPair",
@@ -335,13 +335,13 @@ def analytical_table(
         extra={
             "contact_line_length_m": np.broadcast_to(length, (nf, nt, positions)).copy(),
             **{
-                f"friction_arm_{who}_m": np.stack(
+                name: np.stack(
                     [
                         np.broadcast_to(friction_arms(pair, angle, f)[:, i], (nt, positions))
                         for f in flanks
                     ]
                 )
-                for i, who in enumerate(("pinion", "gear"))
+                for i, name in enumerate(FRICTION_ARMS)
             },
         },
         attrs={

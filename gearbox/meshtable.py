@@ -37,6 +37,7 @@ from .errors import InputError, Problems
 
 __all__ = [
     "FLANKS",
+    "FRICTION_ARMS",
     "FourierSeries",
     "MeshTable",
     "fourier_eval",
@@ -44,6 +45,10 @@ __all__ = [
 ]
 
 FLANKS = ("drive", "coast")
+
+#: The optional fields of the sliding friction's moment arms about the pinion's and the
+#: gear's axis (m), rows of ``extra`` (docs/drivetrain.md §3a).
+FRICTION_ARMS = ("friction_arm_pinion_m", "friction_arm_gear_m")
 
 _FIELDS = ("stiffness", "tangent_stiffness", "lte")
 _UNITS = {
@@ -59,8 +64,7 @@ _EXTRA_UNITS = {
     "max_contact_pressure_Pa": "Pa",
     "pattern_area_fraction": "1",
     "load_sharing": "1",
-    "friction_arm_pinion_m": "m",
-    "friction_arm_gear_m": "m",
+    **dict.fromkeys(FRICTION_ARMS, "m"),
 }
 
 

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import Problems
-from ..meshtable import MeshTable, fourier_eval, fourier_fit
+from ..meshtable import FRICTION_ARMS, MeshTable, fourier_eval, fourier_fit
 
 __all__ = [
     "CHANNEL_UNITS",
@@ -259,18 +259,18 @@ class DrivetrainModel:
             inv_m = lam1**2 / j1 + lam2**2 / j2
             c = 2 * mesh_damping_ratio * math.sqrt(kc[0] / inv_m) if kc[0] > 0 else 0.0
             fc = None
-            if all(f"friction_arm_{w}_m" in table.extra for w in ("pinion", "gear")):
+            if all(k in table.extra for k in FRICTION_ARMS):
                 fc = np.stack(
                     [
                         np.concatenate(
                             _fit(
-                                table.values_at(f"friction_arm_{w}_m", name, torque),
+                                table.values_at(k, name, torque),
                                 mesh_harmonics,
                                 table.pinion_teeth,
                                 a0,
                             )
                         )
-                        for w in ("pinion", "gear")
+                        for k in FRICTION_ARMS
                     ]
                 )
             direction = table.mean_direction(name, torque)

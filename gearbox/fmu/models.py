@@ -24,6 +24,7 @@ from importlib import resources as ilr
 
 import numpy as np
 
+from ..meshtable import FRICTION_ARMS
 from .spec import FmuModel, Variable
 
 __all__ = [
@@ -44,10 +45,6 @@ def _template(name: str) -> str:
 
 def _harmonics(model) -> int:
     return (len(model.drive.k_coef) - 1) // 2
-
-
-#: the table's fields of the friction arms about the pinion's and the gear's axis (m)
-FRICTION_ARMS = ("friction_arm_pinion_m", "friction_arm_gear_m")
 
 
 def _friction(model, table) -> bool:

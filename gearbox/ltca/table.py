@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import Problems
-from ..meshtable import MeshTable
+from ..meshtable import FRICTION_ARMS, MeshTable
 from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle, root_stress_method
 from .compliance import compliance_for, describe_compliance
 from .parallel import ParallelPair, parallel_grid
@@ -88,8 +88,7 @@ def mesh_table(
         extra["sliding_speed_per_pinion_speed_m"] = stack("sliding_speed")
     if all(flanks[f].friction_arm is not None for f in names):
         arms = stack("friction_arm")
-        extra["friction_arm_pinion_m"] = arms[..., 0]
-        extra["friction_arm_gear_m"] = arms[..., 1]
+        extra.update(zip(FRICTION_ARMS, (arms[..., 0], arms[..., 1]), strict=True))
     return MeshTable(
         pinion_teeth=pinion_teeth,
         gear_teeth=gear_teeth,
