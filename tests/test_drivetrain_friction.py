@@ -143,3 +143,12 @@ def test_harmonic_balance_with_friction_matches_the_nonlinear_run(model):
             big &= r.orders <= 5 * m.pinion_teeth
         assert big.sum() >= 3
         np.testing.assert_allclose(lin[big], sim[big], rtol=tol, err_msg=name)
+
+
+def test_friction_that_would_reverse_the_drive_is_an_error(model):
+    # arms made up so that lambda_1 + mu phi_1 < 0 at mu = 0.1: a clear error naming
+    # the coefficient, not a model that drives backwards
+    fc = model.drive.friction_coef.copy()
+    fc[0, 0] = -2.0 * model.drive.lambda1 / MU
+    with pytest.raises(InputError, match="mesh_friction_coefficient.*must stay > 0"):
+        dataclasses.replace(model, drive=dataclasses.replace(model.drive, friction_coef=fc))

@@ -160,6 +160,17 @@ class DrivetrainModel:
             (self.drive.lambda1, self.drive.lambda2),
             "must be > 0 m (check the table's axes and line of action)",
         )
+        mu = self.mesh_friction_coefficient
+        if mu > 0 and self.drive.friction_coef is not None:
+            f1, f2 = self.drive.mean_friction_arms
+            arms = (self.drive.lambda1 + mu * f1, self.drive.lambda2 + mu * f2)
+            p.check(
+                min(arms) > 0,
+                "mesh_friction_coefficient",
+                mu,
+                f"leaves the drive flank's torque arms lambda + mu phi at {arms[0]:.4g} / "
+                f"{arms[1]:.4g} m: they must stay > 0 (the friction would reverse the drive)",
+            )
         p.raise_if_any("invalid drivetrain model")
 
     # ---------------------------------------------------------------- build
