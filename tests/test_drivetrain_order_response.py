@@ -303,3 +303,45 @@ def test_resonance_ratio_and_the_main_resonance_warning():
         {"mode 3 (mesh)": 2000.0}, ex, (1000.0, 3400.0), operating_range_rpm=(1000.0, 3400.0)
     )
     assert _resonance_text(below)[1] == []
+
+
+def test_main_resonance_lower_bound_follows_the_line_load():
+    """ISO 6336-1: N_S = 0.5 + 0.35 sqrt(F_t K_A / (100 b)) below 100 N/mm, else 0.85
+    (by hand: 25 N/mm -> 0.675). With a light line load the warning starts lower: the
+    diagram of the test above with 16 N/mm everywhere, N_S = 0.64, warns from
+    0.64 x 2000 Hz x 60 / 29 = 2648 rpm (grid of 1.5 rpm)."""
+    from gearbox.report.dynamics import _resonance_text, main_resonance_lower_bound
+
+    np.testing.assert_allclose(
+        main_resonance_lower_bound([0.0, 25.0, 99.0, 100.0, 400.0]),
+        [0.5, 0.675, 0.5 + 0.35 * np.sqrt(0.99), 0.85, 0.85],
+        rtol=1e-15,
+    )
+    ex = spectrum.excitation_orders(pinion_teeth=29, gear_teeth=45, cylinders=6, blades=3)
+    cd = spectrum.campbell(
+        {"mode 3 (mesh)": 2000.0}, ex, (1000.0, 3400.0), operating_range_rpm=(1000.0, 3400.0)
+    )
+    loads = np.full(cd.speeds_rpm.shape, 16.0)
+    text, (w,) = _resonance_text(cd, loads)
+    assert "0.64 to 0.64 here" in text
+    first = float(w.text.split("from ")[1].split(" to")[0])
+    assert first == pytest.approx(0.64 * 2000 * 60 / 29, abs=1.5)
+
+
+def test_default_scene_line_load_and_lower_bound(marine_run):
+    """On the default scene the line load follows the propeller law: F_t / b = T(n) /
+    (r_1 b), r_1 = 29 x 6 mm / (2 cos 20 deg) = 92.6 mm; N_S rises with it to 0.85, and N
+    stays below N_S over the operating range (no warning)."""
+    from gearbox.report.dynamics import _resonance_text, line_load, resonance_ratio
+
+    scene, run = marine_run
+    cd = run["campbell"]
+    loads = line_load(cd, scene)
+    r1 = 29 * 6.0 / (2 * np.cos(np.radians(20.0)))
+    b = min(scene["pinion"]["face_width_mm"], scene["gear"]["face_width_mm"])
+    t_op = scene["drivetrain"]["engine_power_kW"] * 1e3 / (3500 * np.pi / 30)
+    want = 1e3 * t_op * (cd.speeds_rpm / 3500.0) ** 2 / r1 / b
+    np.testing.assert_allclose(loads, want, rtol=1e-9)
+    _, ratio = resonance_ratio(cd)
+    text, warns = _resonance_text(cd, loads)
+    assert warns == [] and "on the propeller law" in text

@@ -328,8 +328,35 @@ _RESPONSE_COLUMNS = (
 
 
 #: ISO 6336-1's main resonance range of the resonance ratio N = n / n_E1: from N_S
-#: (0.85 at line loads F_t K_A / b of 100 N/mm and more, lower below) to 1.15.
+#: (0.85 at line loads F_t K_A / b of 100 N/mm and more, lower below:
+#: :func:`main_resonance_lower_bound`) to 1.15.
 MAIN_RESONANCE = (0.85, 1.15)
+
+
+def main_resonance_lower_bound(line_load_N_per_mm):
+    """ISO 6336-1's lower bound N_S of the main resonance range at the line load
+    F_t K_A / b (N/mm): 0.5 + 0.35 sqrt(F_t K_A / (100 b)) below 100 N/mm, else 0.85.
+    Array in, array out."""
+    w = np.asarray(line_load_N_per_mm, dtype=float)
+    return np.where(w < 100.0, 0.5 + 0.35 * np.sqrt(np.clip(w, 0.0, None) / 100.0), 0.85)
+
+
+def line_load(cd, scene) -> np.ndarray | None:
+    """The nominal line load F_t / b (N/mm) at the diagram's speeds: the mean pinion
+    torque of the order cuts (the propeller law) over the pinion's reference radius
+    z_1 m_n / (2 cos beta) and the face width (the narrower gear's), K_A = 1 (the
+    engine's torque ripple is in the model); None without order cuts."""
+    cuts = cd.order_cuts
+    if cuts is None or "input_shaft_torque_Nm" not in cuts.means:
+        return None
+    pn = scene["pinion"]
+    r1 = pn["teeth"] * scene["pair"]["normal_module_mm"] / 2.0
+    r1 /= np.cos(np.radians(pn["helix_angle_deg"]))  # mm
+    b = min(pn["face_width_mm"], scene["gear"]["face_width_mm"])  # mm
+    # T / n^2 is constant on the propeller law: interpolated exactly between the cuts
+    n = np.asarray(cuts.speeds_rpm, dtype=float)
+    law = np.interp(cd.speeds_rpm, n, np.asarray(cuts.means["input_shaft_torque_Nm"]) / n**2)
+    return 1e3 * np.abs(law) * np.asarray(cd.speeds_rpm) ** 2 / r1 / b
 
 
 def resonance_ratio(cd) -> tuple[np.ndarray, np.ndarray] | None:
@@ -345,9 +372,11 @@ def resonance_ratio(cd) -> tuple[np.ndarray, np.ndarray] | None:
     return cd.speeds_rpm, min(mesh) * cd.speeds_rpm / 60.0 / f
 
 
-def _resonance_text(cd) -> tuple[str, list[ReportWarning]]:
+def _resonance_text(cd, loads=None) -> tuple[str, list[ReportWarning]]:
     """A sentence on the resonance ratio over the operating range, and a warning when
-    that range reaches ISO 6336-1's main resonance range."""
+    that range reaches ISO 6336-1's main resonance range. loads: the line load (N/mm)
+    at the diagram's speeds (:func:`line_load`), which sets the range's lower bound
+    N_S; None: N_S = 0.85, its value from 100 N/mm."""
     rr = resonance_ratio(cd)
     if rr is None:
         return "", []
@@ -358,14 +387,28 @@ def _resonance_text(cd) -> tuple[str, list[ReportWarning]]:
         return "", []
     r_lo, r_hi = float(ratio[inside].min()), float(ratio[inside].max())
     i_top = int(np.flatnonzero(inside)[np.argmax(ratio[inside])])
+    if loads is None:
+        n_s = np.full(n.shape, MAIN_RESONANCE[0])
+        bound = (
+            f"its lower bound N_S is {MAIN_RESONANCE[0]:g} at line loads of 100 N/mm and "
+            "more, lower below; taken as 0.85 here"
+        )
+    else:
+        n_s = main_resonance_lower_bound(loads)
+        w = np.asarray(loads)[inside]
+        bound = (
+            f"its lower bound N_S = 0.5 + 0.35 sqrt(F_t K_A / (100 b)) below 100 N/mm, else "
+            f"0.85, is {n_s[inside].min():.3g} to {n_s[inside].max():.3g} here, at line loads "
+            f"F_t / b of {w.min():.3g} to {w.max():.3g} N/mm on the propeller law (K_A = 1: "
+            "the engine's torque ripple is in the model)"
+        )
     text = (
         f" Resonance ratio N = mesh frequency / mesh mode (ISO 6336-1's n / n_E1 with the "
         f"drive's mesh mode): {r_lo:.3g} to {r_hi:.3g} over the operating range, the "
         f"largest at {n[i_top]:.0f} rpm; ISO 6336-1's main resonance range is "
-        f"{MAIN_RESONANCE[0]:g} < N <= {MAIN_RESONANCE[1]:g} (its lower bound N_S is "
-        f"{MAIN_RESONANCE[0]:g} at line loads of 100 N/mm and more, lower below)."
+        f"N_S < N <= {MAIN_RESONANCE[1]:g} ({bound})."
     )
-    band = inside & (ratio > MAIN_RESONANCE[0]) & (ratio <= MAIN_RESONANCE[1])
+    band = inside & (ratio > n_s) & (ratio <= MAIN_RESONANCE[1])
     warns = []
     if np.any(band):
         warns.append(
@@ -373,7 +416,8 @@ def _resonance_text(cd) -> tuple[str, list[ReportWarning]]:
                 "campbell",
                 f"mesh resonance: from {n[band][0]:.0f} to {n[band][-1]:.0f} rpm the resonance "
                 f"ratio N = mesh frequency / mesh mode is in ISO 6336-1's main resonance range "
-                f"({MAIN_RESONANCE[0]:g} < N <= {MAIN_RESONANCE[1]:g})",
+                f"(N_S < N <= {MAIN_RESONANCE[1]:g}, N_S {n_s[band].min():.3g} to "
+                f"{n_s[band].max():.3g} there)",
             )
         )
     return text, warns
@@ -404,7 +448,7 @@ def render_campbell(cd, run) -> Section:
                 "(see the Campbell section)",
             )
         )
-    ratio_text, ratio_warnings = _resonance_text(cd)
+    ratio_text, ratio_warnings = _resonance_text(cd, line_load(cd, run.scene))
     warnings += ratio_warnings
     quiet = len(risks) - len(listed)
     if quiet:

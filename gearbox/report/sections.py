@@ -31,7 +31,15 @@ __all__ = [
 
 #: Scene entries a section reads besides its stage's result; they enter its cache key.
 SECTION_READS: dict[str, tuple[str, ...]] = {
-    "ltca": ("load.operating_torque_Nm", "drivetrain.engine_speed_rpm")
+    "ltca": ("load.operating_torque_Nm", "drivetrain.engine_speed_rpm"),
+    # the line load of ISO 6336-1's resonance range (report.dynamics.line_load)
+    "campbell": (
+        "pair.normal_module_mm",
+        "pinion.teeth",
+        "pinion.helix_angle_deg",
+        "pinion.face_width_mm",
+        "gear.face_width_mm",
+    ),
 }
 
 #: Modules that draw the sections; their source enters every section's cache key.
