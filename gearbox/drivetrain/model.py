@@ -616,25 +616,33 @@ def _split(c, xp):
     return c[..., 0], c[..., 1 : 1 + h], c[..., 1 + h :]
 
 
-def mesh_laws(theta1, p, xp=np):
-    """k_f, dk_f, e_f, de_f at pinion angle theta1 (rad, any shape S); each shape S + (2,)
-    [drive, coast]."""
-    # One set of harmonics cos/sin(k N1 theta1) serves both fields and both flanks: the
-    # sums over harmonics are one matrix product, (..., h) @ (h, 4 series).
-    coef = xp.stack([p["kc"], p["ec"]])  # (2 fields, 2 flanks, 1 + 2 h)
+def _series_rows(theta1, coef, n1, xp, derivative: bool = False):
+    """Fourier series in theta_1 of every row of ``coef`` (shape R + (1 + 2 h,), [a0, a, b]
+    with harmonics k N_1): values, shape S + R for theta1 of shape S, and with
+    ``derivative`` also d/d theta_1. One set of cos / sin(k N_1 theta_1) serves every
+    row: the sums over harmonics are one matrix product, (..., h) @ (h, rows)."""
+    rows = coef.shape[:-1]
     a0, a, b = _split(coef, xp)
     h = a.shape[-1]
-    kk = xp.arange(1, h + 1) * p["N1"]
+    m = math.prod(rows)
+    kk = xp.arange(1, h + 1) * n1
     arg = xp.asarray(theta1)[..., None] * kk  # (..., h)
     c = xp.cos(arg)
     s = xp.sin(arg)
-    A = a.reshape(4, h)
-    B = b.reshape(4, h)
-    f = a0.reshape(4) + c @ A.T + s @ B.T
-    df = c @ (kk * B).T - s @ (kk * A).T
-    shape = f.shape[:-1] + (2, 2)
-    f = f.reshape(shape)
-    df = df.reshape(shape)
+    A = a.reshape(m, h)
+    B = b.reshape(m, h)
+    f = (a0.reshape(m) + c @ A.T + s @ B.T).reshape(arg.shape[:-1] + rows)
+    if not derivative:
+        return f
+    df = (c @ (kk * B).T - s @ (kk * A).T).reshape(arg.shape[:-1] + rows)
+    return f, df
+
+
+def mesh_laws(theta1, p, xp=np):
+    """k_f, dk_f, e_f, de_f at pinion angle theta1 (rad, any shape S); each shape S + (2,)
+    [drive, coast]."""
+    coef = xp.stack([p["kc"], p["ec"]])  # (2 fields, 2 flanks, 1 + 2 h)
+    f, df = _series_rows(theta1, coef, p["N1"], xp, derivative=True)
     return f[..., 0, :], df[..., 0, :], f[..., 1, :], df[..., 1, :]
 
 
@@ -645,12 +653,7 @@ def friction_arms(theta1, p, xp=np):
     fc = p["fc"]
     if fc.shape[-1] == 0:
         return None
-    a0, a, b = _split(fc, xp)
-    h = a.shape[-1]
-    kk = xp.arange(1, h + 1) * p["N1"]
-    arg = xp.asarray(theta1)[..., None] * kk
-    f = a0.reshape(4) + xp.cos(arg) @ a.reshape(4, h).T + xp.sin(arg) @ b.reshape(4, h).T
-    return f.reshape(f.shape[:-1] + (2, 2))
+    return _series_rows(theta1, fc, p["N1"], xp)
 
 
 def friction_torques(theta1, f, p, xp=np):
