@@ -17,8 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..meshtable import fourier_eval
-from .model import DrivetrainModel
+from .model import DrivetrainModel, _series_rows
 
 __all__ = [
     "Modes",
@@ -165,21 +164,15 @@ def _drive_laws(model: DrivetrainModel, samples: int):
     W(theta) = G_d + Phi_d(theta), (S, n) (docs/drivetrain.md §3a; G_d without friction)."""
     fl = model.drive
     th = np.arange(samples) * (2 * math.pi / model.pinion_teeth / samples)
-
-    def series(coef):
-        hh = (coef.size - 1) // 2
-        v, dv = fourier_eval(
-            coef[0], coef[1 : 1 + hh], coef[1 + hh :], model.pinion_teeth, th[:, None]
-        )
-        return np.asarray(v).ravel(), np.asarray(dv).ravel()
-
-    k, _ = series(fl.k_coef)
-    e, de = series(fl.e_coef)
+    n1 = model.pinion_teeth
+    k = _series_rows(th, fl.k_coef, n1, np)
+    e, de = _series_rows(th, fl.e_coef, n1, np, derivative=True)
     W = np.broadcast_to(model.mesh_vectors()[0], (samples, model.n_dof)).copy()
     mu = model.mesh_friction_coefficient
     if mu > 0 and fl.friction_coef is not None:
-        W[:, 1] += mu * series(fl.friction_coef[0])[0]
-        W[:, 2] -= mu * series(fl.friction_coef[1])[0]
+        arms = _series_rows(th, fl.friction_coef, n1, np)  # (S, 2)
+        W[:, 1] += mu * arms[:, 0]
+        W[:, 2] -= mu * arms[:, 1]
     return k, e, de, W
 
 
@@ -388,16 +381,18 @@ def mesh_harmonic_balance(
     The drive flank in contact throughout, about the static state x_s: the mesh force
     f = k(theta) (G (x_s + x) - e(theta)) + c (G x' - e'(theta) Omega) keeps its
     parametric stiffness k(theta) x, which :func:`periodic_start_states` drops (it
-    takes k_bar x). With x = sum_h X_h exp(i h w_m t), w_m = N_1 Omega, and the
-    Fourier coefficients kappa_j of k, harmonic balance (Hill's method) gives for
-    h = -H..H
+    takes k_bar x), and acts along W(theta) = G + Phi(theta), the friction's varying
+    arms included (docs/drivetrain.md §3a; W = G without friction). With
+    x = sum_h X_h exp(i h w_m t), w_m = N_1 Omega, harmonic balance (Hill's method)
+    gives for h = -H..H
 
-        (K_lin - (h w_m)^2 M + i h w_m C_lin) X_h + G sum_{j != h} kappa_{h-j} G.X_j
-            = -G P_h,
+        (K_s - (h w_m)^2 M + i h w_m C_s) X_h
+            + sum_j [(W k)_{h-j} + i j w_m c W_{h-j}] G.X_j = -[W p]_h,
 
-    P_h the coefficients of k(theta) (delta_s - e(theta)) - k_bar (delta_s - e_bar)
-    - c e'(theta) Omega. The mean X_0 holds the propeller angle at 0 (as the static
-    state). Exact for the time-periodic linear model up to the truncation H (the
+    (.)_j the Fourier coefficients in theta, K_s and C_s the linear model's without
+    the mesh, p = k(theta) (delta_s - e(theta)) - c e'(theta) Omega less the static
+    mesh force (whose balance the static state holds). The mean X_0 holds the
+    propeller angle at 0 (as the static state). Exact for the time-periodic linear model up to the truncation H (the
     nonlinear model adds contact loss and theta_1's dependence on the vibration).
 
     Returns (X, f): peak amplitudes A of the coordinates (rad, m), shape (B, H, n),
@@ -418,8 +413,9 @@ def mesh_harmonic_balance(
     # the generalised force -W(theta) F: W k, W c and the forcing W k (ds - e), W e'
     wk = np.fft.fft(W * k[:, None], axis=0) / samples  # (S, n)
     wc = fl.damping * np.fft.fft(W, axis=0) / samples
+    wbar = g + model.friction_vectors()[0]  # the linear model's mean direction
     wp = np.fft.fft(W * (k * (ds - e))[:, None], axis=0) / samples
-    wp[0] -= (g + model.friction_vectors()[0]) * F0  # the static state's balance
+    wp[0] -= wbar * F0  # the static state's balance
     wd = np.fft.fft(W * de[:, None], axis=0) / samples
     hs = np.arange(-H, H + 1)
     M, C, K = linear_matrices(model)
@@ -430,7 +426,6 @@ def mesh_harmonic_balance(
     # share on the diagonal, which holds K_lin - (h w_m)^2 M + i h w_m C_lin
     dh = (hs[:, None] - hs[None, :]) % samples
     eye = (hs[:, None] == hs[None, :])[..., None]
-    wbar = g + model.friction_vectors()[0]
     stiff = wk[dh] - eye * fl.mean_stiffness * wbar  # (m, m, n)
     damp = wc[dh] - eye * fl.damping * wbar
     jw = hs[None, None, :, None] * wm[:, None, None, None]  # (B, 1, m, 1): column j
@@ -451,7 +446,7 @@ def mesh_harmonic_balance(
     X = X.reshape(sp.size, m, n)
     gx = X @ g  # (B, m)
     P = pk[hs % samples][None, :] - fl.damping * sp[:, None] * cd[hs % samples][None, :]
-    f = np.einsum("hj,bj->bh", kap[(hs[:, None] - hs[None, :]) % samples], gx)
+    f = np.einsum("hj,bj->bh", kap[dh], gx)
     f += 1j * hs[None, :] * wm[:, None] * fl.damping * gx + P
     # real signal sum_h c_h e^{i h w t}: order h > 0 is Im(2 i c_h e^{i h w t})
     pos = slice(H + 1, None)

@@ -264,26 +264,16 @@ class DrivetrainModel:
             fn = torque / abs(lam1d)
             e = lte - fn / kt
             a0 = float(table.angle[0])
-            kc = np.concatenate(_fit(kt, mesh_harmonics, table.pinion_teeth, a0))
-            ec = np.concatenate(_fit(e, mesh_harmonics, table.pinion_teeth, a0))
-            lc = np.concatenate(_fit(lte, mesh_harmonics, table.pinion_teeth, a0))
+
+            def coef(values):  # [a0, a, b] in the absolute pinion angle
+                return np.concatenate(_fit(values, mesh_harmonics, table.pinion_teeth, a0))
+
+            kc, ec, lc = coef(kt), coef(e), coef(lte)
             inv_m = lam1**2 / j1 + lam2**2 / j2
             c = 2 * mesh_damping_ratio * math.sqrt(kc[0] / inv_m) if kc[0] > 0 else 0.0
             fc = None
             if all(k in table.extra for k in FRICTION_ARMS):
-                fc = np.stack(
-                    [
-                        np.concatenate(
-                            _fit(
-                                table.values_at(k, name, torque),
-                                mesh_harmonics,
-                                table.pinion_teeth,
-                                a0,
-                            )
-                        )
-                        for k in FRICTION_ARMS
-                    ]
-                )
+                fc = np.stack([coef(table.values_at(k, name, torque)) for k in FRICTION_ARMS])
             direction = table.mean_direction(name, torque)
             return MeshFlank(kc, ec, lc, lam1, lam2, direction, c, b, fc)
 
