@@ -305,6 +305,33 @@ SCHEMA: dict[str, dict[str, Field]] = {
             0,
             0.3,
         ),
+        "pinion_eccentricity_um": _f(
+            0.0,
+            "Eccentricity of the pinion's teeth about its axis of rotation (um; a pure "
+            "eccentricity's radial runout F_r of ISO 1328-2 is twice it). 0 = none.",
+            0,
+            1000,
+        ),
+        "pinion_eccentricity_angle_deg": _f(
+            0.0,
+            "Direction of the pinion's eccentricity at pinion angle 0, from the axis "
+            "towards the mean mesh point, in the pinion's driving sense (deg).",
+            -360,
+            360,
+        ),
+        "gear_eccentricity_um": _f(
+            0.0,
+            "Eccentricity of the gear's teeth about its axis of rotation (um). 0 = none.",
+            0,
+            1000,
+        ),
+        "gear_eccentricity_angle_deg": _f(
+            0.0,
+            "Direction of the gear's eccentricity at gear angle 0, from the axis towards "
+            "the mean mesh point, in the gear's driving sense (deg).",
+            -360,
+            360,
+        ),
         "propeller_inertia_kgm2": _f(5.0, "Propeller inertia in air (kg m^2).", 0, None, True),
         "propeller_added_inertia_fraction": _f(
             0.25, "Added water inertia over propeller inertia.", 0, 10

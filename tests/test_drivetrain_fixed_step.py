@@ -6,6 +6,7 @@ the step rule against the stability polynomial, the order of convergence, batchi
 gradients and the failure reports.
 """
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -70,12 +71,23 @@ def exact_laws(p):
     return laws_at
 
 
-@pytest.mark.parametrize("variant", ["default", "bearings_governor", "friction"])
+@pytest.mark.parametrize("variant", ["default", "bearings_governor", "friction", "eccentricity"])
 def test_lean_rhs_equals_model_rhs(base, variant):
     # Same equations in another arrangement: equal to rounding (1e-12 of the largest
     # component) on states that put each flank in and out of contact; with mesh
-    # friction (docs/drivetrain.md §3a) the table has four rows more.
+    # friction (docs/drivetrain.md §3a) the table has four rows more; with eccentricities
+    # (§3b) both flanks' gaps move with the pinion's and the gear's angle.
     s, table, m = base
+    if variant == "eccentricity":
+        sc = case03(
+            bearing_dofs=True,
+            pinion_eccentricity_um=30.0,
+            pinion_eccentricity_angle_deg=70.0,
+            gear_eccentricity_um=20.0,
+            gear_eccentricity_angle_deg=-120.0,
+        )
+        m = dataclasses.replace(DrivetrainModel.from_scene(sc, table), phase=0.3)
+        assert m.params()["rc"].shape == (2, 4)
     if variant == "friction":
         m = DrivetrainModel.from_scene(case03(mesh_friction_coefficient=0.1), table)
         assert fs.mesh_law_table(m.params(), 64, np).shape[0] == 10

@@ -22,6 +22,8 @@ from ..meshtable import FRICTION_ARMS, MeshTable, fourier_eval, fourier_fit
 __all__ = [
     "CHANNEL_UNITS",
     "DrivetrainModel",
+    "eccentricity_approach",
+    "eccentricity_terms",
     "energy",
     "friction_torques",
     "outputs",
@@ -44,6 +46,11 @@ class MeshFlank:
     friction_coef: the same for the sliding friction's moment arms about the pinion's
     and the gear's axis (m), shape (2, 1 + 2 h) (docs §3a); None where the table has
     none.
+    transverse: the line of action's components along each member's transverse axes,
+    shape (2, 2): rows pinion, gear; columns u_i . n_f, v_i . n_f, with u_i the unit
+    vector from the axis towards the drive flank's mean mesh point (perpendicular to
+    a_i) and v_i = a_i x u_i: an eccentricity's approach of the flanks (docs §3b).
+    None for a model built before it existed (then no eccentricity is allowed).
     """
 
     k_coef: np.ndarray
@@ -55,6 +62,7 @@ class MeshFlank:
     damping: float
     backlash: float
     friction_coef: np.ndarray | None = None
+    transverse: np.ndarray | None = None
 
     @property
     def mean_stiffness(self) -> float:
@@ -109,6 +117,10 @@ class DrivetrainModel:
     blade_pass_harmonics: int = 1
     phase: float = 0.0
     mesh_friction_coefficient: float = 0.0
+    pinion_eccentricity: float = 0.0  # e_1 (m), docs §3b
+    pinion_eccentricity_angle: float = 0.0  # psi_1 (rad)
+    gear_eccentricity: float = 0.0  # e_2 (m)
+    gear_eccentricity_angle: float = 0.0  # psi_2 (rad)
     meta: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self):
@@ -128,6 +140,20 @@ class DrivetrainModel:
         for name in ("input_damping_ratio", "output_damping_ratio", "bearing_damping_ratio"):
             p.in_range(name, getattr(self, name), 0, 1)
         p.in_range("mesh_friction_coefficient", self.mesh_friction_coefficient, 0, 0.3)
+        for name in ("pinion_eccentricity", "gear_eccentricity"):
+            v = getattr(self, name)
+            p.in_range(name, v, 0, 1e-3)
+            if v > 0:
+                p.check(
+                    self.drive.transverse is not None,
+                    name,
+                    v,
+                    "needs the flanks' transverse projections (a model built from a mesh "
+                    "table, DrivetrainModel.build); set it to 0",
+                )
+        for name in ("pinion_eccentricity_angle", "gear_eccentricity_angle"):
+            v = getattr(self, name)
+            p.check(math.isfinite(v), name, v, "must be finite (rad)")
         if self.mesh_friction_coefficient > 0:
             for fl_name in ("drive", "coast"):
                 fl = getattr(self, fl_name)
@@ -228,6 +254,10 @@ class DrivetrainModel:
             blade_pass_ripple=d["blade_pass_ripple"],
             blade_pass_harmonics=d["blade_pass_harmonics"],
             mesh_friction_coefficient=d["mesh_friction_coefficient"],
+            pinion_eccentricity=d["pinion_eccentricity_um"] * 1e-6,
+            pinion_eccentricity_angle=math.radians(d["pinion_eccentricity_angle_deg"]),
+            gear_eccentricity=d["gear_eccentricity_um"] * 1e-6,
+            gear_eccentricity_angle=math.radians(d["gear_eccentricity_angle_deg"]),
             meta={"scene": scene.name, "table_method": table.attrs.get("method", "")},
         )
 
@@ -275,7 +305,9 @@ class DrivetrainModel:
             if all(k in table.extra for k in FRICTION_ARMS):
                 fc = np.stack([coef(table.values_at(k, name, torque)) for k in FRICTION_ARMS])
             direction = table.mean_direction(name, torque)
-            return MeshFlank(kc, ec, lc, lam1, lam2, direction, c, b, fc)
+            return MeshFlank(kc, ec, lc, lam1, lam2, direction, c, b, fc, basis @ direction)
+
+        basis = transverse_axes(table, torque)
 
         drive = flank("drive", 0.0)
         coast = flank("coast", backlash) if "coast" in table.flanks else None
@@ -388,9 +420,9 @@ class DrivetrainModel:
     def common_period_mesh_cycles(self, max_cycles: int = 100_000) -> int:
         """Mesh cycles in the common period of every excitation (0 if above ``max_cycles``).
 
-        Mesh (N_1 per pinion revolution), engine orders (per revolution) and propeller
+        Mesh (N_1 per pinion revolution), engine orders (per revolution), propeller
         orders (per gear revolution = N_1/N_2 per pinion revolution) with non-zero
-        amplitude are written as rational orders of the pinion revolution; the common
+        amplitude and the eccentricities' once per revolution of their member are written as rational orders of the pinion revolution; the common
         period is the least common multiple of their periods. The response settles to
         a periodic one with this period (when it is stable), so one common period is
         the natural record for spectra and the periodicity check.
@@ -404,6 +436,10 @@ class DrivetrainModel:
         orders += [
             Fraction(o).limit_denominator(1000) * ratio for o, a in zip(po, pa, strict=True) if a
         ]
+        if self.pinion_eccentricity > 0:
+            orders.append(Fraction(1))  # once per pinion revolution (docs §3b)
+        if self.gear_eccentricity > 0:
+            orders.append(ratio)  # once per gear revolution
         # period of order o (in revolutions) is 1/o = q/p; LCM of fractions q_i/p_i
         num = 1
         den = 0
@@ -444,6 +480,32 @@ class DrivetrainModel:
                 f1, f2 = fl.mean_friction_arms
                 Phi[r, 1], Phi[r, 2] = mu * f1, -mu * f2
         return Phi
+
+    @property
+    def has_eccentricity(self) -> bool:
+        return self.pinion_eccentricity > 0 or self.gear_eccentricity > 0
+
+    def eccentricity_coefficients(self) -> np.ndarray:
+        """Coefficients of the eccentricities' approach of the flanks (m), shape (2, 4):
+        rows drive, coast; eps_f = A_1 cos theta_1 + B_1 sin theta_1 + A_2 cos theta_2 +
+        B_2 sin theta_2 with columns [A_1, B_1, A_2, B_2] (docs §3b): the pinion's
+        eccentricity e_1 (u_1 cos(theta_1 + psi_1) + v_1 sin(theta_1 + psi_1)) moves
+        its flanks along n_f towards the gear, the gear's moves its own away."""
+        out = np.zeros((2, 4))
+        for r, fl in enumerate((self.drive, self.coast)):
+            if fl is None or fl.transverse is None:
+                continue
+            for m, (e, psi, sign) in enumerate(
+                (
+                    (self.pinion_eccentricity, self.pinion_eccentricity_angle, 1.0),
+                    (self.gear_eccentricity, self.gear_eccentricity_angle, -1.0),
+                )
+            ):
+                pu, pv = fl.transverse[m]
+                c, s = math.cos(psi), math.sin(psi)
+                out[r, 2 * m] = sign * e * (pu * c + pv * s)
+                out[r, 2 * m + 1] = sign * e * (pv * c - pu * s)
+        return out
 
     def static_state(self) -> np.ndarray:
         """State y0 = [x, v] of the static equilibrium of the mean torques (docs §7), q_p = 0."""
@@ -510,6 +572,8 @@ class DrivetrainModel:
             fc = np.zeros((2, 2, 0))  # no friction: nothing to evaluate (docs §3a)
         eo, ea, po, pa = self.excitation_orders()
         x0 = self.static_state()
+        # eccentricities: none -> nothing to evaluate (docs §3b)
+        rc = self.eccentricity_coefficients() if self.has_eccentricity else np.zeros((2, 0))
         return {
             "Minv": 1.0 / self.mass_vector(),
             "K": K,
@@ -524,6 +588,8 @@ class DrivetrainModel:
             "Omega": np.array(self.speed),
             "Omega2": np.array(self.gear_speed),
             "phase": np.array(self.phase),
+            "phase2": np.array(self.phase * self.pinion_teeth / self.gear_teeth),
+            "rc": rc,
             "T": np.array(self.torque),
             "eo": eo,
             "ea": ea,
@@ -581,10 +647,31 @@ class DrivetrainModel:
                 f = dict(d[k])
                 for a in ("k_coef", "e_coef", "lte_coef", "direction"):
                     f[a] = np.asarray(f[a], dtype=float)
-                if f.get("friction_coef") is not None:
-                    f["friction_coef"] = np.asarray(f["friction_coef"], dtype=float)
+                for a in ("friction_coef", "transverse"):
+                    if f.get(a) is not None:
+                        f[a] = np.asarray(f[a], dtype=float)
                 d[k] = MeshFlank(**f)
         return cls(**d)
+
+
+def transverse_axes(table: MeshTable, torque: float) -> np.ndarray:
+    """Each member's transverse axes (u_i, v_i), shape (2 members, 2, 3), in Sf: u_i the
+    unit vector from the axis towards the drive flank's mean mesh point at ``torque``,
+    perpendicular to the axis a_i; v_i = a_i x u_i, so that a vector fixed to the member
+    at angle psi from u_i lies along cos(theta + psi) u_i + sin(theta + psi) v_i when
+    the member has turned by theta in its driving sense (docs/drivetrain.md §3b)."""
+    P = table.values_at("mesh_point", "drive", torque).mean(axis=0)
+    out = np.empty((2, 2, 3))
+    for i, ax in enumerate((table.pinion_axis, table.gear_axis)):
+        a = ax[0] / np.linalg.norm(ax[0])
+        r = P - ax[1]
+        u = r - (r @ a) * a
+        norm = np.linalg.norm(u)
+        if not norm > 0:
+            raise ValueError("the mean mesh point lies on a member's axis")
+        u = u / norm
+        out[i] = u, np.cross(a, u)
+    return out
 
 
 def _fit(
@@ -657,6 +744,37 @@ def friction_torques(theta1, f, p, xp=np):
     return -xp.sum(arms[..., 0] * f, axis=-1), xp.sum(arms[..., 1] * f, axis=-1)
 
 
+def eccentricity_terms(t, q1, q2, v1, v2, p, xp=np):
+    """The eccentricities' approach eps_f (m) and its rate d eps_f / dt (m/s) of both
+    flanks from the pinion's and the gear's coordinates q_1, q_2 and speeds v_1, v_2
+    (scalars, or arrays of one shape): two lists [drive, coast] (docs §3b); None
+    without eccentricity (``p['rc']`` with no coefficients). The pinion turns by
+    theta_1 = Omega t + q_1 + theta_10, the gear by theta_2 = Omega_2 t + q_2 + theta_10
+    N_1 / N_2."""
+    rc = p["rc"]
+    if rc.shape[-1] == 0:
+        return None
+    th1 = p["Omega"] * t + q1 + p["phase"]
+    th2 = p["Omega2"] * t + q2 + p["phase2"]
+    w1, w2 = p["Omega"] + v1, p["Omega2"] + v2
+    c1, s1, c2, s2 = xp.cos(th1), xp.sin(th1), xp.cos(th2), xp.sin(th2)
+    eps = [rc[f, 0] * c1 + rc[f, 1] * s1 + rc[f, 2] * c2 + rc[f, 3] * s2 for f in range(2)]
+    rate = [
+        (rc[f, 1] * c1 - rc[f, 0] * s1) * w1 + (rc[f, 3] * c2 - rc[f, 2] * s2) * w2
+        for f in range(2)
+    ]
+    return eps, rate
+
+
+def eccentricity_approach(t, x, v, p, xp=np):
+    """:func:`eccentricity_terms` of states x, v of shape S + (n,): eps_f and its rate,
+    each shape S + (2,); None without eccentricity."""
+    out = eccentricity_terms(t, x[..., 1], x[..., 2], v[..., 1], v[..., 2], p, xp)
+    if out is None:
+        return None
+    return xp.stack(out[0], axis=-1), xp.stack(out[1], axis=-1)
+
+
 def mesh_forces(t, x, v, p, xp=np):
     """Contact forces F_f (N, shape (2,)), gaps s_f and the pinion angle (docs §3)."""
     theta1 = p["Omega"] * t + x[1] + p["phase"]
@@ -665,6 +783,10 @@ def mesh_forces(t, x, v, p, xp=np):
     ddelta = p["G"] @ v
     s = delta - e - p["bl"]
     sdot = ddelta - de * (p["Omega"] + v[1])
+    ecc = eccentricity_approach(t, x, v, p, xp)
+    if ecc is not None:
+        s = s + ecc[0]
+        sdot = sdot + ecc[1]
     f = xp.where(s > 0, xp.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
     return f, s, theta1
 
@@ -712,14 +834,17 @@ def energy(t, y, p, xp=np):
     theta1 = p["Omega"] * t + x[1] + p["phase"]
     k, _, e, _ = mesh_laws(theta1, p, xp)
     s = p["G"] @ x - e - p["bl"]
+    ecc = eccentricity_approach(t, x, v, p, xp)
+    if ecc is not None:
+        s = s + ecc[0]
     sp = xp.maximum(s, 0.0)
     return 0.5 * xp.sum(p["M"] * w * w) + 0.5 * x @ (p["K"] @ x) + 0.5 * xp.sum(k * sp * sp)
 
 
 def power(t, y, p, xp=np):
     """dE/dt (W) of an undamped run: engine and propeller power plus the parametric mesh
-    terms (1/2) k_f' s_f^2 theta1' - F_f e_f' theta1' (the time-varying mesh stores and
-    releases energy); exact when the rotation radii keep the tooth ratio
+    terms (1/2) k_f' s_f^2 theta1' - F_f e_f' theta1' + F_f eps_f' (the time-varying
+    mesh and the eccentricities store and release energy); exact when the rotation radii keep the tooth ratio
     (lambda_1 Omega = lambda_2 Omega_2).
     """
     n = y.shape[0] // 2
@@ -733,6 +858,9 @@ def power(t, y, p, xp=np):
     ext = te * (p["Wn"][0] + v[0]) - tp * (p["Wn"][3] + v[3])
     t1, t2 = friction_torques(theta1, f, p, xp)
     ext = ext + t1 * dth + t2 * (p["Wn"][2] + v[2])
+    ecc = eccentricity_approach(t, x, v, p, xp)
+    if ecc is not None:
+        ext = ext + xp.sum(f * ecc[1])
     return ext + xp.sum(0.5 * dk * sp * sp * dth - f * de * dth)
 
 
@@ -757,6 +885,7 @@ CHANNEL_UNITS = {
     "pinion_friction_torque_Nm": "N m",
     "gear_friction_torque_Nm": "N m",
     "mesh_friction_power_W": "W",
+    "eccentricity_approach_m": "m",
 }
 
 
@@ -774,6 +903,10 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     k, _, e, de = mesh_laws(theta1, p)  # (n_t, 2)
     s = x @ p["G"].T - e - p["bl"]
     sdot = v @ p["G"].T - de * (p["Omega"] + v[:, 1])[:, None]
+    ecc = eccentricity_approach(t, x, v, p)
+    if ecc is not None:
+        s = s + ecc[0]
+        sdot = sdot + ecc[1]
     forces = np.where(s > 0, np.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
     tt = t[:, None]
     te = p["T"] * (1.0 + np.sum(p["ea"] * np.sin(p["eo"] * p["Omega"] * tt), axis=-1))
@@ -808,6 +941,8 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     if model.bearing_dofs:
         out["pinion_bearing_force_N"] = K[4, 4] * x[:, 4] + C[4, 4] * v[:, 4]
         out["gear_bearing_force_N"] = K[5, 5] * x[:, 5] + C[5, 5] * v[:, 5]
+    if ecc is not None:
+        out["eccentricity_approach_m"] = ecc[0][:, 0]
     if p["fc"].shape[-1]:
         t1, t2 = friction_torques(theta1, forces, p)
         out["pinion_friction_torque_Nm"] = t1
