@@ -25,6 +25,7 @@ __all__ = [
     "RESPONSE_CHANNELS",
     "largest_stable_step",
     "linear_matrices",
+    "eccentricity_harmonic_balance",
     "mesh_harmonic_balance",
     "modes",
     "order_responses",
@@ -202,8 +203,10 @@ def periodic_start_state(model: DrivetrainModel, *, mesh_harmonics: int = 12) ->
 
     Engine and propeller orders and the first ``mesh_harmonics`` harmonics of the mesh
     forcing (parametric stiffness and error, to first order) are each solved as
-    ``(K_lin - w^2 M + i w C_lin) X = F``; their sum at t = 0 starts the nonlinear run
-    close to its periodic response, so only small transients remain. Shape (2 n,).
+    ``(K_lin - w^2 M + i w C_lin) X = F``, the eccentricities with their sidebands by
+    harmonic balance (:func:`eccentricity_harmonic_balance`); their sum at t = 0
+    starts the nonlinear run close to its periodic response, so only small transients
+    remain. Shape (2 n,).
     """
     return periodic_start_states(model, np.array([model.speed]), mesh_harmonics=mesh_harmonics)[0]
 
@@ -224,12 +227,18 @@ def periodic_start_states(
     y = model.static_state()
     out = np.broadcast_to(y, (speeds.size, 2 * n)).copy()
     exc = _excitations(model, y[:n], mesh_harmonics)
-    if not exc.orders.size:
-        return out
-    w, X = _steady_amplitudes(model, speeds, exc)
-    # forcing Im(f e^{iwt}) -> response Im(X e^{iwt}); at t = 0: Im(X), Im(i w X)
-    out[:, :n] += X.imag.sum(axis=1)
-    out[:, n:] += (1j * w[..., None] * X).imag.sum(axis=1)
+    if exc.orders.size:
+        w, X = _steady_amplitudes(model, speeds, exc)
+        # forcing Im(f e^{iwt}) -> response Im(X e^{iwt}); at t = 0: Im(X), Im(i w X)
+        out[:, :n] += X.imag.sum(axis=1)
+        out[:, n:] += (1j * w[..., None] * X).imag.sum(axis=1)
+    # the eccentricities with their sidebands (harmonic balance, docs §3b)
+    for _, orders, X, _ in eccentricity_harmonic_balance(
+        model, speeds, harmonics=max(mesh_harmonics, 1)
+    ):
+        w = speeds[:, None] * orders[None, :]
+        out[:, :n] += X.imag.sum(axis=1)
+        out[:, n:] += (1j * w[..., None] * X).imag.sum(axis=1)
     return out
 
 
@@ -373,8 +382,141 @@ def _damping_at(model: DrivetrainModel, C: np.ndarray, speeds: np.ndarray) -> np
     return Cb
 
 
+@dataclass(frozen=True)
+class _Hill:
+    """The linear time-periodic model's harmonic-balance system for one family of
+    frequencies w_h = w_0 + h w_m, h = -H..H (w_m = N_1 Omega, w_0 = o_0 Omega): the
+    drive flank's laws in theta_1 (Fourier coefficients at index j mod S: kap of k, wk
+    of W k, wc of c W, (S, n)), the matrix A (B, m n, m n) and w_h (B, m)."""
+
+    hs: np.ndarray
+    freq: np.ndarray
+    A: np.ndarray
+    kap: np.ndarray
+    wk: np.ndarray
+    wc: np.ndarray
+    g: np.ndarray
+    fq: np.ndarray  # (B, S): the mesh force's stiffness on q_1, coefficients
+    fd: np.ndarray  # (S,): its damping on v_1, coefficients
+    k: np.ndarray
+    e: np.ndarray
+    de: np.ndarray
+    W: np.ndarray
+    samples: int
+
+    def solve(self, rhs: np.ndarray, drop: int | None = None) -> np.ndarray:
+        """X (B, m, n) of A X = rhs (B, m, n); ``drop``: an unknown held at 0."""
+        B, m, n = rhs.shape
+        A = self.A
+        keep = np.ones(m * n, bool)
+        if drop is not None:
+            keep[drop] = False
+        X = np.zeros((B, m * n), complex)
+        r = rhs.reshape(B, m * n)
+        X[:, keep] = np.linalg.solve(A[:, keep][:, :, keep], r[:, keep][..., None])[..., 0]
+        return X.reshape(B, m, n)
+
+    def mesh_force(self, X: np.ndarray, damping: float) -> np.ndarray:
+        """The dynamic mesh force's part from the vibration X, (B, m): sum_j kap_{h-j}
+        G.X_j + i w_h c G.X_h, and with the pinion angle followed sum_j [(f_q)_{h-j} +
+        i w_j (f_v)_{h-j}] X_j1."""
+        gx = X @ self.g
+        dh = (self.hs[:, None] - self.hs[None, :]) % self.samples
+        f = np.einsum("hj,bj->bh", self.kap[dh], gx) + 1j * self.freq * damping * gx
+        q1 = X[..., 1]
+        f += np.einsum("bhj,bj->bh", self.fq[:, dh], q1)
+        f += np.einsum("hj,bj->bh", self.fd[dh], 1j * self.freq * q1)
+        return f
+
+
+def _d_theta(v: np.ndarray, teeth: int) -> np.ndarray:
+    """d/d theta_1 of samples over one mesh cycle (axis 0), spectrally (the samples are
+    truncated Fourier series below the Nyquist harmonic)."""
+    S = v.shape[0]
+    j = np.fft.fftfreq(S, 1.0 / S) * teeth
+    j[S // 2] = 0.0 if S % 2 == 0 else j[S // 2]
+    c = np.fft.fft(v, axis=0)
+    return np.fft.ifft(1j * j.reshape((S,) + (1,) * (v.ndim - 1)) * c, axis=0).real
+
+
+def _hill(
+    model: DrivetrainModel,
+    sp: np.ndarray,
+    harmonics: int,
+    samples: int,
+    order0: float,
+    follow_angle: bool = True,
+    base: tuple[np.ndarray, np.ndarray] | None = None,
+):
+    """:class:`_Hill` at the speeds ``sp`` (rad/s, (B,)) for the family w_0 + h w_m,
+    w_0 = ``order0`` Omega: for h = -H..H the blocks
+
+        (K_s - w_h^2 M + i w_h C_s) X_h + sum_j [(W k)_{h-j} + i w_j c W_{h-j}] G.X_j
+            + sum_j [(W f_q + W' F_0)_{h-j} + i w_j (W f_v)_{h-j}] X_j1
+
+    (docs of :func:`mesh_harmonic_balance`). The last line (``follow_angle``) is the
+    mesh laws' dependence on the pinion's vibration q_1 (theta_1 = Omega t + q_1):
+    f_q = k' s_0 - k e' - c e'' Omega, f_v = -c e', F_0 = k s_0 + c s_0' the force
+    along the motion linearised about, whose approach s_0 is delta_s - e(theta_1) (the
+    static state), plus ``base`` = (deflection, rate) samples (B, S) of a periodic
+    motion (the mesh orders' response, for the eccentricities)."""
+    n, H = model.n_dof, int(harmonics)
+    fl = model.drive
+    k, e, de, W = _drive_laws(model, samples)
+    g = model.mesh_vectors()[0]
+    kap = np.fft.fft(k) / samples  # kappa_j at index j mod samples
+    wk = np.fft.fft(W * k[:, None], axis=0) / samples  # (S, n)
+    wc = fl.damping * np.fft.fft(W, axis=0) / samples
+    wbar = g + model.friction_vectors()[0]  # the linear model's mean direction
+    hs = np.arange(-H, H + 1)
+    M, C, K = linear_matrices(model)
+    Cb = _damping_at(model, C, sp)  # (B, n, n)
+    freq = (order0 + hs[None, :] * float(model.pinion_teeth)) * sp[:, None]  # (B, m)
+    m = hs.size
+    # blocks (h, j): (W k)_{h-j} g^T + i w_j (W c)_{h-j} g^T, less the linear model's
+    # share on the diagonal, which holds K_lin - w_h^2 M + i w_h C_lin
+    dh = (hs[:, None] - hs[None, :]) % samples
+    eye = (hs[:, None] == hs[None, :])[..., None]
+    stiff = wk[dh] - eye * fl.mean_stiffness * wbar  # (m, m, n)
+    damp = wc[dh] - eye * fl.damping * wbar
+    jw = freq[:, None, :, None]  # (B, 1, m, 1): column j
+    blk = stiff[None] + 1j * jw * damp[None]  # (B, m, m, n)
+    A = blk.transpose(0, 1, 3, 2)[..., None] * g  # (B, m, n, m, n): [b, h, row, j, col]
+    B = sp.size
+    fq = np.zeros((B, samples), complex)
+    fd = np.zeros(samples, complex)
+    if follow_angle:
+        t1 = model.pinion_teeth
+        c = fl.damping
+        # the motion linearised about: the static deflection, plus a periodic one
+        s0 = g @ model.static_state()[:n] - e + np.zeros((B, 1))  # (B, S)
+        r0 = -de[None] * sp[:, None]
+        if base is not None:
+            s0 = s0 + base[0]
+            r0 = r0 + base[1]
+        dk, dde, dW = _d_theta(k, t1), _d_theta(de, t1), _d_theta(W, t1)
+        f0 = k * s0 + c * r0  # the mesh force along that motion
+        q = dk * s0 - k * de - c * dde * sp[:, None]  # its change per radian of q_1
+        sq = np.fft.fft(W * q[..., None] + dW * f0[..., None], axis=1) / samples
+        sv = np.fft.fft(-c * W * de[:, None], axis=0) / samples  # damping on v_1
+        A[:, :, :, :, 1] += (sq[:, dh] + 1j * jw * sv[dh][None]).transpose(0, 1, 3, 2)
+        fq = np.fft.fft(q, axis=1) / samples
+        fd = np.fft.fft(-c * de) / samples
+    wh = freq[:, :, None, None]  # (B, m, 1, 1)
+    diag = K - wh**2 * M + 1j * wh * Cb[:, None]  # (B, m, n, n)
+    idx = np.arange(m)
+    A[:, idx, :, idx, :] += diag.transpose(1, 0, 2, 3)
+    A = A.reshape(B, m * n, m * n)
+    return _Hill(hs, freq, A, kap, wk, wc, g, fq, fd, k, e, de, W, samples)
+
+
 def mesh_harmonic_balance(
-    model: DrivetrainModel, speeds=None, *, harmonics: int = 12, samples: int = 256
+    model: DrivetrainModel,
+    speeds=None,
+    *,
+    harmonics: int = 12,
+    samples: int = 256,
+    follow_angle: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Steady response to the mesh excitation with the mesh stiffness varying in time.
 
@@ -402,55 +544,89 @@ def mesh_harmonic_balance(
     sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
     n, H = model.n_dof, int(harmonics)
     fl = model.drive
-    k, e, de, W = _drive_laws(model, samples)
-    g = model.mesh_vectors()[0]
+    hill = _hill(model, sp, H, samples, 0.0, follow_angle)
+    k, e, de, W = hill.k, hill.e, hill.de, hill.W
+    g = hill.g
     ds = g @ model.static_state()[:n]
     F0 = fl.k_coef[0] * (ds - fl.e_coef[0])  # the static mesh force
-    kap = np.fft.fft(k) / samples  # kappa_j at index j mod samples
     pk = np.fft.fft(k * (ds - e)) / samples
     pk[0] -= F0
     cd = np.fft.fft(de) / samples  # coefficients of de/dtheta_1
-    # the generalised force -W(theta) F: W k, W c and the forcing W k (ds - e), W e'
-    wk = np.fft.fft(W * k[:, None], axis=0) / samples  # (S, n)
-    wc = fl.damping * np.fft.fft(W, axis=0) / samples
-    wbar = g + model.friction_vectors()[0]  # the linear model's mean direction
+    # the generalised force -W(theta) F: the forcing W k (ds - e), W e'
+    wbar = g + model.friction_vectors()[0]
     wp = np.fft.fft(W * (k * (ds - e))[:, None], axis=0) / samples
     wp[0] -= wbar * F0  # the static state's balance
     wd = np.fft.fft(W * de[:, None], axis=0) / samples
-    hs = np.arange(-H, H + 1)
-    M, C, K = linear_matrices(model)
-    Cb = _damping_at(model, C, sp)  # (B, n, n)
-    wm = sp * model.pinion_teeth  # (B,)
-    m = hs.size
-    # blocks (h, j): (W k)_{h-j} g^T + i j w_m (W c)_{h-j} g^T, less the linear model's
-    # share on the diagonal, which holds K_lin - (h w_m)^2 M + i h w_m C_lin
-    dh = (hs[:, None] - hs[None, :]) % samples
-    eye = (hs[:, None] == hs[None, :])[..., None]
-    stiff = wk[dh] - eye * fl.mean_stiffness * wbar  # (m, m, n)
-    damp = wc[dh] - eye * fl.damping * wbar
-    jw = hs[None, None, :, None] * wm[:, None, None, None]  # (B, 1, m, 1): column j
-    blk = stiff[None] + 1j * jw * damp[None]  # (B, m, m, n)
-    A = blk.transpose(0, 1, 3, 2)[..., None] * g  # (B, m, n, m, n): [b, h, row, j, col]
-    wh = hs[None, :, None, None] * wm[:, None, None, None]  # (B, m, 1, 1)
-    diag = K - wh**2 * M + 1j * wh * Cb[:, None]  # (B, m, n, n)
-    idx = np.arange(m)
-    A[:, idx, :, idx, :] += diag.transpose(1, 0, 2, 3)
+    hs = hill.hs
     # forcing -W (k (ds - e) - F0 - c e' Omega), Omega the speed
     rhs = -(wp[hs % samples][None] - fl.damping * sp[:, None, None] * wd[hs % samples][None])
-    A = A.reshape(sp.size, m * n, m * n)
-    rhs = rhs.reshape(sp.size, m * n)
-    keep = np.ones(m * n, bool)
-    keep[H * n + 3] = False  # h = 0: the propeller angle stays at 0
-    X = np.zeros((sp.size, m * n), complex)
-    X[:, keep] = np.linalg.solve(A[:, keep][:, :, keep], rhs[:, keep][..., None])[..., 0]
-    X = X.reshape(sp.size, m, n)
-    gx = X @ g  # (B, m)
+    X = hill.solve(rhs, drop=H * n + 3)  # h = 0: the propeller angle stays at 0
     P = pk[hs % samples][None, :] - fl.damping * sp[:, None] * cd[hs % samples][None, :]
-    f = np.einsum("hj,bj->bh", kap[dh], gx)
-    f += 1j * hs[None, :] * wm[:, None] * fl.damping * gx + P
+    f = hill.mesh_force(X, fl.damping) + P
     # real signal sum_h c_h e^{i h w t}: order h > 0 is Im(2 i c_h e^{i h w t})
     pos = slice(H + 1, None)
     return 2j * X[:, pos], 2j * f[:, pos]
+
+
+#: The eccentric members: name, eccentricity attribute, columns of
+#: :meth:`DrivetrainModel.eccentricity_coefficients`.
+ECCENTRIC_MEMBERS = (("pinion", "pinion_eccentricity", 0), ("gear", "gear_eccentricity", 2))
+
+
+def eccentricity_harmonic_balance(
+    model: DrivetrainModel, speeds=None, *, harmonics: int = 12, samples: int = 256
+) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]:
+    """Steady response to each eccentricity (docs/drivetrain.md §3b) with the mesh
+    stiffness varying in time: the same Hill system as :func:`mesh_harmonic_balance`
+    for the frequencies w_0 + h w_m, w_0 = o_0 Omega the member's once per revolution
+    (o_0 = 1 for the pinion, N_1 / N_2 for the gear), forced by the approach
+    eps = Re(E exp(i o_0 theta_1)) of the drive flank:
+
+        rhs_h = -E [(W k)_h + i w_0 c W_h],     mesh force  ... + E kap_h + i w_0 c E [h = 0].
+
+    The modulation k(theta) eps puts the response at the sidebands |o_0 + h N_1|.
+
+    Returns, per eccentric member: (name, orders |o_0 + h N_1| (L = 2 H + 1,),
+    coordinate amplitudes (B, L, n), mesh-force amplitudes (B, L)), each as Im(A exp(i
+    w t)) with w = order x Omega and t the model's time (theta_1 = Omega t + theta_10).
+    """
+    sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
+    if not model.has_eccentricity:
+        return []
+    fl = model.drive
+    rc = model.eccentricity_coefficients()[0]
+    ratio = model.pinion_teeth / model.gear_teeth
+    # the mesh orders' steady vibration, about which the eccentricities' is linearised
+    Xm, _ = mesh_harmonic_balance(model, sp, harmonics=harmonics, samples=samples)
+    gx = Xm @ model.mesh_vectors()[0]  # (B, H), Im(A e^{i h N1 theta})
+    hh = np.arange(1, gx.shape[1] + 1) * float(model.pinion_teeth)
+    th = np.arange(samples) * (2 * math.pi / model.pinion_teeth / samples)
+    ph = np.exp(1j * hh[:, None] * th[None, :])  # (H, S)
+    base = ((gx @ ph).imag, ((1j * gx * hh * sp[:, None]) @ ph).imag)
+    out = []
+    for name, attr, col in ECCENTRIC_MEMBERS:
+        if getattr(model, attr) <= 0:
+            continue
+        o0 = 1.0 if name == "pinion" else ratio
+        E = rc[col] - 1j * rc[col + 1]  # A cos + B sin = Re((A - i B) e^{i theta})
+        hill = _hill(model, sp, harmonics, samples, o0, base=base)
+        hs = hill.hs
+        w0 = (o0 * sp)[:, None, None]
+        rhs = -E * (hill.wk[hs % samples][None] + 1j * w0 * hill.wc[hs % samples][None])
+        X = hill.solve(rhs)
+        f = hill.mesh_force(X, fl.damping) + E * hill.kap[hs % samples][None]
+        f[:, harmonics] += 1j * o0 * sp * fl.damping * E
+        # theta_1 = Omega t + theta_10: the time's origin; Re(X e^{iwt}) with w < 0 is
+        # Re(conj(X) e^{i|w|t}); Re(Y e^{i|w|t}) = Im(i Y e^{i|w|t})
+        orders = o0 + hs * float(model.pinion_teeth)
+        shift = np.exp(1j * orders * model.phase)
+        X = X * shift[None, :, None]
+        f = f * shift[None, :]
+        neg = orders < 0
+        X[:, neg] = np.conj(X[:, neg])
+        f[:, neg] = np.conj(f[:, neg])
+        out.append((name, np.abs(orders), 1j * X, 1j * f))
+    return out
 
 
 def order_responses(
