@@ -629,6 +629,28 @@ def eccentricity_harmonic_balance(
     return out
 
 
+def _merge_orders(orders, sources, w, X, mesh):
+    """One entry per order: the responses of sources that excite the same order (an
+    eccentricity's once per revolution and an engine half order, say) add up, all
+    amplitudes referring to one time origin; their sources joined with '+'."""
+    keys = np.round(orders, 9)
+    uniq, first, inv = np.unique(keys, return_index=True, return_inverse=True)
+    if uniq.size == keys.size:
+        return orders, sources, w, X, mesh
+    keep = np.sort(first)
+    slot = {int(k): i for i, k in enumerate(keep)}
+    pos = np.array([slot[int(first[inv[j]])] for j in range(keys.size)])
+    Xs = np.zeros((X.shape[0], keep.size) + X.shape[2:], complex)
+    ms = np.zeros((mesh.shape[0], keep.size), complex)
+    np.add.at(Xs, (slice(None), pos), X)
+    np.add.at(ms, (slice(None), pos), mesh)
+    names = [[] for _ in keep]
+    for j, src in enumerate(sources):
+        if src not in names[pos[j]]:
+            names[pos[j]].append(src)
+    return orders[keep], tuple("+".join(n) for n in names), w[:, keep], Xs, ms
+
+
 def order_responses(
     model: DrivetrainModel, speeds=None, *, mesh_harmonics: int = 12
 ) -> OrderResponse:
@@ -636,7 +658,11 @@ def order_responses(
     propeller and mesh excitation, at ``speeds`` (rad/s; default the model's).
 
     Engine and propeller orders: each alone on the linear model (mean mesh
-    stiffness), as :func:`periodic_start_states`. Mesh orders: harmonic balance with
+    stiffness), as :func:`periodic_start_states`. Eccentricities (docs §3b): their
+    once per revolution and its sidebands about the mesh orders by harmonic balance
+    (:func:`eccentricity_harmonic_balance`), sources 'pinion eccentricity' and 'gear
+    eccentricity'; an order two sources excite is one entry, their responses added
+    (sources joined with '+'). Mesh orders: harmonic balance with
     the time-varying mesh stiffness (:func:`mesh_harmonic_balance`, the first
     ``mesh_harmonics`` harmonics), which the mean-stiffness model underestimates near
     a mesh mode (on the default scene's 2x and 3x mesh crossings by 19 and 46 %
@@ -665,6 +691,15 @@ def order_responses(
         w = np.concatenate([w, sp[:, None] * om[None, :]], axis=1)
         X = np.concatenate([X, Xm], axis=1)
         mesh = np.concatenate([mesh, fm], axis=1)
+    for name, oe, Xe, fe in eccentricity_harmonic_balance(
+        model, sp, harmonics=max(mesh_harmonics, 1)
+    ):
+        orders = np.concatenate([orders, oe])
+        sources = sources + (f"{name} eccentricity",) * oe.size
+        w = np.concatenate([w, sp[:, None] * oe[None, :]], axis=1)
+        X = np.concatenate([X, Xe], axis=1)
+        mesh = np.concatenate([mesh, fe], axis=1)
+    orders, sources, w, X, mesh = _merge_orders(orders, sources, w, X, mesh)
     K, C = model.structural_matrices()
     t_in = (-K[0, 1] - 1j * w * C[0, 1]) * (X[..., 0] - X[..., 1])
     t_out = (-K[2, 3] - 1j * w * C[2, 3]) * (X[..., 2] - X[..., 3])

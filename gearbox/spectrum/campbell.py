@@ -281,6 +281,8 @@ def excitation_orders(
     max_half_order: float | None = None,
     blade_harmonics: int = 1,
     strokes: int = 4,
+    pinion_eccentricity: bool = False,
+    gear_eccentricity: bool = False,
 ) -> tuple[ExcitationOrder, ...]:
     """Excitation orders relative to the pinion (cycles per pinion revolution).
 
@@ -300,11 +302,15 @@ def excitation_orders(
         Highest half order added; None: up to the firing order.
     strokes : int
         4 (firing order z/2) or 2 (firing order z).
+    pinion_eccentricity, gear_eccentricity : bool
+        Add the once per revolution of an eccentric pinion (order 1) or gear (order
+        N_1/N_2; needs ``gear_teeth``), docs/drivetrain.md §3b. Their sidebands about
+        the mesh orders are not listed.
 
     Returns
     -------
     tuple of ExcitationOrder, sorted by order; duplicates (same order) keep the
-    first family in the order mesh, engine, propeller, engine-half.
+    first family in the order mesh, engine, propeller, eccentricity, engine-half.
     """
     p = Problems()
     p.check(
@@ -331,6 +337,13 @@ def excitation_orders(
             "must be an integer >= 1",
         )
     p.check(strokes in (2, 4), "strokes", strokes, "must be 2 or 4")
+    if gear_eccentricity:
+        p.check(
+            isinstance(gear_teeth, int) and gear_teeth >= 1,
+            "gear_teeth",
+            gear_teeth,
+            "must be an integer >= 1 (needed for the gear's eccentricity order)",
+        )
     for nm, v in (
         ("mesh_harmonics", mesh_harmonics),
         ("firing_harmonics", firing_harmonics),
@@ -352,6 +365,10 @@ def excitation_orders(
         for h in range(1, blade_harmonics + 1):
             lbl = "blade pass" if h == 1 else f"{h}x blade pass"
             out.append(ExcitationOrder(lbl, h * bp, "propeller"))
+    if pinion_eccentricity:
+        out.append(ExcitationOrder("pinion eccentricity", 1.0, "eccentricity"))
+    if gear_eccentricity:
+        out.append(ExcitationOrder("gear eccentricity", pinion_teeth / gear_teeth, "eccentricity"))
     if cylinders is not None and half_orders:
         firing = cylinders * (2.0 / strokes)
         top = firing if max_half_order is None else min(firing, max_half_order + 0.25)
@@ -375,7 +392,8 @@ def excitation_orders_from_scene(scene, **options) -> tuple[ExcitationOrder, ...
     Reads ``pinion.teeth``, ``gear.teeth``, ``drivetrain.engine_cylinders``
     (4-stroke), ``drivetrain.propeller_blades``, and, where the scene has them,
     ``drivetrain.engine_harmonics`` (firing harmonics) and
-    ``drivetrain.blade_pass_harmonics``. Half orders 0.5, 1, 1.5 (those the
+    ``drivetrain.blade_pass_harmonics``, and the eccentricities' orders where
+    ``drivetrain.pinion_eccentricity_um`` / ``gear_eccentricity_um`` > 0. Half orders 0.5, 1, 1.5 (those the
     drivetrain model drives) are included when ``drivetrain.half_order_ripple`` > 0.
     ``options`` override any of these.
     """
@@ -387,6 +405,9 @@ def excitation_orders_from_scene(scene, **options) -> tuple[ExcitationOrder, ...
         options.setdefault("firing_harmonics", int(dt["engine_harmonics"]))
     if "blade_pass_harmonics" in fields:
         options.setdefault("blade_harmonics", int(dt["blade_pass_harmonics"]))
+    if "pinion_eccentricity_um" in fields:
+        options.setdefault("pinion_eccentricity", float(dt["pinion_eccentricity_um"]) > 0)
+        options.setdefault("gear_eccentricity", float(dt["gear_eccentricity_um"]) > 0)
     return excitation_orders(
         pinion_teeth=int(scene["pinion"]["teeth"]),
         gear_teeth=int(scene["gear"]["teeth"]),

@@ -209,7 +209,8 @@ class Spectra:
 
 def _orders(model) -> tuple:
     """The model's excitation orders: mesh (3 harmonics), firing and blade-pass orders
-    with the harmonics the model applies, half orders when it has cylinder imbalance."""
+    with the harmonics the model applies, half orders when it has cylinder imbalance,
+    the eccentric members' once per revolution."""
     spectrum = require("gearbox.spectrum", "excitation_orders")
     return spectrum.excitation_orders(
         pinion_teeth=model.pinion_teeth,
@@ -220,6 +221,8 @@ def _orders(model) -> tuple:
         blade_harmonics=max(int(model.blade_pass_harmonics), 1),
         half_orders=model.half_order_ripple > 0,
         max_half_order=1.5,  # the half orders the model applies (0.5, 1, 1.5)
+        pinion_eccentricity=model.pinion_eccentricity > 0,
+        gear_eccentricity=model.gear_eccentricity > 0,
     )
 
 
