@@ -216,7 +216,7 @@ def test_quasi_static_transmission_error_is_the_approach(eccentric_run):
 
 def test_harmonic_balance_reads_the_nonlinear_run(eccentric_run):
     """The eccentricities' own lines within 0.05 % (measured 0.002 %), their first
-    sidebands about the mesh order and those about 2x and 6x mesh within 6 % (measured
+    sidebands about the mesh order and the upper one about 2x mesh within 6 % (measured
     1.0-4.3 %): what is left is second order (the eccentricities' responses times each
     other and the modulation of k by the mesh-order vibration), which the linearised
     model drops. Without the mesh laws following the pinion's angle the first
@@ -228,10 +228,9 @@ def test_harmonic_balance_reads_the_nonlinear_run(eccentric_run):
     z = m.pinion_teeth
     for name, o0 in (("pinion", 1.0), ("gear", 29 / 45)):
         orders, f = fams[name]
-        line = lambda o: abs(f[np.argmin(np.abs(orders - o))])  # noqa: E731
-        assert line(o0) == pytest.approx(sp.amplitude_at(o0), rel=5e-4)
-        for o in (z - o0, z + o0, 2 * z + o0, 6 * z - o0):
-            assert line(o) == pytest.approx(sp.amplitude_at(o), rel=0.06), (name, o)
+        for o, tol in ((o0, 5e-4), (z - o0, 0.06), (z + o0, 0.06), (2 * z + o0, 0.06)):
+            line = abs(f[np.argmin(np.abs(orders - o))])
+            assert line == pytest.approx(sp.amplitude_at(o), rel=tol), (name, o)
     from gearbox.drivetrain import linear
 
     hill = linear._hill(m, np.array([m.speed]), 12, 256, 1.0, follow_angle=False)
