@@ -10,6 +10,8 @@ import pytest
 
 exu = pytest.importorskip("exudyn")
 
+from _exudyn_helpers import random_states, rel  # noqa: E402
+
 from gearbox.drivetrain import exudyn_backend as xb  # noqa: E402
 from gearbox.drivetrain.exudyn_backend import (  # noqa: E402
     ExudynSolver,
@@ -31,10 +33,6 @@ MODELS = Path(__file__).resolve().parents[1] / "models"
 def case03(**drivetrain):
     """Paper case 03 (models/case03.toml, Tables 1-2 of the paper) with drivetrain keys."""
     return load_scene(MODELS / "case03.toml").replaced(drivetrain=drivetrain)
-
-
-def rel(a, b):
-    return abs(a - b) / abs(b)
 
 
 @pytest.fixture(scope="module")
@@ -127,21 +125,6 @@ def test_generic_layout_and_python_user_functions_give_the_same_run(small):
 
 
 # ------------------------------------------------------------------ the exudyn system
-def _random_states(model, rng, count):
-    """States near the operating point, with some beyond the backlash (coast contact)."""
-    y0 = model.static_state()
-    n = model.n_dof
-    p = model.params()
-    scale = p["scale"]
-    out = []
-    for i in range(count):
-        y = y0 + scale * rng.normal(0.0, 2.0, 2 * n)
-        if i % 4 == 3:  # push the pinion back through the backlash onto the coast flank
-            y[1] -= y0[1] + 1.5 * model.coast.backlash / model.drive.lambda1
-        out.append(y)
-    return out
-
-
 @pytest.fixture(scope="module")
 def with_error(small):
     """``small`` with a non-zero no-load error on both flanks (2 and 0.5 um harmonics)."""
@@ -169,7 +152,7 @@ def test_symbolic_force_functions_equal_the_model_right_hand_side(name, request)
     p = model.params()
     n = model.n_dof
     rng = np.random.default_rng(1)
-    states = _random_states(model, rng, 12)
+    states = random_states(model, rng, 12)
     fl = plan.flanks[0]
     e_lo, e_hi = xb._bounds(fl.e, fl.e_harmonics)
     if e_hi - e_lo > 1e-12:  # states inside the band of the drive flank

@@ -15,9 +15,11 @@ import pytest
 
 exu = pytest.importorskip("exudyn")
 
+from _exudyn_helpers import force_function_errors, random_cases, rel  # noqa: E402
+
 from gearbox.drivetrain import exudyn_backend as xb  # noqa: E402
 from gearbox.drivetrain.exudyn_backend import ExudynSolver, build_exudyn_system  # noqa: E402
-from gearbox.drivetrain.model import DrivetrainModel, mesh_forces, outputs, rhs  # noqa: E402
+from gearbox.drivetrain.model import DrivetrainModel, outputs  # noqa: E402
 from gearbox.drivetrain.simulate import (  # noqa: E402
     default_solver,
     mesh_force_metrics,
@@ -35,10 +37,6 @@ FRICTION_CHANNELS = (
     "gear_friction_torque_Nm",
     "mesh_friction_power_W",
 )
-
-
-def rel(a, b):
-    return abs(a - b) / abs(b)
 
 
 def propeller_power(ts):
@@ -110,43 +108,12 @@ def test_friction_force_functions_equal_the_model_right_hand_side(friction):
     # the same comparison is off by up to 1.6e-2 of that term (asserted > 1e-4), so the
     # check sees the friction torques.
     model = friction
-    plan = xb._plan_from_model(model)
-    assert all(fl.friction for fl in plan.flanks)
-    K, C = xb._structural(plan)
-    p = model.params()
-    n = model.n_dof
-    rng = np.random.default_rng(1)
-    y_op = model.static_state()
-    cases = []
-    for i in range(16):
-        y = y_op + p["scale"] * rng.normal(0.0, 2.0, 2 * n)
-        if i % 4 == 3:
-            y[1] -= y_op[1] + 1.5 * model.coast.backlash / model.drive.lambda1
-        cases.append((float(rng.uniform(0.0, 0.05)), y))
-    sysm = build_exudyn_system(model, ExudynSolver(layout="generic"))
-    symbolic = sysm.keepalive[0]
-    functions = {
-        "symbolic": lambda t, x, v: symbolic.Evaluate(sysm.mbs, t, 0, x.tolist(), v.tolist()),
-        "python": xb._all_forces(plan, False),
-    }
-    bare = xb._all_forces(_without_friction(plan), False)
-    coast = 0
-    missing = 0.0
-    for t, y in cases:
-        x, v = y[:n], y[n:]
-        want = (rhs(t, y / p["scale"], p) * p["scale"])[n:]
-        big = np.abs(want).max() + np.abs(K @ x).max() / plan.inertia.min()
-        for name, fn in functions.items():
-            if name == "symbolic":
-                f = np.array(fn(t, x, v))
-            else:
-                f = np.array(fn(sysm.mbs, t, 0, x.tolist(), v.tolist()))
-            got = (f - K @ x - C @ v) / plan.inertia
-            np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * big, err_msg=name)
-        f = np.array(bare(sysm.mbs, t, 0, x.tolist(), v.tolist()))
-        missing = max(missing, np.abs((f - K @ x - C @ v) / plan.inertia - want).max() / big)
-        coast += mesh_forces(t, x, v, p)[0][1] > 0
-    assert coast >= 1  # the coast flank's arms were exercised
+    assert all(fl.friction for fl in xb._plan_from_model(model).flanks)
+    cases = random_cases(model, np.random.default_rng(1), 16)
+    errors, contact, missing = force_function_errors(model, cases, _without_friction)
+    for name, err in errors.items():
+        assert err < 1e-9, (name, err)
+    assert contact[:, 1].sum() >= 1  # the coast flank's arms were exercised
     assert missing > 1e-4, missing
 
 
