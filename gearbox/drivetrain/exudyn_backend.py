@@ -21,6 +21,11 @@ The :class:`~gearbox.drivetrain.model.DrivetrainModel` becomes a real exudyn sys
   function adds each flank's friction torques -mu phi_1f(theta_1) F_f on the pinion and
   +mu phi_2f(theta_1) F_f on the gear, the moment arms phi_1f, phi_2f again Fourier
   series in theta_1 (docs/drivetrain.md §3a); with mu = 0 nothing of it is built.
+  With eccentricities (runout, docs/drivetrain.md §3b) each flank's gap gains the
+  approach eps_f = R_1f cos(theta_1 - phi_1f) + R_2f cos(theta_2 - phi_2f) and its
+  rate gains d eps_f/dt, theta_2 = Omega_2 t + q_2 + theta_20 the gear angle: the
+  object then reads the gear coordinate for an angle too. Without eccentricity nothing
+  of it is built.
 
 User functions are exudyn *symbolic* user functions by default: the expression is
 recorded once in Python and evaluated in C++, with no Python call per right-hand side
@@ -167,6 +172,9 @@ class _Flank:
     times the friction's moment arms about the pinion's and the gear's axis (m,
     docs/drivetrain.md §3a): torques -f1 F_f on the pinion, +f2 F_f on the gear; None
     without friction.
+    r1, r2: FourierSeries of one harmonic (teeth 1) in theta_1 and in theta_2 of the
+    approach eps_f the pinion's and the gear's eccentricity give the flank (m, docs
+    §3b: A_i cos theta_i + B_i sin theta_i); None without eccentricity.
     """
 
     name: str
@@ -177,6 +185,8 @@ class _Flank:
     b: float
     f1: Any = None
     f2: Any = None
+    r1: Any = None
+    r2: Any = None
 
     def __post_init__(self):
         object.__setattr__(self, "k_harmonics", _harmonics(self.k))
@@ -184,11 +194,31 @@ class _Flank:
         if self.friction:
             object.__setattr__(self, "f1_harmonics", _harmonics(self.f1))
             object.__setattr__(self, "f2_harmonics", _harmonics(self.f2))
+        if self.eccentric:
+            object.__setattr__(self, "r1_harmonics", _harmonics(self.r1))
+            object.__setattr__(self, "r2_harmonics", _harmonics(self.r2))
 
     @property
     def friction(self) -> bool:
         """Whether the flank carries friction torques (mu > 0)."""
         return self.f1 is not None
+
+    @property
+    def eccentric(self) -> bool:
+        """Whether an eccentricity moves the flank's gap (docs/drivetrain.md §3b)."""
+        return self.r1 is not None
+
+    @property
+    def gap_bounds(self) -> tuple[float, float]:
+        """Bounds (m) of e_f - eps_f: the flank is in contact when delta_f - b_f is above
+        the upper one, out of it when at or below the lower one (:func:`_bounds` of the
+        error series, widened by the eccentricities' amplitudes R_1f + R_2f)."""
+        lo, hi = _bounds(self.e, self.e_harmonics)
+        if self.eccentric:
+            r = sum(R for _, R, _ in self.r1_harmonics + self.r2_harmonics)
+            r = r + 1e-9 * r
+            lo, hi = lo - r, hi + r
+        return lo, hi
 
     @property
     def W(self) -> np.ndarray:
@@ -210,9 +240,10 @@ class _Plan:
     inertia: shape (n,), kg m^2 (rotations) or kg (translations); x0, v0: shape (n,),
     initial coordinates (rad, m) and velocities (rad/s, m/s). springs: (name, i, j, k,
     c, offset), j = -1 for ground: torque or force k (q_i - q_j - offset) + c (v_i - v_j).
-    omega, omega2: nominal engine/pinion and gear/propeller speeds (rad/s); theta10:
-    pinion angle at t = 0 (rad). engine_ripple: (w rad/s, A N m) terms A sin(w t);
-    prop_kappa: N m s^2; prop_ripple: (w rad/s, relative amplitude r) terms r sin(w t).
+    omega, omega2: nominal engine/pinion and gear/propeller speeds (rad/s); theta10,
+    theta20: pinion and gear angle at t = 0 (rad). engine_ripple: (w rad/s, A N m)
+    terms A sin(w t); prop_kappa: N m s^2; prop_ripple: (w rad/s, relative amplitude
+    r) terms r sin(w t).
     """
 
     names: tuple[str, ...]
@@ -224,6 +255,7 @@ class _Plan:
     omega: float
     omega2: float
     theta10: float
+    theta20: float
     flanks: tuple[_Flank, ...]
     engine_index: int
     engine_mean: float
@@ -280,11 +312,15 @@ def _plan_from_model(model) -> _Plan:
     from :meth:`mesh_vectors`, the excitation orders from :meth:`excitation_orders`.
     With mesh friction (mu > 0) each flank's friction arms times mu (docs §3a), their
     harmonics floored at 1e-12 mu lambda_1 (lambda_2): about 1e-12 of the mesh torque.
+    With eccentricities each flank's approach coefficients ``params()['rc']`` and the
+    gear angle's phase ``params()['phase2']`` (docs §3b).
     """
     n = model.n_dof
     K, C = model.structural_matrices()
     G = model.mesh_vectors()
     y0 = model.static_state()
+    p = model.params()
+    rc = p["rc"]  # shape (2, 0) without eccentricity: nothing built
     springs = [
         ("input_shaft", 0, 1, float(-K[0, 1]), float(-C[0, 1]), 0.0),
         ("output_shaft", 2, 3, float(-K[2, 3]), float(-C[2, 3]), 0.0),
@@ -305,13 +341,16 @@ def _plan_from_model(model) -> _Plan:
     for r, (name, fl) in enumerate((("drive", model.drive), ("coast", model.coast))):
         if fl is None:
             continue
-        arms = {}
+        extra = {}  # friction arms, eccentricities
         if mu > 0 and fl.friction_coef is not None:  # docs/drivetrain.md §3a
             fc = np.asarray(fl.friction_coef, dtype=float)
-            arms = {
+            extra = {
                 f"f{i + 1}": _series(mu * fc[i], model.pinion_teeth, 1e-12 * mu * lam)
                 for i, lam in enumerate((float(fl.lambda1), float(fl.lambda2)))
             }
+        if rc.shape[-1]:  # docs/drivetrain.md §3b: [A_1, B_1, A_2, B_2]
+            extra["r1"] = _series(np.r_[0.0, rc[r, 0:2]], 1)
+            extra["r2"] = _series(np.r_[0.0, rc[r, 2:4]], 1)
         flanks.append(
             _Flank(
                 name,
@@ -320,7 +359,7 @@ def _plan_from_model(model) -> _Plan:
                 _series(fl.e_coef, model.pinion_teeth, 1e-12 * static),
                 float(fl.damping),
                 float(fl.backlash),
-                **arms,
+                **extra,
             )
         )
     eo, ea, po, pa = model.excitation_orders()
@@ -335,6 +374,7 @@ def _plan_from_model(model) -> _Plan:
         omega=W,
         omega2=W2,
         theta10=float(model.phase),
+        theta20=float(p["phase2"]),
         flanks=tuple(flanks),
         engine_index=0,
         engine_mean=float(model.torque),
@@ -403,19 +443,42 @@ def _friction_arrays(fl: _Flank):
     return [_harmonic_arrays(hs) for hs in (fl.f1_harmonics, fl.f2_harmonics)]
 
 
+def _eccentricity_terms(fl: _Flank, theta1, theta2, w1, w2, cos, sin):
+    """The eccentricities' approach of one flank and its rate (docs/drivetrain.md §3b):
+    (eps_f, d eps_f/dt) in m and m/s, eps_f = sum_i R_if cos(theta_i - phi_if) and
+    d eps_f/dt = -sum_i R_if sin(theta_i - phi_if) w_i over the eccentric members i
+    (pinion, gear), theta_i their angles and w_i their absolute speeds Omega_i + v_i
+    (floats with math's cos, sin, or exudyn symbolic expressions with its own); None
+    when neither member moves the flank. One cosine and one sine per member.
+    """
+    eps = rate = None
+    for series, harmonics, theta, w in (
+        (fl.r1, fl.r1_harmonics, theta1, w1),
+        (fl.r2, fl.r2_harmonics, theta2, w2),
+    ):
+        if not harmonics:
+            continue
+        a = _fourier_terms(series, harmonics, theta, cos)
+        b = _fourier_derivative_terms(series, harmonics, theta, sin) * w
+        eps = a if eps is None else eps + a
+        rate = b if rate is None else rate + b
+    return None if eps is None else (eps, rate)
+
+
 def _friction_direction_symbolic(fl: _Flank, pos: dict[int, int], size: int, theta, u, gv):
     """Symbolic direction W_f(theta_1) of one flank's generalised force -W_f F_f with
     friction, length ``size``: gv (= -G_f) plus -mu phi_1(theta_1) on the pinion and
     +mu phi_2(theta_1) on the gear (docs/drivetrain.md §3a).
 
-    The arms are evaluated only for u = delta - b > e_lo: below, the flank is out of
-    contact (F_f = 0) whatever they are, so a separated flank costs no series.
+    The arms are evaluated only for u = delta - b > lo (:attr:`_Flank.gap_bounds`):
+    below, the flank is out of contact (F_f = 0) whatever they are, so a separated flank
+    costs no series.
     """
     import exudyn as exu
 
     esym = exu.symbolic
     zero = esym.Real(0.0)
-    e_lo, _ = _bounds(fl.e, fl.e_harmonics)
+    e_lo, _ = fl.gap_bounds
     out = esym.Vector(gv)
     for dof, series, harmonics, sign in (
         (1, fl.f1, fl.f1_harmonics, -1.0),
@@ -429,18 +492,30 @@ def _friction_direction_symbolic(fl: _Flank, pos: dict[int, int], size: int, the
 
 
 def flank_force_symbolic(
-    plan: _Plan, fl: _Flank, pos: dict[int, int], size: int, q, q_t, k, e, de, theta=None
+    plan: _Plan,
+    fl: _Flank,
+    pos: dict[int, int],
+    size: int,
+    q,
+    q_t,
+    k,
+    e,
+    de,
+    theta=None,
+    ecc=None,
 ):
     """Symbolic generalised force vector -G_f F_f of one flank, length ``size``.
 
     k, e, de: expressions (or symbolic variables) for k_f(theta_1) (N/m), e_f (m) and
     e_f' (m/rad). With friction (``fl.friction``) the vector is -W_f(theta) F_f, the
     friction torques included (:func:`_friction_direction_symbolic`; theta: the pinion
-    angle expression, rad, needed then). Contact law of docs/drivetrain.md §3. The
-    contact test uses the bounds e_lo <= e_f <= e_hi of the flank's error series where
-    they decide: u = delta - b > e_hi means contact, u <= e_lo none, and only in between
-    is the gap s itself tested. Same result, one series evaluation fewer per call in
-    loaded running and none for a flank out of contact (exudyn's trees have no common
+    angle expression, rad, needed then). ecc: (eps_f, d eps_f/dt) expressions of the
+    eccentricities' approach (m, m/s; :func:`_eccentricity_terms`, docs §3b) added to
+    the gap and its rate, or None. Contact law of docs/drivetrain.md §3. The contact
+    test uses the bounds lo <= e_f - eps_f <= hi (:attr:`_Flank.gap_bounds`) where they
+    decide: u = delta - b > hi means contact, u <= lo none, and only in between is the
+    gap s itself tested. Same result, one series evaluation fewer per call in loaded
+    running and none for a flank out of contact (exudyn's trees have no common
     subexpressions: each use of e re-evaluates it).
     """
     import exudyn as exu
@@ -456,8 +531,11 @@ def flank_force_symbolic(
             gv[j] = -g
     s = delta - e - fl.b
     sdot = ddelta - de * (plan.omega + q_t[pos[1]])
+    if ecc is not None:
+        s = s + ecc[0]
+        sdot = sdot + ecc[1]
     force = esym.max(zero, k * s + fl.c * sdot)
-    e_lo, e_hi = _bounds(fl.e, fl.e_harmonics)
+    e_lo, e_hi = fl.gap_bounds
     u = delta - fl.b
     F = esym.IfThenElse(
         u > e_hi, force, esym.IfThenElse(u > e_lo, esym.IfThenElse(s > 0.0, force, zero), zero)
@@ -474,7 +552,10 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
     Contact law (docs/drivetrain.md §3): s_f = G_f x - e_f(theta_1) - b_f,
     sdot_f = G_f v - e_f'(theta_1) (Omega + v_1), F_f = H(s_f) max(0, k_f s_f + c_f sdot_f),
     theta_1 = Omega t + q_1 + theta_10. With friction (docs §3a) each flank adds
-    -mu phi_1f(theta_1) F_f on the pinion and +mu phi_2f(theta_1) F_f on the gear.
+    -mu phi_1f(theta_1) F_f on the pinion and +mu phi_2f(theta_1) F_f on the gear. With
+    eccentricities (docs §3b) s_f gains eps_f(theta_1, theta_2) and sdot_f its rate,
+    theta_2 = Omega_2 t + q_2 + theta_20 (:func:`_eccentricity_terms`; ``pos`` then
+    holds the gear coordinate).
 
     Symbolic: an exudyn vector expression ``sum_f (-G_f) * F_f``: each flank force is one
     sub-expression, evaluated once per call (a list of per-coordinate expressions would
@@ -483,6 +564,10 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
     """
     ip = pos[1]
     theta = plan.omega * t + q[ip] + plan.theta10
+    if any(fl.eccentric for fl in plan.flanks):  # gear angle and both speeds (docs §3b)
+        ig = pos[2]
+        angles = (theta, plan.omega2 * t + q[ig] + plan.theta20)
+        speeds = (plan.omega + q_t[ip], plan.omega2 + q_t[ig])
     if symbolic:
         import exudyn as exu
 
@@ -492,7 +577,10 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
             e = _fourier_terms(fl.e, fl.e_harmonics, theta, esym.cos)
             de = _fourier_derivative_terms(fl.e, fl.e_harmonics, theta, esym.sin)
             k = _fourier_terms(fl.k, fl.k_harmonics, theta, esym.cos)
-            term = flank_force_symbolic(plan, fl, pos, size, q, q_t, k, e, de, theta)
+            ecc = None
+            if fl.eccentric:
+                ecc = _eccentricity_terms(fl, *angles, *speeds, esym.cos, esym.sin)
+            term = flank_force_symbolic(plan, fl, pos, size, q, q_t, k, e, de, theta, ecc)
             total = term if total is None else total + term
         return total
     out = np.zeros(size)
@@ -506,10 +594,17 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
         G = fl.G[dofs]
         arg = we * theta - pe
         s = float(G @ qa[idx]) - (fl.e.a0 + float(Re @ np.cos(arg))) - fl.b
+        ecc = None
+        if fl.eccentric:
+            ecc = _eccentricity_terms(fl, *angles, *speeds, math.cos, math.sin)
+            if ecc is not None:
+                s = s + ecc[0]
         if s > 0.0:
             k = fl.k.a0 + float(Rk @ np.cos(wk * theta - pk))
             de = -float((we * Re) @ np.sin(arg))
             sdot = float(G @ va[idx]) - de * (plan.omega + va[ip])
+            if ecc is not None:
+                sdot = sdot + ecc[1]
             F = max(0.0, k * s + fl.c * sdot)
             out[idx] -= G * F
             if fr is not None:  # friction torques (docs/drivetrain.md §3a)
@@ -827,10 +922,11 @@ def _build_components(plan: _Plan, solver: ExudynSolver) -> ExudynSystem:
     )
 
     # Mesh: generic ODE2 object over the coordinates its flanks touch (docs §3), and the
-    # gear's, where the friction torque acts (§3a).
-    friction = {2} if any(fl.friction for fl in plan.flanks) else set()
+    # gear's, where the friction torque acts (§3a) and whose angle an eccentricity reads
+    # (§3b).
+    gear = {2} if any(fl.friction or fl.eccentric for fl in plan.flanks) else set()
     mesh_dofs = sorted(
-        {1} | friction | {d for fl in plan.flanks for d in np.flatnonzero(fl.G).tolist()}
+        {1} | gear | {d for fl in plan.flanks for d in np.flatnonzero(fl.G).tolist()}
     )
     fn = _mesh_force(plan, mesh_dofs, symbolic)
     if symbolic:
@@ -899,7 +995,8 @@ def _linearised(plan: _Plan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     k(theta)) and its damping; the propeller load adds its speed derivative
     dT_p/dv = 2 kappa Omega_2 as damping (docs/drivetrain.md §3, §6). With friction the
     mesh terms are k W G^T and c W G^T, W the force's mean direction (:attr:`_Flank.W`,
-    docs §3a, as ``linear.linear_matrices``).
+    docs §3a, as ``linear.linear_matrices``). The eccentricities (docs §3b), a kinematic
+    excitation, do not enter.
     """
     K, C = _structural(plan)
     fl = plan.flanks[0]
