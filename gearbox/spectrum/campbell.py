@@ -50,7 +50,7 @@ ModeSpec = float | Callable[[np.ndarray], np.ndarray] | tuple[Sequence[float], S
 class ExcitationOrder:
     """One excitation: ``order`` cycles per pinion revolution, from ``source``.
 
-    ``source`` is ``mesh``, ``engine``, ``engine-half`` or ``propeller``.
+    ``source`` is ``mesh``, ``engine``, ``engine-half``, ``propeller`` or ``eccentricity``.
     """
 
     label: str

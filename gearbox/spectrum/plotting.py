@@ -22,6 +22,7 @@ _SOURCE_STYLE = {
     "engine": {"color": "tab:orange", "linestyle": "--"},
     "engine-half": {"color": "tab:gray", "linestyle": ":"},
     "propeller": {"color": "tab:green", "linestyle": "-."},
+    "eccentricity": {"color": "tab:purple", "linestyle": (0, (5, 1, 1, 1))},
 }
 
 
