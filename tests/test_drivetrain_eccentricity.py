@@ -258,3 +258,40 @@ def test_order_responses_add_sources_of_one_order():
     assert abs(r.mesh_force[0, i] - want) < 1e-9 * abs(want)
     # the sidebands are listed with their source
     assert r.sources[r.order_index(30.0)] == "pinion eccentricity"
+
+
+def test_lines_keep_their_phase_against_engine_orders_at_the_same_order():
+    """The linear amplitudes are complex lines in the model's time, so an eccentricity
+    and an engine half order at the same order add with their phases: the eccentric
+    approach turns with theta_1 = Omega t + q_1s + theta_10, the static state's q_1s
+    included (0.12 rad of input shaft twist here: leaving it out put the pinion's line
+    6.9 deg off and the sum at order 1 2.3 % low). Against the simulation settled for
+    2 s (the lowest mode's decay time is 0.16 s) and Fourier coefficients over two
+    common periods: each line within 0.1 % as a complex number (measured 0.003 %)."""
+    pytest.importorskip("diffrax")
+    from gearbox.drivetrain.simulate import default_solver, simulate
+
+    m = DrivetrainModel.from_scene(
+        scene(
+            pinion_eccentricity_um=20.0,
+            pinion_eccentricity_angle_deg=30.0,
+            gear_eccentricity_um=15.0,
+            gear_eccentricity_angle_deg=-60.0,
+            firing_torque_ripple=0.0,
+            blade_pass_ripple=0.0,
+            half_order_ripple=0.02,
+        )
+    )
+    assert abs(m.static_state()[1]) > 0.05
+    pc = m.common_period_mesh_cycles()
+    spc = 32
+    ts = simulate(m, default_solver(), settle_time=2.0, mesh_cycles=2 * pc, samples_per_cycle=spc)
+    assert ts.success
+    t = ts.time[-2 * pc * spc :]
+    x = ts.channels["mesh_force_N"][-2 * pc * spc :]
+    r = order_responses(m)
+    for o in (1.0, 29 / 45, 0.5):
+        i = r.order_index(o)
+        sim = 2j * np.mean(x * np.exp(-1j * o * m.speed * t))  # Im(A e^{iwt}) convention
+        lin = r.mesh_force[0, i]
+        assert abs(lin - sim) < 1e-3 * abs(sim), (o, r.sources[i], lin, sim)

@@ -596,6 +596,7 @@ def eccentricity_harmonic_balance(
     fl = model.drive
     rc = model.eccentricity_coefficients()[0]
     ratio = model.pinion_teeth / model.gear_teeth
+    ys = model.static_state()
     # the mesh orders' steady vibration, about which the eccentricities' is linearised
     Xm, _ = mesh_harmonic_balance(model, sp, harmonics=harmonics, samples=samples)
     gx = Xm @ model.mesh_vectors()[0]  # (B, H), Im(A e^{i h N1 theta})
@@ -609,6 +610,8 @@ def eccentricity_harmonic_balance(
             continue
         o0 = 1.0 if name == "pinion" else ratio
         E = rc[col] - 1j * rc[col + 1]  # A cos + B sin = Re((A - i B) e^{i theta})
+        if name == "gear":  # theta_2 = (N1/N2) theta_1 + q_2s - (N1/N2) q_1s
+            E = E * np.exp(1j * (ys[2] - ratio * ys[1]))
         hill = _hill(model, sp, harmonics, samples, o0, base=base)
         hs = hill.hs
         w0 = (o0 * sp)[:, None, None]
@@ -616,10 +619,11 @@ def eccentricity_harmonic_balance(
         X = hill.solve(rhs)
         f = hill.mesh_force(X, fl.damping) + E * hill.kap[hs % samples][None]
         f[:, harmonics] += 1j * o0 * sp * fl.damping * E
-        # theta_1 = Omega t + theta_10: the time's origin; Re(X e^{iwt}) with w < 0 is
-        # Re(conj(X) e^{i|w|t}); Re(Y e^{i|w|t}) = Im(i Y e^{i|w|t})
+        # theta_1 = Omega t + q_1s + theta_10 (the static state's q_1s): the time's
+        # origin; Re(X e^{iwt}) with w < 0 is Re(conj(X) e^{i|w|t}); Re(Y e^{i|w|t}) =
+        # Im(i Y e^{i|w|t})
         orders = o0 + hs * float(model.pinion_teeth)
-        shift = np.exp(1j * orders * model.phase)
+        shift = np.exp(1j * orders * (model.phase + ys[1]))
         X = X * shift[None, :, None]
         f = f * shift[None, :]
         neg = orders < 0
