@@ -574,7 +574,12 @@ ECCENTRIC_MEMBERS = (("pinion", "pinion_eccentricity", 0), ("gear", "gear_eccent
 
 
 def eccentricity_harmonic_balance(
-    model: DrivetrainModel, speeds=None, *, harmonics: int = 12, samples: int = 256
+    model: DrivetrainModel,
+    speeds=None,
+    *,
+    harmonics: int = 12,
+    samples: int = 256,
+    mesh_response: np.ndarray | None = None,
 ) -> list[tuple[str, np.ndarray, np.ndarray, np.ndarray]]:
     """Steady response to each eccentricity (docs/drivetrain.md §3b) with the mesh
     stiffness varying in time: the same Hill system as :func:`mesh_harmonic_balance`
@@ -585,6 +590,9 @@ def eccentricity_harmonic_balance(
         rhs_h = -E [(W k)_h + i w_0 c W_h],     mesh force  ... + E kap_h + i w_0 c E [h = 0].
 
     The modulation k(theta) eps puts the response at the sidebands |o_0 + h N_1|.
+    The system is linearised about the mesh orders' steady vibration: ``mesh_response``,
+    the coordinates' amplitudes X of :func:`mesh_harmonic_balance` at the same speeds,
+    harmonics and samples (computed when None).
 
     Returns, per eccentric member: (name, orders |o_0 + h N_1| (L = 2 H + 1,),
     coordinate amplitudes (B, L, n), mesh-force amplitudes (B, L)), each as Im(A exp(i
@@ -598,7 +606,9 @@ def eccentricity_harmonic_balance(
     ratio = model.pinion_teeth / model.gear_teeth
     ys = model.static_state()
     # the mesh orders' steady vibration, about which the eccentricities' is linearised
-    Xm, _ = mesh_harmonic_balance(model, sp, harmonics=harmonics, samples=samples)
+    Xm = mesh_response
+    if Xm is None:
+        Xm, _ = mesh_harmonic_balance(model, sp, harmonics=harmonics, samples=samples)
     gx = Xm @ model.mesh_vectors()[0]  # (B, H), Im(A e^{i h N1 theta})
     hh = np.arange(1, gx.shape[1] + 1) * float(model.pinion_teeth)
     th = np.arange(samples) * (2 * math.pi / model.pinion_teeth / samples)
@@ -696,7 +706,10 @@ def order_responses(
         X = np.concatenate([X, Xm], axis=1)
         mesh = np.concatenate([mesh, fm], axis=1)
     for name, oe, Xe, fe in eccentricity_harmonic_balance(
-        model, sp, harmonics=max(mesh_harmonics, 1)
+        model,
+        sp,
+        harmonics=max(mesh_harmonics, 1),
+        mesh_response=Xm if mesh_harmonics > 0 else None,
     ):
         orders = np.concatenate([orders, oe])
         sources = sources + (f"{name} eccentricity",) * oe.size
