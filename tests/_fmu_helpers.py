@@ -1,6 +1,7 @@
 """Helpers shared by the FMU tests: a kept-alive fmi2 logger, the light-load scene
-variant whose drive flank separates, Co-Simulation instances and Model Exchange
-derivatives."""
+variant whose drive flank separates, Co-Simulation instances, Model Exchange
+derivatives (FMI 2.0 and 3.0) with the gearbox FMU's flange inputs, the scipy
+reference and the libcosim run against the drivetrain FMU."""
 
 from ctypes import byref
 
@@ -55,45 +56,56 @@ def light_load(backlash_mm: float) -> dict:
 
 
 def me_derivatives(path, times, states, *, start=None, inputs=None, name="rhs"):
-    """The Model Exchange FMU at ``path`` evaluated at each (t, x) of ``times`` (S,) and
-    ``states`` (S, m): (its initial continuous states (m,), the derivatives (S, m)).
-    start: {variable: value} set before leaving initialization; inputs(t, i) ->
-    {variable: value} set before the i-th evaluation."""
+    """The Model Exchange FMU at ``path`` (FMI 2.0 or 3.0) evaluated at each (t, x) of
+    ``times`` (S,) and ``states`` (S, m): (its initial continuous states (m,), the
+    derivatives (S, m)). start: {variable: value} set before leaving initialization;
+    inputs(t, i) -> {variable: value} set before the i-th evaluation."""
     import shutil
     from ctypes import c_double
 
     from fmpy import extract, read_model_description
-    from fmpy.fmi2 import FMU2Model
 
     md = read_model_description(path)
     vr = {v.name: v.valueReference for v in md.modelVariables}
     d = extract(path)
     m = states.shape[1]
     out = np.empty_like(states, dtype=float)
+    fmi3 = md.fmiVersion.startswith("3")
     try:
-        fmu = FMU2Model(
+        if fmi3:
+            from fmpy.fmi3 import FMU3Model as Model
+        else:
+            from fmpy.fmi2 import FMU2Model as Model
+        fmu = Model(
             guid=md.guid,
             unzipDirectory=d,
             modelIdentifier=md.modelExchange.modelIdentifier,
             instanceName=name,
         )
+        set_real = fmu.setFloat64 if fmi3 else fmu.setReal
         fmu.instantiate()
-        fmu.setupExperiment(startTime=0.0)
-        fmu.enterInitializationMode()
+        if fmi3:
+            fmu.enterInitializationMode(startTime=0.0)
+        else:
+            fmu.setupExperiment(startTime=0.0)
+            fmu.enterInitializationMode()
         if start:
-            fmu.setReal([vr[k] for k in start], list(start.values()))
+            set_real([vr[k] for k in start], list(start.values()))
         fmu.exitInitializationMode()
+        if fmi3:
+            fmu.updateDiscreteStates()
         x0 = (c_double * m)()
         fmu.getContinuousStates(x0, m)
         fmu.enterContinuousTimeMode()
+        derivatives = fmu.getContinuousStateDerivatives if fmi3 else fmu.getDerivatives
         for i, (t, x) in enumerate(zip(times, states, strict=True)):
             fmu.setTime(float(t))
             if inputs is not None:
                 values = inputs(t, i)
-                fmu.setReal([vr[k] for k in values], list(values.values()))
+                set_real([vr[k] for k in values], list(values.values()))
             fmu.setContinuousStates((c_double * m)(*x), m)
             dx = (c_double * m)()
-            fmu.getDerivatives(dx, m)
+            derivatives(dx, m)
             out[i] = np.array(dx)
         fmu.terminate()
         fmu.freeInstance()
@@ -130,3 +142,68 @@ def cs_instance(path, log=None, start=None, name="fixed"):
     for k, v in (start or {}).items():
         fmu.setReal([vr[k]], [v])
     return fmu, vr, d
+
+
+def scipy_reference(model, stop, dt=1e-4):
+    """The FMU tests' reference: the scipy solver (DOP853, rtol 1e-10) on the numpy
+    right-hand side from the static state, sampled every ``dt`` up to ``stop`` (s):
+    (time, the channels of ``gearbox.drivetrain.model.outputs``)."""
+    from gearbox.drivetrain.model import outputs
+    from gearbox.drivetrain.scipy_backend import ScipySolver, integrate_scipy
+
+    t = np.linspace(0.0, stop, int(round(stop / dt)) + 1)
+    tt, y, info = integrate_scipy(model, model.static_state(), t, ScipySolver(rtol=1e-10))
+    assert info["status"] == "success", info
+    return tt, outputs(model, tt, y)
+
+
+def flange_inputs(model, states):
+    """``inputs`` of :func:`me_derivatives` for the gearbox FMU: its flange angles and
+    speeds from the engine and propeller rows of the model's states (S, 2 n)."""
+    n = model.n_dof
+
+    def inputs(t, i):
+        y = states[i]
+        return {
+            "input_flange.phi": model.speed * t + y[0],
+            "input_flange.w": model.speed + y[n],
+            "output_flange.phi": model.gear_speed * t + y[3],
+            "output_flange.w": model.gear_speed + y[n + 3],
+        }
+
+    return inputs
+
+
+def cosim_against_drivetrain(model, table, gearbox, drivetrain, out, stop=0.01, step=5e-5):
+    """Engine, the ``gearbox`` build and propeller FMUs on libcosim (``cosim_drivetrain``,
+    communication step ``step``) against the drivetrain FMU at path ``drivetrain`` (its
+    DOPRI5 at rtol 1e-10) at the communication points: RMS difference over the AC RMS
+    of the mesh force and of the input shaft torque, and the mean mesh force's relative
+    difference."""
+    from gearbox.fmu import build_fmu, engine_fmu, propeller_fmu
+    from gearbox.fmu.cosim import cosim_drivetrain
+    from gearbox.fmu.run import ac_relative_error, simulate_fmu
+
+    builds = {
+        "engine": build_fmu(engine_fmu(model), out),
+        "gearbox": gearbox,
+        "propeller": build_fmu(propeller_fmu(model), out),
+    }
+    res = cosim_drivetrain(model, table, out, step=step, stop_time=stop, builds=builds)
+    assert res.success, res.message
+    t, ch, _ = simulate_fmu(
+        drivetrain,
+        stop_time=stop,
+        step=1e-5,
+        rtol=1e-10,
+        outputs=["mesh.force", "input_shaft.torque"],
+    )
+    k = (np.abs(t / step - np.round(t / step)) < 1e-6) & (t <= res.time[-1] + 1e-12)
+    mean = ch["mesh.force"][k].mean()  # at the same sample times
+    return (
+        ac_relative_error(res.time, res["mesh_force_N"], t[k], ch["mesh.force"][k]),
+        ac_relative_error(
+            res.time, res["input_shaft_torque_Nm"], t[k], ch["input_shaft.torque"][k]
+        ),
+        abs(res["mesh_force_N"].mean() - mean) / abs(mean),
+    )

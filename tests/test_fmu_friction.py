@@ -19,7 +19,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _fmu_helpers import cs_instance, fmu_log, me_derivatives
+from _fmu_helpers import (
+    cosim_against_drivetrain,
+    cs_instance,
+    flange_inputs,
+    fmu_log,
+    me_derivatives,
+)
 
 fmpy = pytest.importorskip("fmpy")
 
@@ -210,17 +216,7 @@ def test_right_hand_side_with_friction_agrees_with_numpy(built, model_table, kin
     times = rng.uniform(0.0, 0.05, 200)
     states = y0 + 0.3 * scale * rng.standard_normal((200, 2 * n))  # in drive contact
 
-    def flanges(t, i):  # the gearbox FMU's inputs from the same state
-        if kind != "gearbox":
-            return {}
-        y = states[i]
-        return {
-            "input_flange.phi": model.speed * t + y[0],
-            "input_flange.w": model.speed + y[n],
-            "output_flange.phi": model.gear_speed * t + y[3],
-            "output_flange.w": model.gear_speed + y[n + 3],
-        }
-
+    flanges = flange_inputs(model, states) if kind == "gearbox" else None
     x0, got = me_derivatives(
         built[kind].fmu, times, states[:, rows], inputs=flanges, name="friction"
     )
@@ -313,30 +309,10 @@ def test_co_simulated_gearbox_with_friction_agrees_with_the_monolithic_fmu(
     force at the communication points: measured 8e-7 relative (as without friction),
     1e-5 allowed."""
     pytest.importorskip("libcosimpy")
-    from gearbox.fmu import engine_fmu, propeller_fmu
-    from gearbox.fmu.cosim import cosim_drivetrain
-
     model, table = model_table
-    builds = {
-        "engine": build_fmu(engine_fmu(model), tmp_path),
-        "gearbox": built["gearbox"],
-        "propeller": build_fmu(propeller_fmu(model), tmp_path),
-    }
-    stop, step = 0.01, 5e-5
-    res = cosim_drivetrain(model, table, tmp_path, step=step, stop_time=stop, builds=builds)
-    assert res.success, res.message
-    t, ch, _ = simulate_fmu(
-        built["drivetrain"].fmu,
-        stop_time=stop,
-        step=1e-5,
-        rtol=1e-10,
-        outputs=["mesh.force", "input_shaft.torque"],
+    force, torque, mean = cosim_against_drivetrain(
+        model, table, built["gearbox"], built["drivetrain"].fmu, tmp_path
     )
-    k = (np.abs(t / step - np.round(t / step)) < 1e-6) & (t <= res.time[-1] + 1e-12)
-    assert ac_relative_error(res.time, res["mesh_force_N"], t[k], ch["mesh.force"][k]) < 1.2e-4
-    assert (
-        ac_relative_error(res.time, res["input_shaft_torque_Nm"], t[k], ch["input_shaft.torque"][k])
-        < 2e-3
-    )
-    mean = ch["mesh.force"][k].mean()  # at the same sample times
-    assert abs(res["mesh_force_N"].mean() - mean) < 1e-5 * mean
+    assert force < 1.2e-4
+    assert torque < 2e-3
+    assert mean < 1e-5

@@ -14,7 +14,11 @@ in ``resources/`` and are fitted at instantiation, so the mean torque stays a
 parameter. A table with the sliding friction's moment arms (``friction_arm_pinion_m``,
 ``friction_arm_gear_m``) ships them too: the mesh FMUs then have the parameter
 ``mesh.friction_coefficient`` (start: the model's ``mesh_friction_coefficient``) and
-the friction torques as outputs (docs/drivetrain.md §3a).
+the friction torques as outputs (docs/drivetrain.md §3a). The mesh FMUs of a model
+built from a table (whose flanks carry ``MeshFlank.transverse``) have the pinion's
+and the gear's eccentricities as parameters (``pinion.eccentricity``,
+``pinion.eccentricity_angle``, ``gear.*``; start: the model's) and their approach of
+the flanks as an output (docs/drivetrain.md §3b).
 """
 
 from __future__ import annotations
@@ -67,6 +71,20 @@ def _friction(model, table) -> bool:
             "cannot build the FMU with mesh friction",
         )
     return arms
+
+
+def _eccentricity(model) -> bool:
+    """Whether the FMU has the eccentricities (docs §3b): where the model's flanks carry
+    the transverse projections, which the C code recomputes from the table at
+    ``engine.mean_torque`` like the rotation radii (a model built before them has
+    neither, and no eccentricity)."""
+    return model.drive.transverse is not None
+
+
+def _mesh_features(model, table) -> dict[str, bool]:
+    """The optional parts of the mesh FMUs: ``friction`` (:func:`_friction`) and
+    ``eccentricity`` (:func:`_eccentricity`)."""
+    return {"friction": _friction(model, table), "eccentricity": _eccentricity(model)}
 
 
 def mesh_resources(model, table) -> dict[str, str]:
@@ -257,7 +275,7 @@ def _propeller_params(model, *, full: bool) -> list[Variable]:
     return v
 
 
-def _gearbox_params(model, *, friction: bool) -> list[Variable]:
+def _gearbox_params(model, *, friction: bool, eccentricity: bool) -> list[Variable]:
     v = [
         _p(
             "input_shaft.stiffness",
@@ -334,6 +352,8 @@ def _gearbox_params(model, *, friction: bool) -> list[Variable]:
                 0.3,
             )
         )
+    if eccentricity:
+        v += _eccentricity_params(model)
     if model.bearing_dofs:
         v += [
             _p(
@@ -372,6 +392,34 @@ def _gearbox_params(model, *, friction: bool) -> list[Variable]:
     return v
 
 
+def _eccentricity_params(model) -> list[Variable]:
+    """e_i and psi_i of the pinion and the gear (docs/drivetrain.md §3b; the scene's
+    ranges, [0, 1 mm] and [-360, 360] deg)."""
+    v = []
+    for member, what in (("pinion", "pinion's"), ("gear", "gear's")):
+        v += [
+            _p(
+                f"{member}.eccentricity",
+                "m",
+                f"Eccentricity e of the {what} teeth about its axis (radial runout 2 e; 0: "
+                "none): the flanks' approach along the line of action once per revolution",
+                getattr(model, f"{member}_eccentricity"),
+                0,
+                1e-3,
+            ),
+            _p(
+                f"{member}.eccentricity_angle",
+                "rad",
+                f"Direction psi of the {what} eccentricity at the member's angle 0, from the "
+                "transverse axis towards the drive flank's mean mesh point, in its driving sense",
+                getattr(model, f"{member}_eccentricity_angle"),
+                -2.0 * np.pi,
+                2.0 * np.pi,
+            ),
+        ]
+    return v
+
+
 def _mesh_damping_ratio(model) -> float:
     """zeta_mesh back from the drive flank's damping c = 2 zeta sqrt(kbar m) (docs §3)."""
     d = model.drive
@@ -380,7 +428,7 @@ def _mesh_damping_ratio(model) -> float:
     return float(d.damping / c_unit)
 
 
-def _gearbox_outputs(model, *, friction: bool) -> list[Variable]:
+def _gearbox_outputs(model, *, friction: bool, eccentricity: bool) -> list[Variable]:
     v = [
         _out("pinion.phi", "rad", "Pinion angle (absolute)"),
         _out("pinion.w", "rad/s", "Pinion speed"),
@@ -420,6 +468,15 @@ def _gearbox_outputs(model, *, friction: bool) -> list[Variable]:
                 "Mesh friction loss: minus the power of the friction torques on pinion and gear",
             ),
         ]
+    if eccentricity:
+        v.append(
+            _out(
+                "mesh.eccentricity_approach",
+                "m",
+                "The eccentricities' approach eps_drive of the drive flanks along the line of "
+                "action (in the gap beside mesh.deflection)",
+            )
+        )
     if model.bearing_dofs:
         v += [
             _out("pinion_bearing.force", "N", "Pinion bearing force along the line of action"),
@@ -458,6 +515,7 @@ def _mesh_c(
     engine,
     propeller,
     friction,
+    eccentricity,
     readme,
     resources,
 ) -> FmuModel:
@@ -469,6 +527,7 @@ def _mesh_c(
         f"#define GBX_WITH_PROPELLER {int(propeller)}\n"
         f"#define GBX_BEARINGS {int(model.bearing_dofs)}\n"
         f"#define GBX_FRICTION {int(friction)}\n"
+        f"#define GBX_ECCENTRICITY {int(eccentricity)}\n"
         f"#define GBX_MAX_HARMONICS {h}\n"
         f"#define GBX_ENGINE_HARMONICS {model.engine_harmonics}\n"
         f"#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
@@ -481,23 +540,27 @@ def _mesh_c(
     data = """    int n1, n2, nf, nt, np, h, has_coast;
     double axis[2][6];
     int ng, ne, npg; /* grid cells per period: mesh, engine (0: none), propeller */
-    double *torque, *samples, *coef, *grid, *egrid, *pgrid;
+    double *torque, *samples, *coef, *grid, *egrid, *pgrid, *tgrid;
     double fmesh, fe, fp, lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
     double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
     double x0[6], qe0;
-    double mu, farm[2][2], W[2][6]; /* friction: mu, mean arms phi_1, phi_2, G + Phi */"""
+    double mu, farm[2][2], W[2][6]; /* friction: mu, mean arms phi_1, phi_2, G + Phi */
+    /* eccentricities: [A_1, B_1, A_2, B_2] of each flank (m), the pinion's and the gear's
+     * revolutions per second, whether one is not 0 */
+    double rc[2][4], frev[2];
+    int ecc;"""
     return FmuModel(identifier, description, tuple(variables), data, code, resources, readme)
 
 
 def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> FmuModel:
     """The whole drivetrain as one FMU (engine torque and propeller load as extra inputs)."""
-    friction = _friction(model, table)
+    features = _mesh_features(model, table)
     dofs = list(range(model.n_dof))
     states, ders = _states(model, dofs)
     variables = (
         _engine_params(model, full=True)
         + _propeller_params(model, full=True)
-        + _gearbox_params(model, friction=friction)
+        + _gearbox_params(model, **features)
         + [
             Variable(
                 "engine.torque_input", "input", "N.m", "Extra engine torque added to T_e", start=0.0
@@ -516,7 +579,7 @@ def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> F
             _out("propeller.w", "rad/s", "Propeller speed"),
             _out("propeller.torque", "N.m", "Propeller load torque T_p incl. torque input"),
         ]
-        + _gearbox_outputs(model, friction=friction)
+        + _gearbox_outputs(model, **features)
         + states
         + ders
     )
@@ -532,7 +595,7 @@ def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> F
         dofs,
         engine=True,
         propeller=True,
-        friction=friction,
+        **features,
         readme=_readme("drivetrain", identifier, desc),
         resources=mesh_resources(model, table),
     )
@@ -540,14 +603,14 @@ def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> F
 
 def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuModel:
     """The gearbox alone: engine and propeller flange angles and speeds are inputs."""
-    friction = _friction(model, table)
+    features = _mesh_features(model, table)
     dofs = [i for i in range(model.n_dof) if i not in (0, 3)]
     states, ders = _states(model, dofs)
     y0 = model.static_state()
     variables = (
         _engine_params(model, full=False)
         + _propeller_params(model, full=False)
-        + _gearbox_params(model, friction=friction)
+        + _gearbox_params(model, **features)
         + [
             Variable(
                 "input_flange.phi",
@@ -596,7 +659,7 @@ def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuMode
                 start=0.0,
             ),
         ]
-        + _gearbox_outputs(model, friction=friction)
+        + _gearbox_outputs(model, **features)
         + states
         + ders
     )
@@ -620,7 +683,7 @@ def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuMode
         dofs,
         engine=False,
         propeller=False,
-        friction=friction,
+        **features,
         readme=_readme("gearbox", identifier, desc),
         resources=mesh_resources(model, table),
     )

@@ -44,6 +44,8 @@ DRIVETRAIN_COLUMNS = {
     "mesh.pinion_friction_torque": "pinion_friction_torque_Nm",
     "mesh.gear_friction_torque": "gear_friction_torque_Nm",
     "mesh.friction_power": "mesh_friction_power_W",
+    # with an eccentricity (pinion or gear) only
+    "mesh.eccentricity_approach": "eccentricity_approach_m",
 }
 
 
