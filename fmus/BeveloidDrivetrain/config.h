@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{98255808-8fd9-9131-5995-350d57901060}"
+#define MODEL_GUID "{ccccb363-eeb2-d0aa-c639-e1c65488becd}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 71
+#define GBX_NR 76
 #define GBX_NX 8
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -35,57 +35,62 @@
 #define VR_mesh_damping_ratio 17
 #define VR_mesh_backlash 18
 #define VR_mesh_friction_coefficient 19
-#define VR_engine_torque_input 20
-#define VR_propeller_torque_input 21
-#define VR_engine_phi 22
-#define VR_engine_w 23
-#define VR_engine_torque 24
-#define VR_propeller_phi 25
-#define VR_propeller_w 26
-#define VR_propeller_torque 27
-#define VR_pinion_phi 28
-#define VR_pinion_w 29
-#define VR_gear_phi 30
-#define VR_gear_w 31
-#define VR_input_shaft_torque 32
-#define VR_output_shaft_torque 33
-#define VR_input_shaft_torque_rate 34
-#define VR_output_shaft_torque_rate 35
-#define VR_mesh_force 36
-#define VR_mesh_deflection 37
-#define VR_mesh_dte 38
-#define VR_mesh_pinion_friction_torque 39
-#define VR_mesh_gear_friction_torque 40
-#define VR_mesh_friction_power 41
-#define VR_q_engine 42
-#define VR_q_pinion 43
-#define VR_q_gear 44
-#define VR_q_propeller 45
-#define VR_v_engine 46
-#define VR_v_pinion 47
-#define VR_v_gear 48
-#define VR_v_propeller 49
-#define VR_der_q_engine 50
-#define VR_der_q_pinion 51
-#define VR_der_q_gear 52
-#define VR_der_q_propeller 53
-#define VR_der_v_engine 54
-#define VR_der_v_pinion 55
-#define VR_der_v_gear 56
-#define VR_der_v_propeller 57
-#define VR_solver_rtol 58
-#define VR_solver_max_step 59
-#define VR_solver_method 60
-#define VR_solver_fixed_step 61
-#define VR_solver_steps_per_period 62
-#define VR_solver_steps_per_mesh_period 63
-#define VR_solver_contact_rtol 64
-#define VR_solver_step_size 65
-#define VR_solver_stability_limit 66
-#define VR_solver_handed_over 67
-#define VR_solver_steps 68
-#define VR_solver_rejected 69
-#define VR_solver_rhs_evaluations 70
+#define VR_pinion_eccentricity 20
+#define VR_pinion_eccentricity_angle 21
+#define VR_gear_eccentricity 22
+#define VR_gear_eccentricity_angle 23
+#define VR_engine_torque_input 24
+#define VR_propeller_torque_input 25
+#define VR_engine_phi 26
+#define VR_engine_w 27
+#define VR_engine_torque 28
+#define VR_propeller_phi 29
+#define VR_propeller_w 30
+#define VR_propeller_torque 31
+#define VR_pinion_phi 32
+#define VR_pinion_w 33
+#define VR_gear_phi 34
+#define VR_gear_w 35
+#define VR_input_shaft_torque 36
+#define VR_output_shaft_torque 37
+#define VR_input_shaft_torque_rate 38
+#define VR_output_shaft_torque_rate 39
+#define VR_mesh_force 40
+#define VR_mesh_deflection 41
+#define VR_mesh_dte 42
+#define VR_mesh_pinion_friction_torque 43
+#define VR_mesh_gear_friction_torque 44
+#define VR_mesh_friction_power 45
+#define VR_mesh_eccentricity_approach 46
+#define VR_q_engine 47
+#define VR_q_pinion 48
+#define VR_q_gear 49
+#define VR_q_propeller 50
+#define VR_v_engine 51
+#define VR_v_pinion 52
+#define VR_v_gear 53
+#define VR_v_propeller 54
+#define VR_der_q_engine 55
+#define VR_der_q_pinion 56
+#define VR_der_q_gear 57
+#define VR_der_q_propeller 58
+#define VR_der_v_engine 59
+#define VR_der_v_pinion 60
+#define VR_der_v_gear 61
+#define VR_der_v_propeller 62
+#define VR_solver_rtol 63
+#define VR_solver_max_step 64
+#define VR_solver_method 65
+#define VR_solver_fixed_step 66
+#define VR_solver_steps_per_period 67
+#define VR_solver_steps_per_mesh_period 68
+#define VR_solver_contact_rtol 69
+#define VR_solver_step_size 70
+#define VR_solver_stability_limit 71
+#define VR_solver_handed_over 72
+#define VR_solver_steps 73
+#define VR_solver_rejected 74
+#define VR_solver_rhs_evaluations 75
 
 /* state indices */
 #define X_q_engine 0
@@ -115,11 +120,15 @@ typedef struct {
     int n1, n2, nf, nt, np, h, has_coast;
     double axis[2][6];
     int ng, ne, npg; /* grid cells per period: mesh, engine (0: none), propeller */
-    double *torque, *samples, *coef, *grid, *egrid, *pgrid;
+    double *torque, *samples, *coef, *grid, *egrid, *pgrid, *tgrid;
     double fmesh, fe, fp, lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
     double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
     double x0[6], qe0;
     double mu, farm[2][2], W[2][6]; /* friction: mu, mean arms phi_1, phi_2, G + Phi */
+    /* eccentricities: [A_1, B_1, A_2, B_2] of each flank (m), the pinion's and the gear's
+     * revolutions per second, whether one is not 0 */
+    double rc[2][4], frev[2];
+    int ecc;
 } GbxModelData;
 
 #endif /* config_h */

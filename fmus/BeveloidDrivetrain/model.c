@@ -30,63 +30,69 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"mesh.damping_ratio", 0, -1, 0.05, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 17 parameter */
     {"mesh.backlash", 0, -1, 0.0001, 0.0, 0.01, 0, 0, 1.0, 0}, /* vr 18 parameter */
     {"mesh.friction_coefficient", 0, -1, 0.0, 0.0, 0.3, 0, 0, 1.0, 0}, /* vr 19 parameter */
-    {"engine.torque_input", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 20 input */
-    {"propeller.torque_input", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 21 input */
-    {"engine.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 22 output */
-    {"engine.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 23 output */
-    {"engine.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 24 output */
-    {"propeller.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 25 output */
-    {"propeller.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 26 output */
-    {"propeller.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 27 output */
-    {"pinion.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 28 output */
-    {"pinion.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 29 output */
-    {"gear.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 30 output */
-    {"gear.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 31 output */
-    {"input_shaft.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 32 output */
-    {"output_shaft.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 33 output */
-    {"input_shaft.torque_rate", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 34 output */
-    {"output_shaft.torque_rate", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 35 output */
-    {"mesh.force", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 36 output */
-    {"mesh.deflection", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 37 output */
-    {"mesh.dte", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 38 output */
-    {"mesh.pinion_friction_torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 39 output */
-    {"mesh.gear_friction_torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 40 output */
-    {"mesh.friction_power", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 41 output */
-    {"q.engine", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 42 state */
-    {"q.pinion", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 43 state */
-    {"q.gear", 3, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 44 state */
-    {"q.propeller", 3, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 45 state */
-    {"v.engine", 3, 4, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 46 state */
-    {"v.pinion", 3, 5, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 47 state */
-    {"v.gear", 3, 6, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 48 state */
-    {"v.propeller", 3, 7, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 49 state */
-    {"der(q.engine)", 4, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 50 derivative */
-    {"der(q.pinion)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 51 derivative */
-    {"der(q.gear)", 4, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 52 derivative */
-    {"der(q.propeller)", 4, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 53 derivative */
-    {"der(v.engine)", 4, 4, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 54 derivative */
-    {"der(v.pinion)", 4, 5, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 55 derivative */
-    {"der(v.gear)", 4, 6, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 56 derivative */
-    {"der(v.propeller)", 4, 7, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 57 derivative */
-    {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 58 parameter */
-    {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 59 parameter */
-    {"solver.method", 0, -1, 1.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 60 parameter */
-    {"solver.fixed_step", 0, -1, 0.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 61 parameter */
-    {"solver.steps_per_period", 0, -1, 12.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 62 parameter */
-    {"solver.steps_per_mesh_period", 0, -1, 32.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 63 parameter */
-    {"solver.contact_rtol", 0, -1, 1e-09, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 64 parameter */
-    {"solver.step_size", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 65 output */
-    {"solver.stability_limit", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 66 output */
-    {"solver.handed_over", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 67 output */
-    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 68 output */
-    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 69 output */
-    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 70 output */
+    {"pinion.eccentricity", 0, -1, 0.0, 0.0, 0.001, 0, 0, 1.0, 0}, /* vr 20 parameter */
+    {"pinion.eccentricity_angle", 0, -1, 0.0, -6.283185307179586, 6.283185307179586, 0, 0, 1.0, 0}, /* vr 21 parameter */
+    {"gear.eccentricity", 0, -1, 0.0, 0.0, 0.001, 0, 0, 1.0, 0}, /* vr 22 parameter */
+    {"gear.eccentricity_angle", 0, -1, 0.0, -6.283185307179586, 6.283185307179586, 0, 0, 1.0, 0}, /* vr 23 parameter */
+    {"engine.torque_input", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 24 input */
+    {"propeller.torque_input", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 25 input */
+    {"engine.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 26 output */
+    {"engine.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 27 output */
+    {"engine.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 28 output */
+    {"propeller.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 29 output */
+    {"propeller.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 30 output */
+    {"propeller.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 31 output */
+    {"pinion.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 32 output */
+    {"pinion.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 33 output */
+    {"gear.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 34 output */
+    {"gear.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 35 output */
+    {"input_shaft.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 36 output */
+    {"output_shaft.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 37 output */
+    {"input_shaft.torque_rate", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 38 output */
+    {"output_shaft.torque_rate", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 39 output */
+    {"mesh.force", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 40 output */
+    {"mesh.deflection", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 41 output */
+    {"mesh.dte", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 42 output */
+    {"mesh.pinion_friction_torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 43 output */
+    {"mesh.gear_friction_torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 44 output */
+    {"mesh.friction_power", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 45 output */
+    {"mesh.eccentricity_approach", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 46 output */
+    {"q.engine", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 47 state */
+    {"q.pinion", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 48 state */
+    {"q.gear", 3, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 49 state */
+    {"q.propeller", 3, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 50 state */
+    {"v.engine", 3, 4, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 51 state */
+    {"v.pinion", 3, 5, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 52 state */
+    {"v.gear", 3, 6, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 53 state */
+    {"v.propeller", 3, 7, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 54 state */
+    {"der(q.engine)", 4, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 55 derivative */
+    {"der(q.pinion)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 56 derivative */
+    {"der(q.gear)", 4, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 57 derivative */
+    {"der(q.propeller)", 4, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 58 derivative */
+    {"der(v.engine)", 4, 4, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 59 derivative */
+    {"der(v.pinion)", 4, 5, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 60 derivative */
+    {"der(v.gear)", 4, 6, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 61 derivative */
+    {"der(v.propeller)", 4, 7, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 62 derivative */
+    {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 63 parameter */
+    {"solver.max_step", 0, -1, 0.001, 0.0, 1.0, 1, 0, 1.0, 0}, /* vr 64 parameter */
+    {"solver.method", 0, -1, 1.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 65 parameter */
+    {"solver.fixed_step", 0, -1, 0.0, 0.0, 1.0, 0, 0, 1.0, 0}, /* vr 66 parameter */
+    {"solver.steps_per_period", 0, -1, 12.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 67 parameter */
+    {"solver.steps_per_mesh_period", 0, -1, 32.0, 2.0, 10000.0, 0, 0, 1.0, 0}, /* vr 68 parameter */
+    {"solver.contact_rtol", 0, -1, 1e-09, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 69 parameter */
+    {"solver.step_size", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 70 output */
+    {"solver.stability_limit", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 71 output */
+    {"solver.handed_over", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 72 output */
+    {"solver.steps", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 73 output */
+    {"solver.rejected", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 74 output */
+    {"solver.rhs_evaluations", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 75 output */
 };
 
 #define GBX_WITH_ENGINE 1
 #define GBX_WITH_PROPELLER 1
 #define GBX_BEARINGS 0
 #define GBX_FRICTION 1
+#define GBX_ECCENTRICITY 1
 #define GBX_MAX_HARMONICS 24
 #define GBX_ENGINE_HARMONICS 3
 #define GBX_BLADE_HARMONICS 1
@@ -128,7 +134,8 @@ static double propeller_torque(double kappa, double Omega2, double w, double Z, 
  *
  *   M dv/dt = Q_ext - K_s x - C_s v - sum_f G_f F_f                         (section 7)
  *   F_f = H(s_f) max(0, k_f(theta_1) s_f + c_f sdot_f)                      (section 3)
- *   s_f = G_f . x - e_f(theta_1) - b_f,  sdot_f = G_f . v - e_f'(theta_1)(Omega + v_1)
+ *   s_f = G_f . x + eps_f - e_f(theta_1) - b_f,
+ *   sdot_f = G_f . v + deps_f/dt - e_f'(theta_1)(Omega + v_1)                  (3b)
  *   Q_ext,1 += -mu sum_f phi_1f(theta_1) F_f,  Q_ext,2 += +mu sum_f phi_2f(theta_1) F_f  (3a)
  *
  * x = [q_e, q_1, q_2, q_p (, y_1, y_2)] deviations from the nominal rotation
@@ -147,9 +154,20 @@ static double propeller_torque(double kappa, double Omega2, double w, double Z, 
  * (lambda_1 + mu phi_1) / Omega_2^2 and the static state (DrivetrainModel.torque_ratio,
  * static_state).
  *
+ * Eccentricities (GBX_ECCENTRICITY): the pinion's e_1 at psi_1 and the gear's e_2 at
+ * psi_2 (pinion.eccentricity, .eccentricity_angle, gear.*; 0: none) move the flanks
+ * towards each other by eps_f = A_1f cos theta_1 + B_1f sin theta_1 + A_2f cos theta_2
+ * + B_2f sin theta_2, theta_2 = Omega_2 t + q_2 (the gear's coordinate: a state in
+ * either FMU), with the coefficients of DrivetrainModel.eccentricity_coefficients from
+ * the projections of n_f on each member's transverse axes u_i (towards the drive
+ * flank's mean mesh point at the operating torque) and v_i = a_i x u_i
+ * (gearbox.drivetrain.model.transverse_axes), computed here from the table like the
+ * rotation radii. Nothing is evaluated while both eccentricities are 0.
+ *
  * Build switches: GBX_WITH_ENGINE, GBX_WITH_PROPELLER (0: that shaft end is an input
  * flange), GBX_BEARINGS (bearing translations along the drive line of action),
- * GBX_FRICTION (friction arms in the table: mesh.friction_coefficient and its outputs). */
+ * GBX_FRICTION (friction arms in the table: mesh.friction_coefficient and its outputs),
+ * GBX_ECCENTRICITY (the eccentricities' parameters and mesh.eccentricity_approach). */
 
 #define NDOF (GBX_BEARINGS ? 6 : 4)
 #define TWO_PI 6.283185307179586
@@ -163,6 +181,8 @@ static double propeller_torque(double kappa, double Omega2, double w, double Z, 
 /* coef: k, e, LTE of flank f at (3 f + 0, 1, 2) nc; the friction arm w (0: about the
  * pinion's axis, 1: the gear's) of flank f at (6 + 2 f + w) nc; work arrays after */
 #define GBX_ARM(d, f, w, nc) ((d)->coef + (6 + 2 * (f) + (w)) * (nc))
+/* cells per turn of the cos and sin grid of the eccentricities (turn_grid) */
+#define GBX_TURN_CELLS 128
 
 /* ------------------------------------------------------------------ tables */
 
@@ -170,6 +190,10 @@ static int fail(ModelInstance *m, const char *what) {
     gbx_log(m, fmi2Error, "logStatusError", "resource tables are corrupt: %s", what);
     return 1;
 }
+
+#if GBX_ECCENTRICITY
+static void turn_grid(double *cells);
+#endif
 
 int gbx_model_load(ModelInstance *m) {
     GbxModelData *d = &m->data;
@@ -236,6 +260,11 @@ int gbx_model_load(ModelInstance *m) {
                                     sizeof(double));
     if (!d->pgrid) return fail(m, "out of memory");
 #endif
+#if GBX_ECCENTRICITY
+    d->tgrid = (double *)gbx_calloc(m, (size_t)(12 * GBX_TURN_CELLS), sizeof(double));
+    if (!d->tgrid) return fail(m, "out of memory");
+    turn_grid(d->tgrid);
+#endif
     return 0;
 }
 
@@ -247,7 +276,8 @@ void gbx_model_free(ModelInstance *m) {
     gbx_free(m, d->grid);
     gbx_free(m, d->egrid);
     gbx_free(m, d->pgrid);
-    d->torque = d->samples = d->coef = d->grid = d->egrid = d->pgrid = NULL;
+    gbx_free(m, d->tgrid);
+    d->torque = d->samples = d->coef = d->grid = d->egrid = d->pgrid = d->tgrid = NULL;
 }
 
 /* a0, a_1..a_h, b_1..b_h of samples v[0..np) (gearbox.meshtable.fourier_fit). */
@@ -396,6 +426,32 @@ static inline int grid_cell(double u, int n, double *tau) {
     return j;
 }
 
+#if GBX_ECCENTRICITY
+/* cos and sin of 2 pi u over one turn u in [0, 1): GBX_TURN_CELLS cells of two quintic
+ * Hermite polynomials each (12 doubles), the error bound of the mesh grid with 128 cells
+ * per harmonic: (2 pi / 128)^6 / 46080 = 3e-13. The eccentricities read their cos and
+ * sin in the right-hand side from here (two lookups instead of two sincos of a large
+ * angle). */
+static void turn_grid(double *cells) {
+    const double dx = 1.0 / GBX_TURN_CELLS, w = TWO_PI, w2 = TWO_PI * TWO_PI;
+    int j;
+    for (j = 0; j < GBX_TURN_CELLS; j++) {
+        double a0 = w * j * dx, a1 = w * (j + 1) * dx;
+        double c0 = cos(a0), s0 = sin(a0), c1 = cos(a1), s1 = sin(a1);
+        quintic(c0, -w * s0, -w2 * c0, c1, -w * s1, -w2 * c1, dx, cells + 12 * j);
+        quintic(s0, w * c0, -w2 * s0, s1, w * c1, -w2 * s1, dx, cells + 12 * j + 6);
+    }
+}
+
+/* cos and sin of the angle 2 pi u from the grid */
+static inline void turn_value(const double *cells, double u, double *c, double *s) {
+    double tau;
+    const double *a = cells + 12 * grid_cell(u, GBX_TURN_CELLS, &tau);
+    *c = quintic_value(a, tau);
+    *s = quintic_value(a + 6, tau);
+}
+#endif
+
 #if GBX_WITH_ENGINE || GBX_WITH_PROPELLER
 /* ---------------------------------------------- time excitations on a grid
  * The engine's relative torque ripple sum_i ea_i sin(eo_i Omega t) (loads.c.in) is
@@ -475,6 +531,52 @@ static int solve(int n, double A[6][6], double *b) {
         return 1;                                                                                  \
     } while (0)
 
+#if GBX_ECCENTRICITY
+/* The eccentricities' coefficients rc[f] = [A_1, B_1, A_2, B_2] (m) of flank f, docs
+ * section 3b (DrivetrainModel.eccentricity_coefficients), from the drive flank's mean
+ * mesh point pm (Sf) and the flanks' mean lines of action dir[f]: member i's transverse
+ * axes are u_i, the unit vector from its axis towards pm perpendicular to a_i, and v_i
+ * = a_i x u_i (gearbox.drivetrain.model.transverse_axes). 0 ok, 1 where pm lies on an
+ * axis. */
+static int eccentricity_coefficients(ModelInstance *m, const double *pm) {
+    GbxModelData *d = &m->data;
+    const double e[2] = {P(pinion_eccentricity), P(gear_eccentricity)};
+    const double psi[2] = {P(pinion_eccentricity_angle), P(gear_eccentricity_angle)};
+    int f, i, j;
+    for (f = 0; f < 2; f++)
+        for (j = 0; j < 4; j++) d->rc[f][j] = 0.0;
+    for (i = 0; i < 2; i++) {
+        const double *ax = d->axis[i], sign = i == 0 ? 1.0 : -1.0; /* the gear's moves away */
+        const double c = cos(psi[i]), s = sin(psi[i]);
+        double a[3], u[3], w[3], ra = 0.0, nu = 0.0,
+               na = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
+        for (j = 0; j < 3; j++) {
+            a[j] = ax[j] / na;
+            ra += (pm[j] - ax[3 + j]) * a[j];
+        }
+        for (j = 0; j < 3; j++) {
+            u[j] = pm[j] - ax[3 + j] - ra * a[j];
+            nu += u[j] * u[j];
+        }
+        nu = sqrt(nu);
+        if (!(nu > 0.0)) return 1;
+        for (j = 0; j < 3; j++) u[j] /= nu;
+        w[0] = a[1] * u[2] - a[2] * u[1];
+        w[1] = a[2] * u[0] - a[0] * u[2];
+        w[2] = a[0] * u[1] - a[1] * u[0];
+        for (f = 0; f < d->nf; f++) {
+            const double *nv = d->dir[f];
+            double pu = u[0] * nv[0] + u[1] * nv[1] + u[2] * nv[2];
+            double pv = w[0] * nv[0] + w[1] * nv[1] + w[2] * nv[2];
+            d->rc[f][2 * i] = sign * e[i] * (pu * c + pv * s);
+            d->rc[f][2 * i + 1] = sign * e[i] * (pv * c - pu * s);
+        }
+    }
+    d->ecc = e[0] > 0.0 || e[1] > 0.0;
+    return 0;
+}
+#endif
+
 int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
     GbxModelData *d = &m->data;
     const int nc = 1 + 2 * d->h, np = d->np;
@@ -486,7 +588,7 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
     double *arm = Pn + 6 * np;
 #endif
     double je = P(engine_inertia), j1n = P(pinion_inertia), j2n = P(gear_inertia), jp = P(propeller_inertia);
-    double K[6][6], b[6];
+    double K[6][6], b[6], pm[3] = {0.0, 0.0, 0.0}; /* the drive flank's mean mesh point */
     /* operating torque inside the table (DrivetrainModel: MeshTable._torque_weights) */
     if (T < d->torque[0] - 1e-9 * fmax(1.0, d->torque[d->nt - 1]) ||
         T > d->torque[d->nt - 1] * (1.0 + 1e-9) + 1e-9)
@@ -533,7 +635,11 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
             dir[0] += nv[0];
             dir[1] += nv[1];
             dir[2] += nv[2];
+            if (f == 0)
+                for (j = 0; j < 3; j++) pm[j] += p[j];
         }
+        if (f == 0)
+            for (j = 0; j < 3; j++) pm[j] /= np;
         d->lam1[f] = l1 / np;
         d->lam2[f] = l2 / np;
         nn = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
@@ -578,9 +684,18 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
         }
     }
     mesh_grid(d);
+#if GBX_ECCENTRICITY
+    if (eccentricity_coefficients(m, pm) != 0)
+        ERR("the drive flank's mean mesh point (%g, %g, %g) m lies on a member's axis", pm[0], pm[1],
+            pm[2]);
+#else
+    (void)pm;
+#endif
     d->Omega = P(engine_nominal_speed);
     d->fmesh = d->n1 * d->Omega / TWO_PI;
     d->Omega2 = d->Omega * d->n1 / d->n2;
+    d->frev[0] = d->Omega / TWO_PI; /* revolutions per second of the pinion and the gear */
+    d->frev[1] = d->Omega2 / TWO_PI;
     d->T = T;
     /* the mean torque ratio T_2 / T_1 in drive contact with friction, and the mesh force's
      * generalised direction W = G_drive + Phi_drive (DrivetrainModel.torque_ratio,
@@ -785,14 +900,39 @@ static void mesh_laws(const GbxModelData *d, double t, double x1, const int *wan
     }
 }
 
-/* Mesh forces F[2] (N) at (t, x, v), docs section 3; LTE_drive when asked (exact laws);
- * the friction torques tf[2] on the pinion and the gear (N m, section 3a) when asked */
-static void mesh(const ModelInstance *m, double t, const double *x, const double *v, double *F,
-                 int exact, double *lte_drive, double *tf) {
-    const GbxModelData *d = &m->data;
-    double kf[2], ef[2], de[2], delta[2] = {0.0, 0.0}, ddelta[2] = {0.0, 0.0}, arms[4];
-    int f, i, want[2] = {0, 0}, any = lte_drive != NULL;
-    int friction = GBX_FRICTION && tf != NULL && d->mu != 0.0;
+#if GBX_ECCENTRICITY
+/* The eccentricities' approach eps[f] (m) of both flanks and its rate (m/s) at (t, x, v),
+ * docs section 3b (gearbox.drivetrain.model.eccentricity_terms): theta_1 = Omega t + q_1,
+ * theta_2 = Omega_2 t + q_2; their cos and sin from the grid (the right-hand side) or
+ * exact (the outputs) */
+static void eccentricity(const GbxModelData *d, double t, const double *x, const double *v,
+                         int exact, double *eps, double *rate) {
+    const double w1 = d->Omega + v[1], w2 = d->Omega2 + v[2];
+    double c1, s1, c2, s2;
+    int f;
+    if (exact) {
+        const double th1 = d->Omega * t + x[1], th2 = d->Omega2 * t + x[2];
+        c1 = cos(th1), s1 = sin(th1), c2 = cos(th2), s2 = sin(th2);
+    } else { /* in turns: f_i t + q_i / (2 pi) */
+        turn_value(d->tgrid, d->frev[0] * t + x[1] * (1.0 / TWO_PI), &c1, &s1);
+        turn_value(d->tgrid, d->frev[1] * t + x[2] * (1.0 / TWO_PI), &c2, &s2);
+    }
+    for (f = 0; f < 2; f++) {
+        const double *r = d->rc[f];
+        eps[f] = r[0] * c1 + r[1] * s1 + r[2] * c2 + r[3] * s2;
+        rate[f] = (r[1] * c1 - r[0] * s1) * w1 + (r[3] * c2 - r[2] * s2) * w2;
+    }
+}
+#endif
+
+/* The flanks' approach delta[f] = G_f . x (+ eps_f, section 3b; exact or from the grid)
+ * and its rate ddelta[f] at (t, x, v), and want[f]: whether flank f can be closed (s <= delta + max|e| - b: where
+ * not, F = 0 without the laws); returns whether any can */
+static inline int approach(const GbxModelData *d, double t, const double *x, const double *v,
+                    int exact, double *delta, double *ddelta, int *want) {
+    int f, i, any = 0;
+    delta[0] = delta[1] = ddelta[0] = ddelta[1] = 0.0;
+    want[0] = want[1] = 0;
     for (f = 0; f < d->nf; f++) {
         /* G_f is zero at the engine and the propeller (i = 0, 3) */
         delta[f] = d->G[f][1] * x[1] + d->G[f][2] * x[2];
@@ -801,10 +941,36 @@ static void mesh(const ModelInstance *m, double t, const double *x, const double
             delta[f] += d->G[f][i] * x[i];
             ddelta[f] += d->G[f][i] * v[i];
         }
-        /* s <= delta + max|e| - b: no contact possible, F = 0 without the laws */
+    }
+#if GBX_ECCENTRICITY
+    if (d->ecc) {
+        double eps[2], rate[2];
+        eccentricity(d, t, x, v, exact, eps, rate);
+        for (f = 0; f < d->nf; f++) {
+            delta[f] += eps[f];
+            ddelta[f] += rate[f];
+        }
+    }
+#else
+    (void)t;
+    (void)exact;
+#endif
+    for (f = 0; f < d->nf; f++) {
         want[f] = delta[f] + d->ebound[f] - d->bl[f] > 0.0;
         any |= want[f];
     }
+    return any;
+}
+
+/* Mesh forces F[2] (N) at (t, x, v), docs section 3; LTE_drive when asked (exact laws);
+ * the friction torques tf[2] on the pinion and the gear (N m, section 3a) when asked */
+static void mesh(const ModelInstance *m, double t, const double *x, const double *v, double *F,
+                 int exact, double *lte_drive, double *tf) {
+    const GbxModelData *d = &m->data;
+    double kf[2], ef[2], de[2], delta[2], ddelta[2], arms[4];
+    int f, want[2];
+    int friction = GBX_FRICTION && tf != NULL && d->mu != 0.0;
+    int any = approach(d, t, x, v, exact, delta, ddelta, want) || lte_drive != NULL;
     F[0] = F[1] = 0.0;
     if (tf) tf[0] = tf[1] = 0.0;
     if (!any) return;
@@ -915,6 +1081,13 @@ void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
     m->r[VR_mesh_force] = F[0] - F[1];
     m->r[VR_mesh_deflection] = defl;
     m->r[VR_mesh_dte] = defl - lte;
+#if GBX_ECCENTRICITY
+    {
+        double eps[2] = {0.0, 0.0}, rate[2];
+        if (d->ecc) eccentricity(d, t, x, v, 1, eps, rate);
+        m->r[VR_mesh_eccentricity_approach] = eps[0];
+    }
+#endif
 #if GBX_FRICTION
     m->r[VR_mesh_pinion_friction_torque] = tf[0];
     m->r[VR_mesh_gear_friction_torque] = tf[1];
@@ -999,19 +1172,12 @@ double gbx_model_linear(const ModelInstance *m, double *A) {
  * where its gap is closed and k s + c s' > 0 (the force law's two kinks). */
 int gbx_model_in_contact(const ModelInstance *m, double t, const double *s) {
     const GbxModelData *d = &m->data;
-    double x[6], v[6], kf[2], ef[2], de[2], delta[2] = {0.0, 0.0}, ddelta[2] = {0.0, 0.0};
+    double x[6], v[6], kf[2], ef[2], de[2], delta[2], ddelta[2];
     double gap[2], load[2];
-    int f, i, want[2] = {0, 0};
+    int f, want[2];
     coordinates(m, t, s, x, v);
-    for (f = 0; f < d->nf; f++) {
-        delta[f] = d->G[f][1] * x[1] + d->G[f][2] * x[2];
-        ddelta[f] = d->G[f][1] * v[1] + d->G[f][2] * v[2];
-        for (i = 4; i < NDOF; i++) {
-            delta[f] += d->G[f][i] * x[i];
-            ddelta[f] += d->G[f][i] * v[i];
-        }
-        want[f] = delta[f] + d->ebound[f] - d->bl[f] > 0.0;
-    }
+    /* the gap with the eccentricities' approach (gearbox.drivetrain.fixed_step: lost) */
+    approach(d, t, x, v, 0, delta, ddelta, want);
     if (!want[0]) return 0; /* drive flank surely open */
     mesh_laws(d, t, x[1], want, 0, kf, ef, de, NULL, NULL);
     for (f = 0; f < d->nf; f++) {

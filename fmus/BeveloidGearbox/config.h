@@ -3,14 +3,14 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{12b2f0e7-a094-d222-89e2-67e4a849e76b}"
+#define MODEL_GUID "{2ac608b0-54c4-3609-40c8-9bdaa8aa6913}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
 #define GBX_CO_SIMULATION 1
 #define GBX_CAN_GET_SET_FMU_STATE 0
 
-#define GBX_NR 54
+#define GBX_NR 59
 #define GBX_NX 4
 #define NUMBER_OF_EVENT_INDICATORS 0
 
@@ -28,47 +28,52 @@
 #define VR_mesh_damping_ratio 10
 #define VR_mesh_backlash 11
 #define VR_mesh_friction_coefficient 12
-#define VR_input_flange_phi 13
-#define VR_input_flange_w 14
-#define VR_input_flange_a 15
-#define VR_output_flange_phi 16
-#define VR_output_flange_w 17
-#define VR_output_flange_a 18
-#define VR_pinion_phi 19
-#define VR_pinion_w 20
-#define VR_gear_phi 21
-#define VR_gear_w 22
-#define VR_input_shaft_torque 23
-#define VR_output_shaft_torque 24
-#define VR_input_shaft_torque_rate 25
-#define VR_output_shaft_torque_rate 26
-#define VR_mesh_force 27
-#define VR_mesh_deflection 28
-#define VR_mesh_dte 29
-#define VR_mesh_pinion_friction_torque 30
-#define VR_mesh_gear_friction_torque 31
-#define VR_mesh_friction_power 32
-#define VR_q_pinion 33
-#define VR_q_gear 34
-#define VR_v_pinion 35
-#define VR_v_gear 36
-#define VR_der_q_pinion 37
-#define VR_der_q_gear 38
-#define VR_der_v_pinion 39
-#define VR_der_v_gear 40
-#define VR_solver_rtol 41
-#define VR_solver_max_step 42
-#define VR_solver_method 43
-#define VR_solver_fixed_step 44
-#define VR_solver_steps_per_period 45
-#define VR_solver_steps_per_mesh_period 46
-#define VR_solver_contact_rtol 47
-#define VR_solver_step_size 48
-#define VR_solver_stability_limit 49
-#define VR_solver_handed_over 50
-#define VR_solver_steps 51
-#define VR_solver_rejected 52
-#define VR_solver_rhs_evaluations 53
+#define VR_pinion_eccentricity 13
+#define VR_pinion_eccentricity_angle 14
+#define VR_gear_eccentricity 15
+#define VR_gear_eccentricity_angle 16
+#define VR_input_flange_phi 17
+#define VR_input_flange_w 18
+#define VR_input_flange_a 19
+#define VR_output_flange_phi 20
+#define VR_output_flange_w 21
+#define VR_output_flange_a 22
+#define VR_pinion_phi 23
+#define VR_pinion_w 24
+#define VR_gear_phi 25
+#define VR_gear_w 26
+#define VR_input_shaft_torque 27
+#define VR_output_shaft_torque 28
+#define VR_input_shaft_torque_rate 29
+#define VR_output_shaft_torque_rate 30
+#define VR_mesh_force 31
+#define VR_mesh_deflection 32
+#define VR_mesh_dte 33
+#define VR_mesh_pinion_friction_torque 34
+#define VR_mesh_gear_friction_torque 35
+#define VR_mesh_friction_power 36
+#define VR_mesh_eccentricity_approach 37
+#define VR_q_pinion 38
+#define VR_q_gear 39
+#define VR_v_pinion 40
+#define VR_v_gear 41
+#define VR_der_q_pinion 42
+#define VR_der_q_gear 43
+#define VR_der_v_pinion 44
+#define VR_der_v_gear 45
+#define VR_solver_rtol 46
+#define VR_solver_max_step 47
+#define VR_solver_method 48
+#define VR_solver_fixed_step 49
+#define VR_solver_steps_per_period 50
+#define VR_solver_steps_per_mesh_period 51
+#define VR_solver_contact_rtol 52
+#define VR_solver_step_size 53
+#define VR_solver_stability_limit 54
+#define VR_solver_handed_over 55
+#define VR_solver_steps 56
+#define VR_solver_rejected 57
+#define VR_solver_rhs_evaluations 58
 
 /* state indices */
 #define X_q_pinion 0
@@ -94,11 +99,15 @@ typedef struct {
     int n1, n2, nf, nt, np, h, has_coast;
     double axis[2][6];
     int ng, ne, npg; /* grid cells per period: mesh, engine (0: none), propeller */
-    double *torque, *samples, *coef, *grid, *egrid, *pgrid;
+    double *torque, *samples, *coef, *grid, *egrid, *pgrid, *tgrid;
     double fmesh, fe, fp, lam1[2], lam2[2], dir[2][3], proj[2], kbar[2], cm[2], bl[2], G[2][6], ebound[2];
     double Omega, Omega2, T, kappa, k_in, k_out, c_in, c_out, kb[2], cb[2], minv[6];
     double x0[6], qe0;
     double mu, farm[2][2], W[2][6]; /* friction: mu, mean arms phi_1, phi_2, G + Phi */
+    /* eccentricities: [A_1, B_1, A_2, B_2] of each flank (m), the pinion's and the gear's
+     * revolutions per second, whether one is not 0 */
+    double rc[2][4], frev[2];
+    int ecc;
 } GbxModelData;
 
 #endif /* config_h */
