@@ -245,19 +245,18 @@ def test_harmonic_balance_reads_the_nonlinear_run(eccentric_run):
 
 def test_order_responses_add_sources_of_one_order():
     """With an engine half order at 1 and a pinion eccentricity, order 1 is one entry
-    whose response is the sum of each source's alone (the linear model superposes);
-    tolerance round-off."""
+    whose response is the sum of each source's alone (the linear model superposes),
+    and so are their sidebands about the mesh order; tolerance round-off."""
     both = DrivetrainModel.from_scene(scene(pinion_eccentricity_um=20.0))
     engine = dataclasses.replace(both, pinion_eccentricity=0.0)
     ecc = dataclasses.replace(both, half_order_ripple=0.0, firing_ripple=0.0)
     r, re, rx = (order_responses(x) for x in (both, engine, ecc))
-    i = r.order_index(1.0)
-    assert r.sources[i] == "engine-half+pinion eccentricity"
-    assert np.sum(np.isclose(r.orders, 1.0)) == 1
-    want = re.mesh_force[0, re.order_index(1.0)] + rx.mesh_force[0, rx.order_index(1.0)]
-    assert abs(r.mesh_force[0, i] - want) < 1e-9 * abs(want)
-    # the sidebands are listed with their source
-    assert r.sources[r.order_index(30.0)] == "pinion eccentricity"
+    for o in (1.0, 30.0):  # the line and its upper sideband about the mesh order
+        i = r.order_index(o)
+        assert r.sources[i] == "engine-half+pinion eccentricity"
+        assert np.sum(np.isclose(r.orders, o)) == 1
+        want = re.mesh_force[0, re.order_index(o)] + rx.mesh_force[0, rx.order_index(o)]
+        assert abs(r.mesh_force[0, i] - want) < 1e-9 * abs(want)
 
 
 def test_lines_keep_their_phase_against_engine_orders_at_the_same_order():

@@ -76,13 +76,16 @@ def test_orders_the_model_does_not_excite_are_zero(case03_model):
     assert r.order_index(2.5) is None
     peaks = r.peaks(2.5)
     assert peaks["mesh_force_N"] == 0.0 and peaks["input_shaft_torque_fraction"] == 0.0
-    # every excited order: the model's engine, propeller and mesh orders
+    # every excited order: the model's engine, propeller and mesh orders, and the
+    # engine's and propeller's sidebands |o + h N1| about the mesh orders, h = -3..3
     eo, ea, po, pa = case03_model.excitation_orders()
-    ratio = case03_model.pinion_teeth / case03_model.gear_teeth
-    expect = {float(o) for o, a in zip(eo, ea, strict=True) if a}
-    expect |= {float(o * ratio) for o, a in zip(po, pa, strict=True) if a}
-    expect |= {float(h * case03_model.pinion_teeth) for h in range(1, 13)}
-    assert sorted(r.orders) == pytest.approx(sorted(expect), rel=1e-12)
+    z = case03_model.pinion_teeth
+    ratio = z / case03_model.gear_teeth
+    lines = [float(o) for o, a in zip(eo, ea, strict=True) if a]
+    lines += [float(o * ratio) for o, a in zip(po, pa, strict=True) if a]
+    expect = {round(abs(o + h * z), 9) for o in lines for h in range(-3, 4)}
+    expect |= {float(h * z) for h in range(1, 13)}
+    assert sorted(np.round(r.orders, 9)) == pytest.approx(sorted(expect), rel=1e-12)
 
 
 @pytest.fixture(scope="module")

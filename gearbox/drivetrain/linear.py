@@ -26,6 +26,7 @@ __all__ = [
     "largest_stable_step",
     "linear_matrices",
     "eccentricity_harmonic_balance",
+    "excitation_harmonic_balance",
     "mesh_harmonic_balance",
     "modes",
     "order_responses",
@@ -460,6 +461,19 @@ def _hill(
     along the motion linearised about, whose approach s_0 is delta_s - e(theta_1) (the
     static state), plus ``base`` = (deflection, rate) samples (B, S) of a periodic
     motion (the mesh orders' response, for the eccentricities)."""
+    return _hill_families(model, sp, harmonics, samples, follow_angle, base)(order0)
+
+
+def _hill_families(
+    model: DrivetrainModel,
+    sp: np.ndarray,
+    harmonics: int,
+    samples: int,
+    follow_angle: bool = True,
+    base: tuple[np.ndarray, np.ndarray] | None = None,
+):
+    """``assemble(order0) -> _Hill`` of :func:`_hill`: the parts that do not depend on
+    the family's w_0 computed once for every family."""
     n, H = model.n_dof, int(harmonics)
     fl = model.drive
     k, e, de, W = _drive_laws(model, samples)
@@ -471,20 +485,17 @@ def _hill(
     hs = np.arange(-H, H + 1)
     M, C, K = linear_matrices(model)
     Cb = _damping_at(model, C, sp)  # (B, n, n)
-    freq = (order0 + hs[None, :] * float(model.pinion_teeth)) * sp[:, None]  # (B, m)
     m = hs.size
+    B = sp.size
     # blocks (h, j): (W k)_{h-j} g^T + i w_j (W c)_{h-j} g^T, less the linear model's
     # share on the diagonal, which holds K_lin - w_h^2 M + i w_h C_lin
     dh = (hs[:, None] - hs[None, :]) % samples
     eye = (hs[:, None] == hs[None, :])[..., None]
     stiff = wk[dh] - eye * fl.mean_stiffness * wbar  # (m, m, n)
     damp = wc[dh] - eye * fl.damping * wbar
-    jw = freq[:, None, :, None]  # (B, 1, m, 1): column j
-    blk = stiff[None] + 1j * jw * damp[None]  # (B, m, m, n)
-    A = blk.transpose(0, 1, 3, 2)[..., None] * g  # (B, m, n, m, n): [b, h, row, j, col]
-    B = sp.size
     fq = np.zeros((B, samples), complex)
     fd = np.zeros(samples, complex)
+    sq = sv = None
     if follow_angle:
         t1 = model.pinion_teeth
         c = fl.damping
@@ -497,17 +508,26 @@ def _hill(
         dk, dde, dW = _d_theta(k, t1), _d_theta(de, t1), _d_theta(W, t1)
         f0 = k * s0 + c * r0  # the mesh force along that motion
         q = dk * s0 - k * de - c * dde * sp[:, None]  # its change per radian of q_1
-        sq = np.fft.fft(W * q[..., None] + dW * f0[..., None], axis=1) / samples
-        sv = np.fft.fft(-c * W * de[:, None], axis=0) / samples  # damping on v_1
-        A[:, :, :, :, 1] += (sq[:, dh] + 1j * jw * sv[dh][None]).transpose(0, 1, 3, 2)
+        sq = (np.fft.fft(W * q[..., None] + dW * f0[..., None], axis=1) / samples)[:, dh]
+        sv = (np.fft.fft(-c * W * de[:, None], axis=0) / samples)[dh]  # damping on v_1
         fq = np.fft.fft(q, axis=1) / samples
         fd = np.fft.fft(-c * de) / samples
-    wh = freq[:, :, None, None]  # (B, m, 1, 1)
-    diag = K - wh**2 * M + 1j * wh * Cb[:, None]  # (B, m, n, n)
     idx = np.arange(m)
-    A[:, idx, :, idx, :] += diag.transpose(1, 0, 2, 3)
-    A = A.reshape(B, m * n, m * n)
-    return _Hill(hs, freq, A, kap, wk, wc, g, fq, fd, k, e, de, W, samples)
+
+    def assemble(order0: float) -> _Hill:
+        freq = (order0 + hs[None, :] * float(model.pinion_teeth)) * sp[:, None]  # (B, m)
+        jw = freq[:, None, :, None]  # (B, 1, m, 1): column j
+        blk = stiff[None] + 1j * jw * damp[None]  # (B, m, m, n)
+        A = blk.transpose(0, 1, 3, 2)[..., None] * g  # (B, m, n, m, n): [b, h, row, j, col]
+        if sq is not None:
+            A[:, :, :, :, 1] += (sq + 1j * jw * sv[None]).transpose(0, 1, 3, 2)
+        wh = freq[:, :, None, None]  # (B, m, 1, 1)
+        diag = K - wh**2 * M + 1j * wh * Cb[:, None]  # (B, m, n, n)
+        A[:, idx, :, idx, :] += diag.transpose(1, 0, 2, 3)
+        A = A.reshape(B, m * n, m * n)
+        return _Hill(hs, freq, A, kap, wk, wc, g, fq, fd, k, e, de, W, samples)
+
+    return assemble
 
 
 def mesh_harmonic_balance(
@@ -573,6 +593,60 @@ def mesh_harmonic_balance(
 ECCENTRIC_MEMBERS = (("pinion", "pinion_eccentricity", 0), ("gear", "gear_eccentricity", 2))
 
 
+def _vibration_samples(model, sp, Xm, samples):
+    """The mesh orders' steady vibration of the approach, G.x and its rate, at
+    ``samples`` pinion angles over one mesh cycle: two arrays (B, S), from the
+    coordinates' amplitudes Xm (B, H, n) of :func:`mesh_harmonic_balance`."""
+    gx = Xm @ model.mesh_vectors()[0]  # (B, H), Im(A e^{i h N1 theta})
+    hh = np.arange(1, gx.shape[1] + 1) * float(model.pinion_teeth)
+    th = np.arange(samples) * (2 * math.pi / model.pinion_teeth / samples)
+    ph = np.exp(1j * hh[:, None] * th[None, :])  # (H, S)
+    return (gx @ ph).imag, ((1j * gx * hh * sp[:, None]) @ ph).imag
+
+
+def _family(model, sp, assemble, order0, *, approach=0j, force=None):
+    """Steady response of the family w_0 + h w_m (w_0 = ``order0`` Omega) to a forcing
+    at w_0 in the frame theta = Omega t + q_1s + theta_10 (the pinion's angle at the
+    static state): the drive flank's approach Re(E e^{i o_0 theta}) (``approach`` = E),
+    or the generalised force Re(F e^{i o_0 theta}) (``force`` = F, (n,)). Returns
+    (orders |o_0 + h N_1|, coordinates (B, L, n), mesh force (B, L)), each as Im(A e^{i
+    w t}) in the model's time t."""
+    fl = model.drive
+    n = model.n_dof
+    hill = assemble(order0)
+    hs, samples, harmonics = hill.hs, hill.samples, (hill.hs.size - 1) // 2
+    w0 = (order0 * sp)[:, None, None]
+    E = complex(approach)
+    rhs = -E * (hill.wk[hs % samples][None] + 1j * w0 * hill.wc[hs % samples][None])
+    if force is not None:
+        rhs = rhs + np.where((hs == 0)[None, :, None], np.asarray(force)[None, None, :], 0)
+    X = hill.solve(np.broadcast_to(rhs, (sp.size, hs.size, n)).astype(complex))
+    f = hill.mesh_force(X, fl.damping) + E * hill.kap[hs % samples][None]
+    f[:, harmonics] += 1j * order0 * sp * fl.damping * E
+    # theta = Omega t + q_1s + theta_10: back to the time's origin; Re(X e^{iwt}) with
+    # w < 0 is Re(conj(X) e^{i|w|t}); Re(Y e^{i|w|t}) = Im(i Y e^{i|w|t})
+    orders = order0 + hs * float(model.pinion_teeth)
+    shift = np.exp(1j * orders * _frame_angle(model))
+    X = X * shift[None, :, None]
+    f = f * shift[None, :]
+    neg = orders < 0
+    X[:, neg] = np.conj(X[:, neg])
+    f[:, neg] = np.conj(f[:, neg])
+    return np.abs(orders), 1j * X, 1j * f
+
+
+def _frame_angle(model: DrivetrainModel) -> float:
+    """theta_1 - Omega t at the static state: q_1s + theta_10 (rad)."""
+    return float(model.phase + model.static_state()[1])
+
+
+def _mesh_base(model, sp, harmonics, samples, mesh_response):
+    Xm = mesh_response
+    if Xm is None:
+        Xm, _ = mesh_harmonic_balance(model, sp, harmonics=harmonics, samples=samples)
+    return _vibration_samples(model, sp, Xm, samples)
+
+
 def eccentricity_harmonic_balance(
     model: DrivetrainModel,
     speeds=None,
@@ -596,24 +670,16 @@ def eccentricity_harmonic_balance(
 
     Returns, per eccentric member: (name, orders |o_0 + h N_1| (L = 2 H + 1,),
     coordinate amplitudes (B, L, n), mesh-force amplitudes (B, L)), each as Im(A exp(i
-    w t)) with w = order x Omega and t the model's time (theta_1 = Omega t + theta_10).
+    w t)) with w = order x Omega and t the model's time.
     """
     sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
     if not model.has_eccentricity:
         return []
-    fl = model.drive
     rc = model.eccentricity_coefficients()[0]
     ratio = model.pinion_teeth / model.gear_teeth
     ys = model.static_state()
-    # the mesh orders' steady vibration, about which the eccentricities' is linearised
-    Xm = mesh_response
-    if Xm is None:
-        Xm, _ = mesh_harmonic_balance(model, sp, harmonics=harmonics, samples=samples)
-    gx = Xm @ model.mesh_vectors()[0]  # (B, H), Im(A e^{i h N1 theta})
-    hh = np.arange(1, gx.shape[1] + 1) * float(model.pinion_teeth)
-    th = np.arange(samples) * (2 * math.pi / model.pinion_teeth / samples)
-    ph = np.exp(1j * hh[:, None] * th[None, :])  # (H, S)
-    base = ((gx @ ph).imag, ((1j * gx * hh * sp[:, None]) @ ph).imag)
+    base = _mesh_base(model, sp, harmonics, samples, mesh_response)
+    assemble = _hill_families(model, sp, harmonics, samples, base=base)
     out = []
     for name, attr, col in ECCENTRIC_MEMBERS:
         if getattr(model, attr) <= 0:
@@ -622,24 +688,40 @@ def eccentricity_harmonic_balance(
         E = rc[col] - 1j * rc[col + 1]  # A cos + B sin = Re((A - i B) e^{i theta})
         if name == "gear":  # theta_2 = (N1/N2) theta_1 + q_2s - (N1/N2) q_1s
             E = E * np.exp(1j * (ys[2] - ratio * ys[1]))
-        hill = _hill(model, sp, harmonics, samples, o0, base=base)
-        hs = hill.hs
-        w0 = (o0 * sp)[:, None, None]
-        rhs = -E * (hill.wk[hs % samples][None] + 1j * w0 * hill.wc[hs % samples][None])
-        X = hill.solve(rhs)
-        f = hill.mesh_force(X, fl.damping) + E * hill.kap[hs % samples][None]
-        f[:, harmonics] += 1j * o0 * sp * fl.damping * E
-        # theta_1 = Omega t + q_1s + theta_10 (the static state's q_1s): the time's
-        # origin; Re(X e^{iwt}) with w < 0 is Re(conj(X) e^{i|w|t}); Re(Y e^{i|w|t}) =
-        # Im(i Y e^{i|w|t})
-        orders = o0 + hs * float(model.pinion_teeth)
-        shift = np.exp(1j * orders * (model.phase + ys[1]))
-        X = X * shift[None, :, None]
-        f = f * shift[None, :]
-        neg = orders < 0
-        X[:, neg] = np.conj(X[:, neg])
-        f[:, neg] = np.conj(f[:, neg])
-        out.append((name, np.abs(orders), 1j * X, 1j * f))
+        out.append((name, *_family(model, sp, assemble, o0, approach=E)))
+    return out
+
+
+def excitation_harmonic_balance(
+    model: DrivetrainModel,
+    speeds=None,
+    *,
+    harmonics: int = 12,
+    samples: int = 256,
+    mesh_response: np.ndarray | None = None,
+) -> list[tuple[str, float, np.ndarray, np.ndarray, np.ndarray]]:
+    """Steady response to each engine and propeller order with the mesh stiffness
+    varying in time (the Hill system of :func:`eccentricity_harmonic_balance`, forced
+    by the order's torque on the engine or the propeller): besides the order o_0
+    itself, the sidebands |o_0 + h N_1| that the order's vibration of the pinion puts
+    on the mesh orders (the mesh laws follow theta_1 = Omega t + q_1).
+
+    Returns, per order with a nonzero amplitude: (source, o_0, orders, coordinate
+    amplitudes (B, L, n), mesh-force amplitudes (B, L)), as
+    :func:`eccentricity_harmonic_balance`.
+    """
+    sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
+    exc = _excitations(model, model.static_state()[: model.n_dof], 0)
+    if not exc.orders.size:
+        return []
+    base = _mesh_base(model, sp, harmonics, samples, mesh_response)
+    assemble = _hill_families(model, sp, harmonics, samples, base=base)
+    phi0 = _frame_angle(model)
+    out = []
+    for o, src, F in zip(exc.orders, exc.sources, exc.forces, strict=True):
+        # Im(F e^{i o Omega t}) = Re(-i F e^{-i o phi0} e^{i o theta})
+        Fth = -1j * F * np.exp(-1j * o * phi0)
+        out.append((src, float(o), *_family(model, sp, assemble, o, force=Fth)))
     return out
 
 
@@ -666,17 +748,19 @@ def _merge_orders(orders, sources, w, X, mesh):
 
 
 def order_responses(
-    model: DrivetrainModel, speeds=None, *, mesh_harmonics: int = 12
+    model: DrivetrainModel, speeds=None, *, mesh_harmonics: int = 12, sideband_harmonics: int = 3
 ) -> OrderResponse:
     """Steady response of the model about its operating point to each engine,
     propeller and mesh excitation, at ``speeds`` (rad/s; default the model's).
 
-    Engine and propeller orders: each alone on the linear model (mean mesh
-    stiffness), as :func:`periodic_start_states`. Eccentricities (docs §3b): their
-    once per revolution and its sidebands about the mesh orders by harmonic balance
-    (:func:`eccentricity_harmonic_balance`), sources 'pinion eccentricity' and 'gear
-    eccentricity'; an order two sources excite is one entry, their responses added
-    (sources joined with '+'). Mesh orders: harmonic balance with
+    Engine and propeller orders: harmonic balance of each with its sidebands |o +
+    h N_1|, h = -``sideband_harmonics``..``sideband_harmonics``, about the mesh
+    orders (:func:`excitation_harmonic_balance`); with ``mesh_harmonics`` = 0 each
+    alone on the linear model (mean mesh stiffness), as :func:`periodic_start_states`.
+    Eccentricities (docs §3b): their once per revolution and its sidebands by
+    harmonic balance (:func:`eccentricity_harmonic_balance`), sources 'pinion
+    eccentricity' and 'gear eccentricity'; an order two sources excite is one entry,
+    their responses added (sources joined with '+'). Mesh orders: harmonic balance with
     the time-varying mesh stiffness (:func:`mesh_harmonic_balance`, the first
     ``mesh_harmonics`` harmonics), which the mean-stiffness model underestimates near
     a mesh mode (on the default scene's 2x and 3x mesh crossings by 19 and 46 %
@@ -688,34 +772,47 @@ def order_responses(
     sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
     n = model.n_dof
     y = model.static_state()
-    exc = _excitations(model, y[:n], 0)  # engine and propeller orders
     fl = model.drive
     g = model.mesh_vectors()[0]
-    if exc.orders.size:
-        w, X = _steady_amplitudes(model, sp, exc)
-    else:
-        w, X = np.zeros((sp.size, 0)), np.zeros((sp.size, 0, n), complex)
-    mesh = (fl.mean_stiffness + 1j * w * fl.damping) * (X @ g)
-    orders, sources = exc.orders, exc.sources
+    w, X = np.zeros((sp.size, 0)), np.zeros((sp.size, 0, n), complex)
+    mesh = np.zeros((sp.size, 0), complex)
+    orders, sources = np.zeros(0), ()
+
+    def add(o, src, Xo, fo):
+        nonlocal orders, sources, w, X, mesh
+        orders = np.concatenate([orders, o])
+        sources = sources + src
+        w = np.concatenate([w, sp[:, None] * o[None, :]], axis=1)
+        X = np.concatenate([X, Xo], axis=1)
+        mesh = np.concatenate([mesh, fo], axis=1)
+
     if mesh_harmonics > 0:
         Xm, fm = mesh_harmonic_balance(model, sp, harmonics=mesh_harmonics)
-        om = np.arange(1, mesh_harmonics + 1) * float(model.pinion_teeth)
-        orders = np.concatenate([orders, om])
-        sources = sources + ("mesh",) * mesh_harmonics
-        w = np.concatenate([w, sp[:, None] * om[None, :]], axis=1)
-        X = np.concatenate([X, Xm], axis=1)
-        mesh = np.concatenate([mesh, fm], axis=1)
+        add(
+            np.arange(1, mesh_harmonics + 1) * float(model.pinion_teeth),
+            ("mesh",) * mesh_harmonics,
+            Xm,
+            fm,
+        )
+        # engine and propeller orders with the sidebands their pinion vibration puts
+        # on the mesh orders
+        for src, _, oe, Xe, fe in excitation_harmonic_balance(
+            model,
+            sp,
+            harmonics=min(sideband_harmonics, mesh_harmonics),
+            mesh_response=Xm[:, :sideband_harmonics],
+        ):
+            add(oe, (src,) * oe.size, Xe, fe)
+    else:
+        exc = _excitations(model, y[:n], 0)  # engine and propeller orders, mean k
+        if exc.orders.size:
+            we, Xe = _steady_amplitudes(model, sp, exc)
+            add(exc.orders, exc.sources, Xe, (fl.mean_stiffness + 1j * we * fl.damping) * (Xe @ g))
+        Xm = None
     for name, oe, Xe, fe in eccentricity_harmonic_balance(
-        model,
-        sp,
-        harmonics=max(mesh_harmonics, 1),
-        mesh_response=Xm if mesh_harmonics > 0 else None,
+        model, sp, harmonics=max(mesh_harmonics, 1), mesh_response=Xm
     ):
-        orders = np.concatenate([orders, oe])
-        sources = sources + (f"{name} eccentricity",) * oe.size
-        w = np.concatenate([w, sp[:, None] * oe[None, :]], axis=1)
-        X = np.concatenate([X, Xe], axis=1)
-        mesh = np.concatenate([mesh, fe], axis=1)
+        add(oe, (f"{name} eccentricity",) * oe.size, Xe, fe)
     orders, sources, w, X, mesh = _merge_orders(orders, sources, w, X, mesh)
     K, C = model.structural_matrices()
     t_in = (-K[0, 1] - 1j * w * C[0, 1]) * (X[..., 0] - X[..., 1])
