@@ -267,7 +267,7 @@ def compute_spectra(ctx: StageContext) -> Spectra:
         raise RuntimeError(f"the dynamics run did not succeed ({op.series.status})")
     linear = require("gearbox.drivetrain.linear", "order_responses")
     exc = _orders(op.model)
-    r = linear.order_responses(op.model)
+    r = linear.order_responses(op.model, sideband_harmonics=0)
     lin = {
         name: {e.order: r.peaks(e.order)[name] for e in exc}
         for name, *_ in linear.RESPONSE_CHANNELS
@@ -298,7 +298,9 @@ def _point(model, ts, metrics, speed_rpm: float, torque: float) -> SweepPoint:
     (``linear_mesh_order_amplitude_N``, :func:`gearbox.drivetrain.linear.order_responses`)."""
     linear = require("gearbox.drivetrain.linear", "order_responses")
     spectra = spectra_of(ts, _orders(model)) if ts.success and ts.time.size > 1 else {}
-    lin = linear.order_responses(model).peaks(float(model.pinion_teeth))["mesh_force_N"]
+    lin = linear.order_responses(model, sideband_harmonics=0).peaks(float(model.pinion_teeth))[
+        "mesh_force_N"
+    ]
     return SweepPoint(
         float(speed_rpm),
         float(torque),
@@ -412,7 +414,8 @@ def compute_campbell(ctx: StageContext):
     for c in diagram.crossings:
         models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm))
     speeds = np.array(sorted(models))
-    responses = [linear.order_responses(models[float(n)]) for n in speeds]
+    # the excitation orders' own lines: no sidebands needed
+    responses = [linear.order_responses(models[float(n)], sideband_harmonics=0) for n in speeds]
     at = dict(zip(speeds.tolist(), responses, strict=True))
     return diagram.with_responses(
         lambda c: at[float(c.speed_rpm)].peaks(c.order),
