@@ -41,6 +41,19 @@ def scene(**drivetrain):
     return load_scene(MODELS / "marine_drive.toml").replaced(drivetrain=drivetrain)
 
 
+def eccentric_model(**drivetrain):
+    """The default drive (analytical table) with the pinion 20 um eccentric at 30 deg,
+    the gear 15 um at -60 deg, the engine and propeller ripple off unless given."""
+    keys = dict(
+        pinion_eccentricity_um=20.0,
+        pinion_eccentricity_angle_deg=30.0,
+        gear_eccentricity_um=15.0,
+        gear_eccentricity_angle_deg=-60.0,
+        **QUIET,
+    )
+    return DrivetrainModel.from_scene(scene(**(keys | drivetrain)))
+
+
 def rotate(v, axis, angle):
     """Rodrigues' rotation of v about the unit axis by angle (right-handed)."""
     a = axis / np.linalg.norm(axis)
@@ -171,15 +184,7 @@ def eccentric_run():
     pytest.importorskip("diffrax")
     from gearbox.drivetrain.simulate import default_solver, simulate
 
-    m = DrivetrainModel.from_scene(
-        scene(
-            pinion_eccentricity_um=20.0,
-            pinion_eccentricity_angle_deg=30.0,
-            gear_eccentricity_um=15.0,
-            gear_eccentricity_angle_deg=-60.0,
-            **QUIET,
-        )
-    )
+    m = eccentric_model()
     pc = m.common_period_mesh_cycles()
     assert pc == 29 * 45  # one revolution of each member
     ts = simulate(m, default_solver(), settle_time=0.0, mesh_cycles=2 * pc)
@@ -270,17 +275,7 @@ def test_lines_keep_their_phase_against_engine_orders_at_the_same_order():
     pytest.importorskip("diffrax")
     from gearbox.drivetrain.simulate import default_solver, simulate
 
-    m = DrivetrainModel.from_scene(
-        scene(
-            pinion_eccentricity_um=20.0,
-            pinion_eccentricity_angle_deg=30.0,
-            gear_eccentricity_um=15.0,
-            gear_eccentricity_angle_deg=-60.0,
-            firing_torque_ripple=0.0,
-            blade_pass_ripple=0.0,
-            half_order_ripple=0.02,
-        )
-    )
+    m = eccentric_model(half_order_ripple=0.02)
     assert abs(m.static_state()[1]) > 0.05
     pc = m.common_period_mesh_cycles()
     spc = 32
