@@ -303,7 +303,9 @@ def analytical_table(
     aw = pair.working_pressure_angle
     r1 = pair.centre_distance * z1 / (z1 + z2)
     lam1 = r1 * math.cos(aw) * math.cos(bb)
-    nd = np.array([-math.sin(aw) * math.cos(bb), math.cos(aw) * math.cos(bb), math.sin(bb)])
+    # the force of the pinion on the gear (the pinion flank's outward normal, as the
+    # loaded TCA's): tangential, the separating radial part towards the gear (+x), thrust
+    nd = np.array([math.sin(aw) * math.cos(bb), math.cos(aw) * math.cos(bb), math.sin(bb)])
     nc = np.array([nd[0], -nd[1], -nd[2]])  # coast: tangential force and axial thrust reverse
     P = np.array([r1, 0.0, 0.0])
     nf, nt = len(flanks), tq.size

@@ -234,6 +234,12 @@ def test_coast_line_of_action_reverses_tangential_force_and_axial_thrust():
     s = nd + nc
     assert np.allclose(s - (s @ radial) * radial, 0.0, atol=1e-15)
     assert nd[2] != 0.0 and np.sign(nc[2]) == -np.sign(nd[2])
+    # n is the force of the pinion on the gear: its radial part pushes the gear away from
+    # the pinion (the separating force F_t tan(alpha_wt)), on both flanks
+    aw = p.working_pressure_angle
+    bb = p.base_helix_angle
+    assert nd @ radial == pytest.approx(math.sin(aw) * math.cos(bb), rel=1e-12)
+    assert nc @ radial == pytest.approx(nd @ radial, rel=1e-12)
 
 
 def test_summary_gives_the_lte_mesh_harmonics():

@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{ccccb363-eeb2-d0aa-c639-e1c65488becd}"
+#define MODEL_GUID "{4fa764fa-d895-2ce2-d006-477472ba70a6}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

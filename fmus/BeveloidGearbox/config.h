@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{2ac608b0-54c4-3609-40c8-9bdaa8aa6913}"
+#define MODEL_GUID "{b906ca29-3bc8-ee5c-1518-fa95e4eedaa1}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
