@@ -290,3 +290,14 @@ def test_lines_keep_their_phase_against_engine_orders_at_the_same_order():
         sim = 2j * np.mean(x * np.exp(-1j * o * m.speed * t))  # Im(A e^{iwt}) convention
         lin = r.mesh_force[0, i]
         assert abs(lin - sim) < 1e-3 * abs(sim), (o, r.sources[i], lin, sim)
+
+
+def test_report_parameters_name_the_eccentricities():
+    """The report's drivetrain parameters carry the eccentricities (um at deg), or say
+    there are none."""
+    from gearbox.report.dynamics import _parameters
+
+    rows = dict(_parameters(eccentric_model()))
+    assert rows["eccentricity of pinion / gear (um, at deg)"] == "20 at 30 / 15 at -60"
+    none = dict(_parameters(DrivetrainModel.from_scene(scene())))
+    assert none["eccentricity of pinion / gear (um, at deg)"] == "0 (none)"

@@ -71,6 +71,13 @@ def _parameters(m) -> list[tuple]:
             m.mesh_friction_coefficient if m.mesh_friction_coefficient > 0 else "0 (none)",
         ),
         (
+            "eccentricity of pinion / gear (um, at deg)",
+            f"{fmt(m.pinion_eccentricity * 1e6)} at {fmt(math.degrees(m.pinion_eccentricity_angle))}"
+            f" / {fmt(m.gear_eccentricity * 1e6)} at {fmt(math.degrees(m.gear_eccentricity_angle))}"
+            if m.has_eccentricity
+            else "0 (none)",
+        ),
+        (
             "backlash along the line of action (mm)",
             (m.coast.backlash * 1e3) if m.coast is not None else "no coast flank",
         ),
