@@ -304,8 +304,9 @@ def analytical_table(
     r1 = pair.centre_distance * z1 / (z1 + z2)
     lam1 = r1 * math.cos(aw) * math.cos(bb)
     # the force of the pinion on the gear (the pinion flank's outward normal, as the
-    # loaded TCA's): tangential, the separating radial part towards the gear (+x), thrust
-    nd = np.array([math.sin(aw) * math.cos(bb), math.cos(aw) * math.cos(bb), math.sin(bb)])
+    # TCA's and the loaded TCA's on the same scene): the separating radial part towards
+    # the gear (+x), tangential, the thrust of a positive helix angle towards -z
+    nd = np.array([math.sin(aw) * math.cos(bb), math.cos(aw) * math.cos(bb), -math.sin(bb)])
     nc = np.array([nd[0], -nd[1], -nd[2]])  # coast: tangential force and axial thrust reverse
     P = np.array([r1, 0.0, 0.0])
     nf, nt = len(flanks), tq.size

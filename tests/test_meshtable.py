@@ -1,6 +1,7 @@
 """MeshTable: interpolation, persistence, validation; the analytical ISO 6336-1 table."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -252,3 +253,28 @@ def test_summary_gives_the_lte_mesh_harmonics():
     row = t.summary()["drive"]["300"]
     assert row["lte_harmonics_m"] == pytest.approx([0.3e-6, 0.0, 0.1e-6], abs=1e-15)
     assert len(t.summary(harmonics=5)["coast"]["100"]["lte_harmonics_m"]) == 5
+
+
+def test_analytical_line_of_action_has_the_signs_of_the_tca_normal():
+    """The default scene's analytical stand-in (a parallel helical pair, pinion axis z,
+    mesh point on +x) against the unloaded TCA of the beveloid pair itself (the pinion
+    flank's outward normal at the middle of the drive flank's path, in a frame with the
+    same layout): the radial part (separating), the tangential part and the axial thrust
+    have the same signs, each above 0.3 in size on both."""
+    from gearbox import PairSpec, design_pair
+    from gearbox.mesh_analytical import pair_from_scene
+    from gearbox.scene import load_scene
+    from gearbox.tca.analysis import run_tca
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "models" / "marine_drive.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    fc = run_tca(design, scene).sides["R"]
+    i = tuple(np.argwhere(fc.active)[len(np.argwhere(fc.active)) // 2])
+    P, n = fc.point[i], fc.normal[i]
+    u = np.array([P[0], P[1], 0.0]) / math.hypot(P[0], P[1])  # from the pinion's axis (z)
+    v = np.cross([0.0, 0.0, 1.0], u)
+    tca = np.array([u @ n, v @ n, n[2]])
+    t = analytical_table(pair_from_scene(scene), [300.0], positions=8)
+    nd = t.line_of_action[t.flanks.index("drive"), 0, 0]  # mesh point on +x: u = x, v = y
+    assert np.all(np.sign(nd) == np.sign(tca)), (nd, tca)
+    assert np.all(np.abs(nd) > 0.3) and np.all(np.abs(tca) > 0.3)

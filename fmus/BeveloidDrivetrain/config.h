@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{4fa764fa-d895-2ce2-d006-477472ba70a6}"
+#define MODEL_GUID "{41d9302d-1ac5-3714-c34d-ca2d3beb2ff3}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{b906ca29-3bc8-ee5c-1518-fa95e4eedaa1}"
+#define MODEL_GUID "{0397b4eb-68a1-a7d7-3528-3d8cfaf202b1}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
