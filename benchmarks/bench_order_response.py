@@ -6,8 +6,9 @@ from
 
 - the nonlinear fixed-step run of ``gearbox run`` (settled record over one common
   period of all orders, rectangular window): the reference;
-- ``gearbox.drivetrain.linear.order_responses``: engine and propeller orders on the
-  linear model, mesh orders by harmonic balance with the time-varying stiffness;
+- ``gearbox.drivetrain.linear.order_responses``: every order by harmonic balance with
+  the time-varying stiffness (engine and propeller orders with their sidebands about
+  the mesh orders, docs/drivetrain.md "Steady order responses");
 - the mean-stiffness solution of the start states (every order alone on the linear
   model, mesh forcing to first order): what the harmonic balance replaces.
 
