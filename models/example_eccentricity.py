@@ -94,8 +94,8 @@ def main(argv=None):
 
     angle = ts.channels["pinion_angle_rad"]
     # a once-per-revolution tacho's angle: the pinion's mean rotation over the record
-    # (the mean speed settles a little off the nominal one: the propeller's load grows
-    # with the square of its vibrating speed)
+    # (the mean speed settles a little off the nominal one: the propeller's load,
+    # quadratic in its vibrating speed, does not average to its nominal value)
     tacho = np.polyval(np.polyfit(ts.time - ts.time[0], angle, 1), ts.time - ts.time[0])
 
     def spectra(channel):

@@ -207,7 +207,7 @@ def spectrum_of(m, ts, channel):
 
 
 def test_quasi_static_transmission_error_is_the_approach(eccentric_run):
-    """The mesh force varies by 55 N at order 1 against a mesh stiffness of about 1e9
+    """The mesh force varies by 55 N at order 1 against a mesh stiffness of 8.3e8
     N/m: the shafts turn to take up the eccentricity, so the transmission error's
     once-per-revolution lines are e_i |n_perp| (18.9 and 14.2 um) within 0.5 %."""
     m, ts = eccentric_run
@@ -270,7 +270,7 @@ def test_lines_keep_their_phase_against_engine_orders_at_the_same_order():
     approach turns with theta_1 = Omega t + q_1s + theta_10, the static state's q_1s
     included (0.12 rad of input shaft twist here: leaving it out put the pinion's line
     6.9 deg off and the sum at order 1 2.3 % low). Against the simulation settled for
-    2 s (the lowest mode's decay time is 0.16 s) and Fourier coefficients over two
+    2 s (the slowest decay, the whole drive's speed mode, takes 0.27 s) and Fourier coefficients over two
     common periods: each line within 0.1 % as a complex number (measured 0.007 to
     0.019 %)."""
     pytest.importorskip("diffrax")

@@ -604,10 +604,10 @@ def _vibration_samples(model, sp, Xm, samples):
     return (gx @ ph).imag, ((1j * gx * hh * sp[:, None]) @ ph).imag
 
 
-def _family(model, sp, assemble, order0, *, approach=0j, force=None):
+def _family(model, sp, assemble, order0, phi0, *, approach=0j, force=None):
     """Steady response of the family w_0 + h w_m (w_0 = ``order0`` Omega) to a forcing
-    at w_0 in the frame theta = Omega t + q_1s + theta_10 (the pinion's angle at the
-    static state): the drive flank's approach Re(E e^{i o_0 theta}) (``approach`` = E),
+    at w_0 in the frame theta = Omega t + phi0, phi0 = q_1s + theta_10 (the pinion's
+    angle at the static state): the drive flank's approach Re(E e^{i o_0 theta}) (``approach`` = E),
     or the generalised force Re(F e^{i o_0 theta}) (``force`` = F, (n,)). Returns
     (orders |o_0 + h N_1|, coordinates (B, L, n), mesh force (B, L)), each as Im(A e^{i
     w t}) in the model's time t."""
@@ -626,7 +626,7 @@ def _family(model, sp, assemble, order0, *, approach=0j, force=None):
     # theta = Omega t + q_1s + theta_10: back to the time's origin; Re(X e^{iwt}) with
     # w < 0 is Re(conj(X) e^{i|w|t}); Re(Y e^{i|w|t}) = Im(i Y e^{i|w|t})
     orders = order0 + hs * float(model.pinion_teeth)
-    shift = np.exp(1j * orders * _frame_angle(model))
+    shift = np.exp(1j * orders * phi0)
     X = X * shift[None, :, None]
     f = f * shift[None, :]
     neg = orders < 0
@@ -635,12 +635,9 @@ def _family(model, sp, assemble, order0, *, approach=0j, force=None):
     return np.abs(orders), 1j * X, 1j * f
 
 
-def _frame_angle(model: DrivetrainModel) -> float:
-    """theta_1 - Omega t at the static state: q_1s + theta_10 (rad)."""
-    return float(model.phase + model.static_state()[1])
-
-
 def _mesh_base(model, sp, harmonics, samples, mesh_response):
+    """:func:`_vibration_samples` of ``mesh_response`` (the mesh orders' harmonic
+    balance, computed when None)."""
     Xm = mesh_response
     if Xm is None:
         Xm, _ = mesh_harmonic_balance(model, sp, harmonics=harmonics, samples=samples)
@@ -678,6 +675,7 @@ def eccentricity_harmonic_balance(
     rc = model.eccentricity_coefficients()[0]
     ratio = model.pinion_teeth / model.gear_teeth
     ys = model.static_state()
+    phi0 = float(model.phase + ys[1])  # theta_1 - Omega t at the static state
     base = _mesh_base(model, sp, harmonics, samples, mesh_response)
     assemble = _hill_families(model, sp, harmonics, samples, base=base)
     out = []
@@ -688,7 +686,7 @@ def eccentricity_harmonic_balance(
         E = rc[col] - 1j * rc[col + 1]  # A cos + B sin = Re((A - i B) e^{i theta})
         if name == "gear":  # theta_2 = (N1/N2) theta_1 + q_2s - (N1/N2) q_1s
             E = E * np.exp(1j * (ys[2] - ratio * ys[1]))
-        out.append((name, *_family(model, sp, assemble, o0, approach=E)))
+        out.append((name, *_family(model, sp, assemble, o0, phi0, approach=E)))
     return out
 
 
@@ -711,17 +709,18 @@ def excitation_harmonic_balance(
     :func:`eccentricity_harmonic_balance`.
     """
     sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
-    exc = _excitations(model, model.static_state()[: model.n_dof], 0)
+    ys = model.static_state()
+    exc = _excitations(model, ys[: model.n_dof], 0)
     if not exc.orders.size:
         return []
     base = _mesh_base(model, sp, harmonics, samples, mesh_response)
     assemble = _hill_families(model, sp, harmonics, samples, base=base)
-    phi0 = _frame_angle(model)
+    phi0 = float(model.phase + ys[1])  # theta_1 - Omega t at the static state
     out = []
     for o, src, F in zip(exc.orders, exc.sources, exc.forces, strict=True):
         # Im(F e^{i o Omega t}) = Re(-i F e^{-i o phi0} e^{i o theta})
         Fth = -1j * F * np.exp(-1j * o * phi0)
-        out.append((src, float(o), *_family(model, sp, assemble, o, force=Fth)))
+        out.append((src, float(o), *_family(model, sp, assemble, o, phi0, force=Fth)))
     return out
 
 
@@ -733,9 +732,9 @@ def _merge_orders(orders, sources, w, X, mesh):
     uniq, first, inv = np.unique(keys, return_index=True, return_inverse=True)
     if uniq.size == keys.size:
         return orders, sources, w, X, mesh
+    rank = np.argsort(np.argsort(first))  # unique orders in their first appearance's order
+    pos = rank[inv.ravel()]
     keep = np.sort(first)
-    slot = {int(k): i for i, k in enumerate(keep)}
-    pos = np.array([slot[int(first[inv[j]])] for j in range(keys.size)])
     Xs = np.zeros((X.shape[0], keep.size) + X.shape[2:], complex)
     ms = np.zeros((mesh.shape[0], keep.size), complex)
     np.add.at(Xs, (slice(None), pos), X)
