@@ -41,7 +41,7 @@ from ..errors import Problems
 from .compliance import Compliance, FastCompliance
 from .grid import ContactGrid
 from .slice_model import hertz_half_width, hertz_pressure
-from .solver import ContactSolver, solve_contact
+from .solver import ContactSolver, rotation_sensitivity, solve_contact
 from .stress import grid_root_stress
 
 __all__ = ["CycleResult", "LTCAOptions", "ltca_cycle", "root_stress_method"]
@@ -100,7 +100,10 @@ class CycleResult:
     m/s per rad/s); friction_arm (T, P, 2) the sliding friction's load-weighted moment
     arms about the pinion's and the gear's axis (m, :meth:`ContactGrid.friction_arms`:
     a mean friction coefficient mu puts -mu F_n arm_1 on the pinion and +mu F_n arm_2
-    on the gear): all three ``None`` where the grids carry no axes.
+    on the gear): all three ``None`` where the grids carry no axes. pair_weight
+    (T, P, K): how much of a tooth pair's normal offset the loaded rotation takes up
+    (:func:`~gearbox.ltca.solver.rotation_sensitivity`; sums to 1 over the pairs,
+    :mod:`gearbox.ltca.pitch`); ``None`` in results stored before it existed.
     """
 
     torque: np.ndarray
@@ -132,6 +135,7 @@ class CycleResult:
     loss_factor: np.ndarray | None = None
     sliding_speed: np.ndarray | None = None
     friction_arm: np.ndarray | None = None
+    pair_weight: np.ndarray | None = None
 
     @property
     def edge_contact(self) -> np.ndarray:
@@ -305,6 +309,7 @@ def ltca_cycle(
     converged = np.ones((T, P), dtype=bool)
     lte0 = np.zeros(P)
     share = np.zeros((T, P, pair_index.size))
+    weight = np.zeros((T, P, pair_index.size))
     pair_rs = np.zeros((T, P, pair_index.size, 2))
     mesh_point = np.zeros((T, P, 3))
     loa = np.zeros((T, P, 3))
@@ -369,9 +374,11 @@ def ltca_cycle(
             out["root_stress_gear"][t, j] = float(m2.max())
             np.maximum.at(rs_face1[t], grid.slot, s1)
             np.maximum.at(rs_face2[t], grid.slot, s2)
+            dphi = rotation_sensitivity(grid, compliance, sol, tooth_matrix=C0) * grid.arm
             for kk, k in enumerate(pair_index):
                 on = grid.pair == k
                 share[t, j, kk] = float(F[on].sum()) / Fn
+                weight[t, j, kk] = float(dphi[on].sum())
                 if on.any():
                     pair_rs[t, j, kk] = (float(m1[on].max()), float(m2[on].max()))
             mesh_point[t, j] = (F @ grid.position) / Fn
@@ -451,6 +458,7 @@ def ltca_cycle(
         loss_factor=loss,
         sliding_speed=sliding,
         friction_arm=friction_arm,
+        pair_weight=weight,
     )
 
 

@@ -28,7 +28,13 @@ import numpy as np
 
 from ..errors import Problems
 
-__all__ = ["ContactSolution", "ContactSolver", "solve_contact", "solve_lcp"]
+__all__ = [
+    "ContactSolution",
+    "ContactSolver",
+    "rotation_sensitivity",
+    "solve_contact",
+    "solve_lcp",
+]
 
 
 @dataclass(frozen=True)
@@ -259,3 +265,36 @@ def solve_contact(
         complementarity=compl,
         load_residual=float(abs(m @ F - torque) / torque),
     )
+
+
+def rotation_sensitivity(grid, compliance, solution, *, tooth_matrix=None, rel_step=1.0e-4):
+    """Derivative of the loaded rotation phi with respect to the initial separations,
+    d phi / d s, shape (n,) (rad/m), at a solution of :func:`solve_contact`.
+
+    With the loaded set A held (the derivative of the piecewise-smooth solution away
+    from a change of the set), the closed gaps K dF_A + ds_A - m_A dphi = 0 and the
+    balance m_A^T dF_A = 0 give dphi / ds_A = K^-T m_A / (m_A^T K^-1 m_A), zero off A.
+    K is the tangent compliance: the tooth part plus, for a load-dependent level, the
+    derivative of each point's flattening approach c_i(q_i) F_i with respect to F_i
+    (a forward difference of ``rel_step`` in the line load; the flattening is local).
+
+    A normal offset of tooth pair k, ds_i = -m_i alpha on its points (its pinion tooth
+    turned ahead by alpha), moves phi by -alpha sum_(i in k) m_i dphi/ds_i; those pair
+    weights sum to m^T dphi/ds = 1 over the pairs.
+    """
+    F = np.asarray(solution.load, dtype=float)
+    m = np.asarray(grid.arm, dtype=float)
+    q = F / np.asarray(grid.line_length, dtype=float)
+    on = F > 0
+    if compliance.load_dependent:
+        C0 = compliance.tooth_matrix(grid) if tooth_matrix is None else tooth_matrix
+        c = compliance.contact_diagonal(grid, q)[on]
+        c_hi = compliance.contact_diagonal(grid, q * (1.0 + rel_step))[on]
+        K = C0[np.ix_(on, on)].copy()
+        K[np.diag_indices_from(K)] += (c_hi * (1.0 + rel_step) - c) / rel_step
+    else:
+        K = compliance.matrix(grid, q)[np.ix_(on, on)]
+    g = np.linalg.solve(K.T, m[on])
+    d = np.zeros(F.size)
+    d[on] = g / float(m[on] @ g)
+    return d
