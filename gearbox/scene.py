@@ -240,6 +240,50 @@ SCHEMA: dict[str, dict[str, Field]] = {
             ("linear", "parabolic"),
         ),
     },
+    "pitch": {
+        "pinion_cumulative_um": _fl(
+            [],
+            "Cumulative pitch deviations F_p of the pinion's drive flanks (um, along the "
+            "reference pitch circle of the reference section), one per tooth: tooth 0 is "
+            "the pinion tooth of the loaded TCA's reference pair at the record's start, the "
+            "rest in the order they enter the mesh; + where the flank stands proud towards "
+            "its mate. Empty: random (random_single_um) or none.",
+            -1000,
+            1000,
+            min_len=0,
+        ),
+        "gear_cumulative_um": _fl(
+            [],
+            "As pinion_cumulative_um, for the gear's drive flanks (one per gear tooth).",
+            -1000,
+            1000,
+            min_len=0,
+        ),
+        "random_single_um": _f(
+            0.0,
+            "For a member without a list: random single pitch deviations f_pt drawn "
+            "uniform within +- this (um), less their mean so that they close over the "
+            "turn. 0: none.",
+            0,
+            100,
+        ),
+        "seed": _i(1, "Seed of the random single pitch deviations (pinion drawn first).", 0),
+        "method": _s(
+            "linear",
+            "'linear': the loaded TE's first-order change through the loaded TCA's pair "
+            "weights (milliseconds); 'exact': the contact problem solved again at every "
+            "position of the hunting period (one solve each, minutes).",
+            ("linear", "exact"),
+        ),
+        "torque_Nm": _f(
+            None,
+            "Pinion torque of the analysis (N m), within load.torques_Nm; default "
+            "load.operating_torque_Nm.",
+            0,
+            None,
+            True,
+        ),
+    },
     "drivetrain": {
         "engine_inertia_kgm2": _f(2.0, "Engine inertia incl. flywheel (kg m^2).", 0, None, True),
         "engine_cylinders": _i(
@@ -402,6 +446,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
                 "sweep",
                 "tca",
                 "ltca",
+                "pitch",
                 "tables",
                 "dynamics",
                 "spectra",

@@ -24,7 +24,6 @@ from gearbox.ltca.pitch import (
 )
 from gearbox.ltca.solver import rotation_sensitivity, solve_contact
 
-
 ROOT = Path(__file__).resolve().parents[1]
 P = 12  # positions per mesh cycle: enough to cross every pair's entry and exit
 

@@ -48,6 +48,8 @@ from .solver import ContactSolver, solve_contact
 __all__ = [
     "HuntingRecord",
     "PitchDeviations",
+    "PitchResult",
+    "deviations_from_scene",
     "exact_rotation",
     "hunting_lte",
     "pair_angles",
@@ -216,13 +218,16 @@ def hunting_lte(
     grids=None,
     compliance=None,
     solver: ContactSolver | None = None,
+    map=None,
 ) -> HuntingRecord:
     """The loaded TE over a hunting period (lcm(z1, z2) mesh cycles) at ``torque``
     (N m, within the result's torque levels; the linear method interpolates the
     levels linearly, the exact one solves at ``torque``).
 
     ``method="exact"`` needs the loaded TCA's ``grids`` (one per position, as
-    :func:`~gearbox.ltca.analysis.ltca_cycle` made them) and ``compliance``.
+    :func:`~gearbox.ltca.analysis.ltca_cycle` made them, :func:`drive_grids`) and
+    ``compliance``; ``map(fn, jobs) -> list`` may spread the positions over processes
+    (a pipeline run's executor), else they run here one after the other.
     """
     _check_result(res, dev, teeth, torque, method)
     z1 = teeth[0]
@@ -242,11 +247,10 @@ def hunting_lte(
             n = None if grids is None else len(grids)
             p.add("grids", n, f"the exact method needs the {P} grids and the compliance")
             p.raise_if_any("invalid pitch-deviation analysis")
-        lte = np.empty((H, P))
-        for j, g in enumerate(grids):
-            rot, arm = exact_rotation(g, compliance, torque, alpha, res.pair_index, solver=solver)
-            lte[:, j] = rot * arm
-        nominal = np.array([_nominal_exact(g, compliance, torque, solver) for g in grids])
+        rows = np.vstack([alpha, np.zeros((1, alpha.shape[1]))])  # last: the nominal
+        jobs = [(g, compliance, float(torque), rows, res.pair_index, solver) for g in grids]
+        cols = np.column_stack((map or _serial)(_exact_column, jobs))  # (H + 1, P)
+        lte, nominal = cols[:-1], cols[-1]
     return HuntingRecord(
         angle=angle.reshape(-1),
         lte=lte.reshape(-1),
@@ -258,9 +262,16 @@ def hunting_lte(
     )
 
 
-def _nominal_exact(grid, compliance, torque, solver):
-    sol = solve_contact(grid, compliance, torque, solver=solver or ContactSolver())
-    return sol.rotation * torque / float(sol.load.sum())
+def _serial(fn, jobs):
+    return [fn(j) for j in jobs]
+
+
+def _exact_column(job):
+    """One position's loaded TE (m) for each row of pair angles (module level: runs in
+    worker processes)."""
+    grid, compliance, torque, alpha, pair_index, solver = job
+    rot, arm = exact_rotation(grid, compliance, torque, alpha, pair_index, solver=solver)
+    return rot * arm
 
 
 def exact_rotation(grid, compliance, torque, alpha, pair_index, *, solver=None):
@@ -279,9 +290,143 @@ def exact_rotation(grid, compliance, torque, alpha, pair_index, *, solver=None):
     prev = None
     for r, a in enumerate(rows):
         g = replace(grid, separation=grid.separation - grid.arm * a)
-        sol = solve_contact(g, compliance, torque, solver=solver, tooth_matrix=C0, initial_load=prev)
+        sol = solve_contact(
+            g, compliance, torque, solver=solver, tooth_matrix=C0, initial_load=prev
+        )
         prev = sol.load
         rot[r] = sol.rotation
         arm[r] = torque / float(sol.load.sum())
     inverse = np.asarray(inverse).reshape(-1)
     return rot[inverse], arm[inverse]
+
+
+def deviations_from_scene(design, scene) -> PitchDeviations:
+    """The scene's ``[pitch]`` deviations (SI): each member's list where given (one
+    value per tooth), else random single pitch deviations within
+    +-``random_single_um`` (uniform, less their mean; pinion drawn first from
+    ``seed``), else zeros. Raises InputError naming the key of a list of the wrong
+    length."""
+    pt = scene["pitch"]
+    rng = np.random.default_rng(int(pt["seed"]))
+    a = float(pt["random_single_um"]) * 1e-6
+    p = Problems()
+    out = []
+    for member in ("pinion", "gear"):
+        z = int(getattr(design, member).teeth)
+        given = pt[f"{member}_cumulative_um"]
+        f = rng.uniform(-a, a, z)  # drawn for both members alike: the seed's sequence
+        if given:
+            p.check(
+                len(given) == z,
+                f"pitch.{member}_cumulative_um",
+                f"{len(given)} values",
+                f"must give one value per {member} tooth: {z}",
+            )
+            out.append(np.asarray(given, dtype=float) * 1e-6)
+        else:
+            f = f - f.mean()
+            out.append(np.concatenate([[0.0], np.cumsum(f)[:-1]]))
+    p.raise_if_any("invalid pitch deviations")
+    return PitchDeviations(
+        out[0],
+        out[1],
+        design.pinion.reference_pitch_radius,
+        design.gear.reference_pitch_radius,
+    )
+
+
+@dataclass(frozen=True)
+class PitchResult:
+    """Pitch deviations' loaded TE on the drive flank (the pipeline's ``pitch`` stage):
+    the deviations and the hunting record."""
+
+    deviations: PitchDeviations
+    record: HuntingRecord
+    flank: str = "drive"
+
+    def lines(self, count: int = 12) -> list[dict]:
+        """The ``count`` largest lines of the loaded TE's order spectrum other than the
+        mean, largest first: pinion order, amplitude (m), and what they are (mesh
+        harmonic h, else a pinion order, a gear order, or a combination)."""
+        z1, z2 = self.record.teeth
+        orders, amp = self.record.order_spectrum()
+        idx = np.argsort(amp[1:])[::-1][:count] + 1
+        out = []
+        for i in idx:
+            o = float(orders[i])
+            out.append({"order": o, "amplitude_m": float(amp[i]), "kind": _kind(o, z1, z2)})
+        return out
+
+    def to_dict(self) -> dict:
+        rec = self.record
+        orders, amp = rec.order_spectrum()
+        nominal = rec.order_spectrum("lte_nominal")[1]
+        return {
+            "flank": self.flank,
+            "torque_Nm": rec.torque,
+            "method": rec.method,
+            "teeth": list(rec.teeth),
+            "hunting_cycles": rec.cycles,
+            "pinion_cumulative_m": self.deviations.pinion.tolist(),
+            "gear_cumulative_m": self.deviations.gear.tolist(),
+            "reference_pitch_radii_m": [self.deviations.pinion_radius, self.deviations.gear_radius],
+            "lte_peak_to_peak_m": float(np.ptp(rec.lte)),
+            "lte_nominal_peak_to_peak_m": float(np.ptp(rec.lte_nominal)),
+            "lines": self.lines(),
+            "spectrum": {
+                "order": orders.tolist(),
+                "amplitude_m": amp.tolist(),
+                "nominal_amplitude_m": nominal.tolist(),
+                "scaling": "single-sided peak, rectangular window over one hunting period",
+            },
+            "record": {"angle_rad": rec.angle.tolist(), "lte_m": rec.lte.tolist()},
+        }
+
+
+def _kind(order: float, z1: int, z2: int) -> str:
+    """What a pinion order is: 'mesh h', 'pinion h', 'gear h' or 'combination'."""
+    tol = 1e-9
+    h = order / z1
+    if abs(h - round(h)) < tol:
+        return f"mesh {round(h)}"
+    if abs(order - round(order)) < tol:
+        return f"pinion {round(order)}"
+    g = order * z2 / z1
+    if abs(g - round(g)) < tol:
+        return f"gear {round(g)}"
+    return "combination"
+
+
+def drive_grids(design, scene, positions: int):
+    """The drive flank's contact grids at ``positions`` per mesh cycle and the scene's
+    compliance level, as the loaded TCA makes them (for ``method="exact"``)."""
+    from .compliance import compliance_for
+    from .table import is_parallel
+
+    lt = scene["ltca"]
+    if is_parallel(design):
+        from .beveloid import modifications_from_scene
+        from .modification import as_modification
+        from .parallel import parallel_grid
+        from .table import parallel_pair_from_design
+
+        pair = parallel_pair_from_design(design, scene)
+        relief = tuple(as_modification(r) for r in modifications_from_scene(design, scene))
+        grids = [
+            parallel_grid(pair, j / positions, lt["grid_face"], relief=relief)
+            for j in range(positions)
+        ]
+    else:
+        from .beveloid import scene_grids
+
+        grids = scene_grids(design, scene, "R", positions)[0]
+    if lt["fidelity"] == "fe":
+        from ..surface import blanks_from_design
+
+        compliance = compliance_for("fe", blanks=blanks_from_design(design))
+    else:
+        compliance = compliance_for(lt["fidelity"])
+    reserve = getattr(compliance, "reserve", None)
+    if callable(reserve):
+        reserve(grids)
+    return grids, compliance

@@ -11,6 +11,8 @@ import numpy as np
 
 __all__ = [
     "plot_contact_pattern",
+    "plot_hunting_lte",
+    "plot_hunting_spectrum",
     "plot_load_sharing",
     "plot_lte",
     "plot_mesh_stiffness",
@@ -158,3 +160,51 @@ def save_figures(results, out_dir, t: int = 0) -> list:
     plot_root_stress_face(results, t, ax=axs[1])
     save(fig, "root_stress.png")
     return paths
+
+
+def plot_hunting_lte(record, ax=None, revolutions: float = 2.0):
+    """Loaded TE (um) against pinion revolutions over the first ``revolutions`` of a
+    hunting period (the whole period holds z2 / gcd revolutions of mesh ripple, too
+    dense to read), with and without the pitch deviations
+    (:class:`gearbox.ltca.pitch.HuntingRecord`)."""
+    ax = _axes(ax)
+    rev = record.angle / (2 * np.pi)
+    top = min(float(revolutions), float(rev[-1]))
+    k = rev <= top
+    ax.plot(rev[k], record.lte_nominal[k] * 1e6, lw=0.8, color="0.5", label="nominal teeth")
+    ax.plot(rev[k], record.lte[k] * 1e6, lw=0.8, color="tab:blue", label="with pitch deviations")
+    ax.set_xlabel("pinion revolutions (from the start of the hunting period)")
+    ax.set_ylabel("loaded TE (um)")
+    ax.set_xlim(0.0, top)
+    ax.legend(loc="upper right", fontsize=8)
+    return ax
+
+
+def plot_hunting_spectrum(record, ax=None, max_order: float | None = None):
+    """Order spectrum of the loaded TE over a hunting period (um, single-sided peak,
+    log scale; grey: the nominal teeth's mesh lines), up to ``max_order`` pinion
+    orders (default: 2.5 mesh orders)."""
+    from matplotlib.collections import LineCollection
+
+    ax = _axes(ax)
+    z1 = record.teeth[0]
+    top = 2.5 * z1 if max_order is None else max_order
+    o, a = record.order_spectrum()
+    a0 = record.order_spectrum("lte_nominal")[1]
+    keep = (o > 0) & (o <= top)
+    o, a, a0 = o[keep], a[keep] * 1e6, a0[keep] * 1e6
+    floor = max(float(a.max()) * 1e-4, 1e-6)
+    seg = np.zeros((o.size, 2, 2))
+    seg[:, :, 0] = o[:, None]
+    seg[:, 0, 1] = floor
+    seg[:, 1, 1] = np.maximum(a, floor)
+    ax.add_collection(LineCollection(seg, lw=0.7, color="tab:blue"))
+    mesh = a0 > floor
+    ax.plot(o[mesh], a0[mesh], "_", ms=9, color="0.4", label="nominal teeth")
+    ax.set_yscale("log")
+    ax.set_xlim(0, top)
+    ax.set_ylim(floor, 2 * float(a.max()))
+    ax.set_xlabel("pinion order")
+    ax.set_ylabel("loaded TE amplitude (um)")
+    ax.legend(loc="upper right", fontsize=8)
+    return ax

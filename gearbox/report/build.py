@@ -32,13 +32,14 @@ __all__ = [
 
 
 def _renderers() -> dict[str, Callable]:
-    from . import contact, design, dynamics, geometry_sweep, loaded, tables
+    from . import contact, design, dynamics, geometry_sweep, loaded, pitch, tables
 
     return {
         "design": design.render,
         "sweep": geometry_sweep.render,
         "tca": contact.render_tca,
         "ltca": loaded.render_ltca,
+        "pitch": pitch.render_pitch,
         "tables": tables.render,
         "dynamics": dynamics.render_dynamics,
         "spectra": dynamics.render_spectra,

@@ -3,11 +3,19 @@ tables the dynamics reads (gearbox.meshtable)."""
 
 from __future__ import annotations
 
-from ...errors import InputError
+from ...errors import InputError, Problem
 from ..stage import StageContext, StageUnavailable
 from ._require import require
 
-__all__ = ["compute_ltca", "compute_tables", "compute_tca", "tables_depends", "validate_ltca"]
+__all__ = [
+    "compute_ltca",
+    "compute_pitch",
+    "compute_tables",
+    "compute_tca",
+    "tables_depends",
+    "validate_ltca",
+    "validate_pitch",
+]
 
 
 def compute_tca(ctx: StageContext):
@@ -88,3 +96,59 @@ def compute_tables(ctx: StageContext):
         flanks=tuple(lt["flanks"]),
         scene=ctx.scene.name,
     )
+
+
+def _pitch_torque(scene) -> float:
+    t = scene["pitch"]["torque_Nm"]
+    return float(scene["load"]["operating_torque_Nm"] if t is None else t)
+
+
+def validate_pitch(scene) -> None:
+    """Before anything runs: the deviation lists against the teeth, the torque within
+    the mesh tables' levels, the drive flank among the analysed ones. One InputError
+    naming every key; a pair that does not design is left to the design stage."""
+    from .geometry import pair_spec
+
+    geometry = require("gearbox.geometry", "design_pair")
+    pitch = require("gearbox.ltca.pitch", "deviations_from_scene")
+    problems = []
+    if "drive" not in scene["ltca"]["flanks"]:
+        problems.append(
+            Problem("ltca.flanks", list(scene["ltca"]["flanks"]), "must hold 'drive' for pitch")
+        )
+    tq = scene["load"]["torques_Nm"]
+    t = _pitch_torque(scene)
+    if not min(tq) <= t <= max(tq):
+        key = (
+            "pitch.torque_Nm"
+            if scene["pitch"]["torque_Nm"] is not None
+            else ("load.operating_torque_Nm")
+        )
+        problems.append(Problem(key, t, f"must lie within load.torques_Nm [{min(tq)}, {max(tq)}]"))
+    try:
+        pitch.deviations_from_scene(geometry.design_pair(pair_spec(scene)), scene)
+    except InputError as exc:
+        problems += [p for p in exc.problems if p.path.startswith("pitch.")]
+    if problems:
+        raise InputError(problems, "invalid pitch-deviation inputs")
+
+
+def compute_pitch(ctx: StageContext):
+    """Pitch deviations' loaded TE over a hunting period on the drive flank
+    (gearbox.ltca.pitch): linear through the loaded TCA's pair weights, or exact
+    (one contact solve per sample, the positions through the run's executor)."""
+    pitch = require(
+        "gearbox.ltca.pitch", "hunting_lte", "PitchResult", "drive_grids", "deviations_from_scene"
+    )
+    scene = ctx.scene
+    design = ctx.inputs["design"]
+    res = ctx.inputs["ltca"].flanks["drive"]
+    dev = pitch.deviations_from_scene(design, scene)
+    method = scene["pitch"]["method"]
+    kw = {}
+    if method == "exact":
+        grids, compliance = pitch.drive_grids(design, scene, res.fraction.size)
+        kw = {"grids": grids, "compliance": compliance, "map": ctx.map}
+    teeth = (design.pinion.teeth, design.gear.teeth)
+    rec = pitch.hunting_lte(res, dev, _pitch_torque(scene), teeth=teeth, method=method, **kw)
+    return pitch.PitchResult(dev, rec)

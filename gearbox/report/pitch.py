@@ -1,0 +1,66 @@
+"""Report section of the pitch deviations: the loaded TE over a hunting period on the
+drive flank and its order spectrum, with the largest lines named."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .html import Section, figure, fmt, new_figure, table
+
+__all__ = ["render_pitch"]
+
+
+def render_pitch(pr, run) -> Section:
+    """Deviations, TE peak-to-peak with and without them, the largest order lines;
+    the hunting record and its spectrum."""
+    from ..ltca.plot import plot_hunting_lte, plot_hunting_spectrum
+
+    rec, dev = pr.record, pr.deviations
+    z1, z2 = rec.teeth
+    single = [np.diff(np.r_[d, d[0]]) for d in (dev.pinion, dev.gear)]
+    rows = [
+        ("teeth", z1, z2),
+        (
+            "cumulative pitch deviation F_p, range (um)",
+            *(fmt(1e6 * np.ptp(d), 4) for d in (dev.pinion, dev.gear)),
+        ),
+        (
+            "largest single pitch deviation |f_pt| (um)",
+            *(fmt(1e6 * np.abs(f).max(), 4) for f in single),
+        ),
+        (
+            "reference pitch radius (mm)",
+            fmt(dev.pinion_radius * 1e3, 5),
+            fmt(dev.gear_radius * 1e3, 5),
+        ),
+    ]
+    summary = [
+        ("flank", pr.flank),
+        ("pinion torque (N m)", fmt(rec.torque)),
+        ("method", rec.method),
+        (
+            "hunting period (mesh cycles / pinion revolutions)",
+            f"{rec.cycles} / {fmt(rec.pinion_revolutions)}",
+        ),
+        ("loaded TE peak-to-peak, nominal teeth (um)", fmt(1e6 * np.ptp(rec.lte_nominal), 4)),
+        ("loaded TE peak-to-peak, with the deviations (um)", fmt(1e6 * np.ptp(rec.lte), 4)),
+    ]
+    lines = [(fmt(x["order"], 5), x["kind"], fmt(x["amplitude_m"] * 1e6, 4)) for x in pr.lines()]
+    fig, ax = new_figure(2, 1, size=(10, 6.2))
+    plot_hunting_lte(rec, ax[0, 0])
+    plot_hunting_spectrum(rec, ax[1, 0])
+    body = (
+        table(["quantity", "value"], summary)
+        + table(["deviations", "pinion", "gear"], rows)
+        + "<p>Largest lines of the loaded TE (pinion orders; single-sided peak amplitude, "
+        "rectangular window over one hunting period):</p>"
+        + table(["order", "kind", "amplitude (um)"], lines)
+        + figure(
+            fig,
+            "Loaded transmission error: the first two pinion revolutions, and the order "
+            "spectrum of the whole hunting period",
+        )
+        + '<p class="muted">Teeth numbered from the reference pair at the start of the '
+        "record, in the order they enter the mesh (docs/ltca.md, section Pitch deviations).</p>"
+    )
+    return Section("Pitch deviations", body, anchor="pitch")

@@ -1,0 +1,109 @@
+"""The ``pitch`` stage of ``gearbox run``: scene keys, what it recomputes, the spectrum's
+lines by member, the exact method through the pipeline, and input errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearbox import load_scene
+from gearbox.errors import InputError
+from gearbox.pipeline import run_pipeline
+from gearbox.pipeline.outputs import write_outputs
+
+ROOT = Path(__file__).resolve().parents[1]
+MARINE = ROOT / "models" / "marine_drive.toml"
+PARALLEL = Path(__file__).parent / "data" / "ltca_parallel_helical.toml"
+
+
+@pytest.fixture(scope="module")
+def marine():
+    """The default scene, 12 positions per mesh cycle (a shorter loaded TCA)."""
+    return load_scene(MARINE).replaced(ltca={"positions": 12})
+
+
+def _statuses(run):
+    return {r.name: r.status for r in run.summary.records}
+
+
+def test_pitch_stage_recomputes_only_itself(marine, tmp_path):
+    """Changing the deviations redoes the pitch stage, not the loaded TCA; its file
+    holds the record, the deviations and the named lines."""
+    scene = marine.replaced(pitch={"random_single_um": 4.0})
+    first = run_pipeline(scene, ["pitch"], cache=tmp_path)
+    assert first.summary.ok, first.summary.table()
+    again = run_pipeline(scene.replaced(pitch={"random_single_um": 2.0}), ["pitch"], cache=tmp_path)
+    got = _statuses(again)
+    assert got["ltca"] == "cached" and got["pitch"] == "computed"
+    write_outputs(again, tmp_path / "out")
+    d = json.loads((tmp_path / "out" / "pitch.json").read_text())
+    assert d["hunting_cycles"] == 29 * 45 and d["method"] == "linear"
+    assert len(d["pinion_cumulative_m"]) == 29 and len(d["gear_cumulative_m"]) == 45
+    single = np.diff(np.r_[d["pinion_cumulative_m"], d["pinion_cumulative_m"][0]])
+    assert np.abs(single).max() <= 2 * 2e-6  # within +-2 um less their mean
+    assert d["lines"][0]["amplitude_m"] == max(d["spectrum"]["amplitude_m"][1:])
+    # halving the deviations halves what they add (the linear method is linear in them)
+    pp = [first["pitch"].record, again["pitch"].record]
+    ratio = np.ptp(pp[1].lte - pp[1].lte_nominal) / np.ptp(pp[0].lte - pp[0].lte_nominal)
+    assert ratio == pytest.approx(0.5, rel=1e-9)
+
+
+@pytest.mark.parametrize("member", ["pinion", "gear"])
+def test_one_members_deviations_make_only_its_orders(marine, tmp_path, member):
+    """Deviations on the pinion alone repeat every pinion revolution: only integer
+    pinion orders carry them. On the gear alone: only gear orders (multiples of
+    z1 / z2 = 29 / 45). Elsewhere below 1e-9 of the largest line."""
+    other = "gear" if member == "pinion" else "pinion"
+    z = {"pinion": 29, "gear": 45}
+    rng = np.random.default_rng(5)
+    f = rng.uniform(-3, 3, z[member])
+    dev = {
+        f"{member}_cumulative_um": list(np.cumsum(f - f.mean())),
+        f"{other}_cumulative_um": [0.0] * z[other],
+    }
+    run = run_pipeline(marine.replaced(pitch=dev), ["pitch"], cache=tmp_path)
+    orders, amp = run["pitch"].record.order_spectrum()
+    added = (
+        run["pitch"].record.order_spectrum("lte")[1]
+        - run["pitch"].record.order_spectrum("lte_nominal")[1]
+    )
+    per_rev = orders if member == "pinion" else orders * 45 / 29
+    own = np.isclose(per_rev, np.round(per_rev), atol=1e-9)
+    assert np.abs(added[~own]).max() < 1e-9 * amp[1:].max()
+    assert amp[own & (orders > 0)].max() > 0.1e-6
+
+
+def test_pitch_input_errors_name_their_keys(marine):
+    bad = marine.replaced(pitch={"pinion_cumulative_um": [1.0] * 28, "torque_Nm": 1000.0})
+    with pytest.raises(InputError) as err:
+        run_pipeline(bad, ["pitch"], cache=False)
+    text = str(err.value)
+    assert "pitch.pinion_cumulative_um" in text and "28 values" in text
+    assert "pitch.torque_Nm" in text
+    one_flank = marine.replaced(ltca={"flanks": ["coast"]})
+    with pytest.raises(InputError, match="ltca.flanks"):
+        run_pipeline(one_flank, ["pitch"], cache=False)
+
+
+@pytest.mark.slow
+def test_exact_method_through_the_pipeline(tmp_path):
+    """The exact re-solve on the parallel helical pair (6 positions, 1305 x 6 solves):
+    its nominal column equals the loaded TCA's TE, and the linear method reads it
+    within 3 % of the largest change for +-1 um single deviations."""
+    scene = load_scene(PARALLEL).replaced(
+        ltca={"positions": 6, "grid_face": 10, "flanks": ["drive"]},
+        pitch={"random_single_um": 1.0, "method": "exact"},
+    )
+    run = run_pipeline(scene, ["pitch"], cache=False)
+    ex = run["pitch"].record
+    assert ex.method == "exact"
+    lt = run["ltca"].flanks["drive"]
+    t = int(np.flatnonzero(lt.torque == 300.0)[0])
+    np.testing.assert_allclose(ex.lte_nominal[:6], lt.lte[t], rtol=1e-9)
+    lin = run_pipeline(scene.replaced(pitch={"method": "linear"}), ["pitch"], cache=False)
+    dl = lin["pitch"].record.lte - lin["pitch"].record.lte_nominal
+    de = ex.lte - ex.lte_nominal
+    assert np.abs(dl - de).max() < 0.03 * np.abs(de).max()
