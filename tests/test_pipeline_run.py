@@ -394,7 +394,7 @@ def test_strict_fails_when_a_requested_output_is_unavailable(tmp_path, monkeypat
     assert main([*args, "--strict"]) == 1
 
 
-UPSTREAM = ("design", "tca", "ltca", "tables")
+UPSTREAM = ("design", "tca", "ltca", "pitch", "tables")
 DOWNSTREAM = ("dynamics", "spectra", "waterfall", "campbell")
 
 
@@ -437,8 +437,8 @@ def test_second_run_with_another_propeller_says_what_came_from_the_cache(tmp_pat
     html = (out2 / "report.html").read_text()
     line = html[html.index('id="run-line"') : html.index("</p>", html.index('id="run-line"'))]
     assert "4 stage(s) computed (dynamics, spectra, waterfall, campbell)" in line
-    assert "4 from the cache (design, tca, ltca, tables;" in line
-    assert "report sections from the cache: design, tca, ltca, tables." in line
+    assert "5 from the cache (design, tca, ltca, pitch, tables;" in line
+    assert "report sections from the cache: design, tca, ltca, pitch, tables." in line
     stages = html[html.index("<h3>Stages</h3>") : html.index("<h3>Versions</h3>")]
     for name in UPSTREAM:
         assert f'<tr><td>{name}</td><td class="ok">cached</td>' in stages, name
