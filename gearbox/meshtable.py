@@ -38,10 +38,13 @@ from .errors import InputError, Problems
 __all__ = [
     "FLANKS",
     "FRICTION_ARMS",
+    "TORQUE_ARM",
     "FourierSeries",
     "MeshTable",
     "fourier_eval",
     "fourier_fit",
+    "pair_weight_fields",
+    "pair_weight_name",
 ]
 
 FLANKS = ("drive", "coast")
@@ -49,6 +52,29 @@ FLANKS = ("drive", "coast")
 #: The optional fields of the sliding friction's moment arms about the pinion's and the
 #: gear's axis (m), rows of ``extra`` (docs/drivetrain.md §3a).
 FRICTION_ARMS = ("friction_arm_pinion_m", "friction_arm_gear_m")
+
+#: The optional field of the torque arm T / sum F_n (m): the loaded TCA's normal load
+#: per unit pinion torque, inverted.
+TORQUE_ARM = "torque_arm_m"
+
+
+def pair_weight_name(k: int) -> str:
+    """Name of the optional field of tooth pair k's weight (the share of a normal
+    offset of the pair that the loaded rotation takes up, docs/ltca.md "Pitch
+    deviations"): ``pair_weight_0``, ``pair_weight_p1``, ``pair_weight_m1``."""
+    k = int(k)
+    return f"pair_weight_{'p' if k > 0 else 'm' if k < 0 else ''}{abs(k)}"
+
+
+def pair_weight_fields(table) -> dict[int, str]:
+    """Tooth pair index -> field name of the table's pair weights (empty if none)."""
+    out = {}
+    for k in range(-16, 17):
+        name = pair_weight_name(k)
+        if name in table.extra:
+            out[k] = name
+    return out
+
 
 _FIELDS = ("stiffness", "tangent_stiffness", "lte")
 _UNITS = {
@@ -65,6 +91,7 @@ _EXTRA_UNITS = {
     "pattern_area_fraction": "1",
     "load_sharing": "1",
     **dict.fromkeys(FRICTION_ARMS, "m"),
+    TORQUE_ARM: "m",
 }
 
 

@@ -376,6 +376,14 @@ SCHEMA: dict[str, dict[str, Field]] = {
             -360,
             360,
         ),
+        "pitch_deviations": Field(
+            "bool",
+            False,
+            "Apply the [pitch] section's deviations in the dynamics: their approach of the "
+            "drive flank over a hunting period at the model's torque (docs/drivetrain.md "
+            "section 3c). Needs loaded-TCA mesh tables (their pair weights); the solvers "
+            "'scipy' and 'diffrax'.",
+        ),
         "propeller_inertia_kgm2": _f(5.0, "Propeller inertia in air (kg m^2).", 0, None, True),
         "propeller_added_inertia_fraction": _f(
             0.25, "Added water inertia over propeller inertia.", 0, 10

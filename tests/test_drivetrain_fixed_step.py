@@ -14,7 +14,13 @@ import numpy as np
 import pytest
 
 from gearbox.drivetrain.linear import periodic_start_state, periodic_start_states
-from gearbox.drivetrain.model import DrivetrainModel, friction_arms, mesh_laws, rhs
+from gearbox.drivetrain.model import (
+    DrivetrainModel,
+    PitchApproach,
+    friction_arms,
+    mesh_laws,
+    rhs,
+)
 from gearbox.drivetrain.simulate import mesh_force_metrics, simulate
 from gearbox.errors import InputError
 from gearbox.mesh_analytical import analytical_table, pair_from_scene
@@ -71,7 +77,9 @@ def exact_laws(p):
     return laws_at
 
 
-@pytest.mark.parametrize("variant", ["default", "bearings_governor", "friction", "eccentricity"])
+@pytest.mark.parametrize(
+    "variant", ["default", "bearings_governor", "friction", "eccentricity", "pitch"]
+)
 def test_lean_rhs_equals_model_rhs(base, variant):
     # Same equations in another arrangement: equal to rounding (1e-12 of the largest
     # component) on states that put each flank in and out of contact; with mesh
@@ -88,6 +96,11 @@ def test_lean_rhs_equals_model_rhs(base, variant):
         )
         m = dataclasses.replace(DrivetrainModel.from_scene(sc, table), phase=0.3)
         assert m.params()["rc"].shape == (2, 4)
+    if variant == "pitch":  # docs/drivetrain.md §3c: the drive flank's gap follows a spline
+        rng = np.random.default_rng(4)
+        pa = PitchApproach(rng.normal(size=24 * 29 * 3) * 3e-6, float(table.angle[0]), 0.009)
+        m = dataclasses.replace(m, pitch=pa, phase=0.2)
+        assert m.params()["pt"].shape == (24 * 29 * 3, 4)
     if variant == "friction":
         m = DrivetrainModel.from_scene(case03(mesh_friction_coefficient=0.1), table)
         assert fs.mesh_law_table(m.params(), 64, np).shape[0] == 10

@@ -59,7 +59,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import Problems
+from ..errors import InputError, Problem, Problems
 
 __all__ = [
     "ExudynSolver",
@@ -313,8 +313,18 @@ def _plan_from_model(model) -> _Plan:
     With mesh friction (mu > 0) each flank's friction arms times mu (docs §3a), their
     harmonics floored at 1e-12 mu lambda_1 (lambda_2): about 1e-12 of the mesh torque.
     With eccentricities each flank's approach coefficients ``params()['rc']`` and the
-    gear angle's phase ``params()['phase2']`` (docs §3b).
+    gear angle's phase ``params()['phase2']`` (docs §3b). Pitch deviations (docs §3c)
+    are not built here: a model with them raises InputError.
     """
+    if getattr(model, "pitch", None) is not None:
+        raise InputError(
+            Problem(
+                "drivetrain.pitch_deviations",
+                True,
+                "the exudyn backend does not model pitch deviations yet: use the solver "
+                "'diffrax' or 'scipy', or set it to false",
+            )
+        )
     n = model.n_dof
     K, C = model.structural_matrices()
     G = model.mesh_vectors()

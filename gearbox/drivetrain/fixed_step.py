@@ -39,7 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from .linear import largest_stable_step, linear_matrices
-from .model import eccentricity_terms
+from .model import approach_terms
 
 __all__ = [
     "FixedStepPlan",
@@ -305,7 +305,7 @@ def lean_rhs(t, z, p, laws_at, te0, rp):
     # every consumer of the fused kernel)
     r = jax.lax.optimization_barrier(laws_at(p["N1"] * theta1))
     K, C, G = p["K"], p["C"], p["G"]
-    ecc = eccentricity_terms(t, x[1], x[2], v[1], v[2], p, jnp)
+    ecc = approach_terms(t, x[1], x[2], v[1], v[2], p, jnp)
     f = []
     for fl in range(2):
         s = sum(G[fl, j] * x[j] for j in range(n)) - r[2 + fl] - p["bl"][fl]
@@ -424,7 +424,7 @@ def fixed_solve_fn(method: str, cells: int, chunked: bool = False, terms=None):
             r = jax.vmap(laws_at)(phi)  # (S, R)
             gap = y[:, :n] @ p["G"].T - r[:, 2:4] - p["bl"]
             rate = y[:, n:] @ p["G"].T - r[:, 4:6] * (p["Omega"] + y[:, n + 1])[:, None]
-            ecc = eccentricity_terms(t + h, y[:, 1], y[:, 2], y[:, n + 1], y[:, n + 2], p, jnp)
+            ecc = approach_terms(t + h, y[:, 1], y[:, 2], y[:, n + 1], y[:, n + 2], p, jnp)
             if ecc is not None:
                 gap = gap + jnp.stack(ecc[0], axis=-1)
                 rate = rate + jnp.stack(ecc[1], axis=-1)

@@ -31,6 +31,8 @@ __all__ = [
     "modes",
     "order_responses",
     "periodic_start_state",
+    "pitch_harmonic_balance",
+    "pitch_lines",
     "periodic_start_states",
 ]
 
@@ -233,10 +235,17 @@ def periodic_start_states(
         # forcing Im(f e^{iwt}) -> response Im(X e^{iwt}); at t = 0: Im(X), Im(i w X)
         out[:, :n] += X.imag.sum(axis=1)
         out[:, n:] += (1j * w[..., None] * X).imag.sum(axis=1)
-    # the eccentricities with their sidebands (harmonic balance, docs §3b)
-    for _, orders, X, _ in eccentricity_harmonic_balance(
-        model, speeds, harmonics=max(mesh_harmonics, 1)
-    ):
+    # the eccentricities and pitch deviations with their sidebands (harmonic balance,
+    # docs §3b, §3c)
+    lines = [
+        (orders, X)
+        for _, orders, X, _ in eccentricity_harmonic_balance(
+            model, speeds, harmonics=max(mesh_harmonics, 1)
+        )
+    ]
+    if model.pitch is not None:
+        lines.append(pitch_harmonic_balance(model, speeds, harmonics=max(mesh_harmonics, 1))[:2])
+    for orders, X in lines:
         w = speeds[:, None] * orders[None, :]
         out[:, :n] += X.imag.sum(axis=1)
         out[:, n:] += (1j * w[..., None] * X).imag.sum(axis=1)
@@ -606,23 +615,31 @@ def _vibration_samples(model, sp, Xm, samples):
 
 def _family(model, sp, assemble, order0, phi0, *, approach=0j, force=None):
     """Steady response of the family w_0 + h w_m (w_0 = ``order0`` Omega) to a forcing
-    at w_0 in the frame theta = Omega t + phi0, phi0 = q_1s + theta_10 (the pinion's
-    angle at the static state): the drive flank's approach Re(E e^{i o_0 theta}) (``approach`` = E),
-    or the generalised force Re(F e^{i o_0 theta}) (``force`` = F, (n,)). Returns
-    (orders |o_0 + h N_1|, coordinates (B, L, n), mesh force (B, L)), each as Im(A e^{i
-    w t}) in the model's time t."""
+    in the frame theta = Omega t + phi0, phi0 = q_1s + theta_10 (the pinion's angle at
+    the static state): the drive flank's approach Re(sum_h E_h e^{i (o_0 + h N_1)
+    theta}) (``approach`` = E_0, or E_h over h = -H..H, shape (2 H + 1,)), or the
+    generalised force Re(F e^{i o_0 theta}) (``force`` = F, (n,)). Returns (orders
+    |o_0 + h N_1|, coordinates (B, L, n), mesh force (B, L)), each as Im(A e^{i w t}) in
+    the model's time t."""
     fl = model.drive
     n = model.n_dof
     hill = assemble(order0)
     hs, samples, harmonics = hill.hs, hill.samples, (hill.hs.size - 1) // 2
-    w0 = (order0 * sp)[:, None, None]
-    E = complex(approach)
-    rhs = -E * (hill.wk[hs % samples][None] + 1j * w0 * hill.wc[hs % samples][None])
+    E = np.asarray(approach, dtype=complex)
+    if E.ndim == 0:
+        E = np.where(hs == 0, E, 0j)
+    wj = (order0 + hs * float(model.pinion_teeth))[None, :] * sp[:, None]  # (B, m)
+    dh = (hs[:, None] - hs[None, :]) % samples
+    on = np.flatnonzero(E)
+    # k(theta) W a and c W a': sum over the approach's components j
+    rhs = -np.einsum("j,hjn->hn", E[on], hill.wk[dh[:, on]])[None]
+    rhs = rhs - 1j * np.einsum("bj,j,hjn->bhn", wj[:, on], E[on], hill.wc[dh[:, on]])
     if force is not None:
         rhs = rhs + np.where((hs == 0)[None, :, None], np.asarray(force)[None, None, :], 0)
-    X = hill.solve(np.broadcast_to(rhs, (sp.size, hs.size, n)).astype(complex))
-    f = hill.mesh_force(X, fl.damping) + E * hill.kap[hs % samples][None]
-    f[:, harmonics] += 1j * order0 * sp * fl.damping * E
+    drop = harmonics * n + 3 if order0 == 0 else None  # w_0 = 0: the propeller angle at 0
+    X = hill.solve(np.broadcast_to(rhs, (sp.size, hs.size, n)).astype(complex), drop=drop)
+    f = hill.mesh_force(X, fl.damping) + (hill.kap[dh[:, on]] @ E[on])[None]
+    f = f + 1j * wj * fl.damping * E[None, :]
     # theta = Omega t + q_1s + theta_10: back to the time's origin; Re(X e^{iwt}) with
     # w < 0 is Re(conj(X) e^{i|w|t}); Re(Y e^{i|w|t}) = Im(i Y e^{i|w|t})
     orders = order0 + hs * float(model.pinion_teeth)
@@ -688,6 +705,85 @@ def eccentricity_harmonic_balance(
             E = E * np.exp(1j * (ys[2] - ratio * ys[1]))
         out.append((name, *_family(model, sp, assemble, o0, phi0, approach=E)))
     return out
+
+
+def pitch_lines(model: DrivetrainModel, max_order: float, rel_floor: float = 1e-4):
+    """The pitch deviations' approach as lines Re(A e^{i o theta_1}) (docs §3c): orders
+    o = j / R (R = the hunting period in pinion revolutions) up to ``max_order`` whose
+    amplitude reaches ``rel_floor`` of the largest; (orders, A). From the samples' DFT
+    times the periodic cubic spline's transfer sinc(pi j / n)^4 / ((2 + cos(2 pi j /
+    n)) / 3), the spline's own Fourier coefficients (images above the Nyquist order
+    left out)."""
+    pa = model.pitch
+    v = pa.values
+    n = v.size
+    revs = pa.period / (2 * math.pi)
+    jmax = min(int(math.floor(max_order * revs + 1e-9)), n // 2 - 1)
+    c = np.fft.rfft(v)[: jmax + 1] / n
+    j = np.arange(jmax + 1)
+    x = np.pi * j / n
+    sinc = np.ones_like(x)
+    sinc[1:] = np.sin(x[1:]) / x[1:]
+    c = c * sinc**4 / ((2.0 + np.cos(2 * x)) / 3.0)
+    orders = j / revs
+    A = 2.0 * c * np.exp(-1j * orders * pa.angle0)  # a = Re(A e^{i o theta_1})
+    keep = (j > 0) & (np.abs(A) >= rel_floor * np.abs(A[1:]).max())
+    return orders[keep], A[keep]
+
+
+def pitch_harmonic_balance(
+    model: DrivetrainModel,
+    speeds=None,
+    *,
+    harmonics: int = 12,
+    samples: int = 256,
+    mesh_response: np.ndarray | None = None,
+    rel_floor: float = 1e-4,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Steady response to the pitch deviations' approach (docs §3c) with the mesh
+    stiffness varying in time: the Hill system of :func:`eccentricity_harmonic_balance`
+    for each family o_0 + h N_1, forced by the approach's lines in that family
+    (:func:`pitch_lines` up to order (``harmonics`` + 1) N_1, amplitudes above
+    ``rel_floor`` of the largest), linearised about the mesh orders' steady vibration.
+    The lines of one order from several families add up.
+
+    Returns (orders (L,), coordinate amplitudes (B, L, n), mesh-force amplitudes
+    (B, L)), each as Im(A exp(i w t)), w = order x Omega; empty without pitch
+    deviations.
+    """
+    sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
+    n = model.n_dof
+    if model.pitch is None:
+        return np.zeros(0), np.zeros((sp.size, 0, n), complex), np.zeros((sp.size, 0), complex)
+    H = int(harmonics)
+    z1 = float(model.pinion_teeth)
+    revs = model.pitch.period / (2 * math.pi)
+    per = int(round(z1 * revs))  # lines per mesh order
+    o, A = pitch_lines(model, (H + 1) * z1, rel_floor)
+    jj = np.rint(o * revs).astype(int)
+    cls, hh = jj % per, jj // per
+    ys = model.static_state()
+    phi0 = float(model.phase + ys[1])
+    base = _mesh_base(model, sp, H, samples, mesh_response)
+    assemble = _hill_families(model, sp, H, samples, base=base)
+    out_o, out_X, out_f = [], [], []
+    for r in np.unique(cls):
+        E = np.zeros(2 * H + 1, complex)
+        sel = (cls == r) & (hh <= H)
+        E[H + hh[sel]] = A[sel]
+        if not np.any(E):
+            continue
+        orders, X, f = _family(model, sp, assemble, r / revs, phi0, approach=E)
+        out_o.append(orders)
+        out_X.append(X)
+        out_f.append(f)
+    orders = np.concatenate(out_o)
+    X = np.concatenate(out_X, axis=1)
+    f = np.concatenate(out_f, axis=1)
+    w = sp[:, None] * orders[None, :]
+    orders, _, _, X, f = _merge_orders(orders, ("pitch",) * orders.size, w, X, f)
+    o = np.argsort(orders)
+    return orders[o], X[:, o], f[:, o]
 
 
 def excitation_harmonic_balance(
@@ -762,7 +858,9 @@ def order_responses(
     Eccentricities (docs §3b): their once per revolution and its sidebands by
     harmonic balance (:func:`eccentricity_harmonic_balance`), sources 'pinion
     eccentricity' and 'gear eccentricity'; an order two sources excite is one entry,
-    their responses added (sources joined with '+'). Mesh orders: harmonic balance with
+    their responses added (sources joined with '+'). Pitch deviations (docs §3c): every
+    line of their approach above 1e-4 of the largest, with its sidebands
+    (:func:`pitch_harmonic_balance`), source 'pitch deviations'. Mesh orders: harmonic balance with
     the time-varying mesh stiffness (:func:`mesh_harmonic_balance`, the first
     ``mesh_harmonics`` harmonics), which the mean-stiffness model underestimates near
     a mesh mode (on the default scene's 2x and 3x mesh crossings by 19 and 46 %
@@ -816,6 +914,11 @@ def order_responses(
         model, sp, harmonics=max(mesh_harmonics, 1), mesh_response=Xm
     ):
         add(oe, (f"{name} eccentricity",) * oe.size, Xe, fe)
+    if model.pitch is not None:
+        op, Xp, fp = pitch_harmonic_balance(
+            model, sp, harmonics=max(mesh_harmonics, 1), mesh_response=Xm
+        )
+        add(op, ("pitch deviations",) * op.size, Xp, fp)
     orders, sources, w, X, mesh = _merge_orders(orders, sources, w, X, mesh)
     K, C = model.structural_matrices()
     t_in = (-K[0, 1] - 1j * w * C[0, 1]) * (X[..., 0] - X[..., 1])

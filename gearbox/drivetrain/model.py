@@ -22,11 +22,15 @@ from ..meshtable import FRICTION_ARMS, MeshTable, fourier_eval, fourier_fit
 __all__ = [
     "CHANNEL_UNITS",
     "DrivetrainModel",
+    "PitchApproach",
+    "approach",
+    "approach_terms",
     "eccentricity_approach",
     "eccentricity_terms",
     "energy",
     "friction_torques",
     "outputs",
+    "pitch_terms",
     "power",
     "rhs",
 ]
@@ -77,6 +81,121 @@ class MeshFlank:
 
 
 @dataclass(frozen=True)
+class PitchApproach:
+    """The pitch deviations' approach of the drive flank over a hunting period
+    (docs/drivetrain.md §3c): samples a_j (m) at the pinion angles angle0 + j step,
+    j = 0..n-1, periodic with n step, through which a periodic cubic spline passes.
+    a = -(the loaded TE's change), arm(theta) sum_k w_k(theta) alpha_k of
+    docs/ltca.md "Pitch deviations", at the model's torque.
+    """
+
+    values: np.ndarray
+    angle0: float
+    step: float
+
+    def __post_init__(self):
+        v = np.array(self.values, dtype=float).reshape(-1)
+        p = Problems()
+        p.check(
+            v.size >= 4 and np.all(np.isfinite(v)),
+            "pitch.values",
+            v.size,
+            "must be >= 4 finite samples (m)",
+        )
+        p.check(
+            math.isfinite(self.step) and self.step > 0, "pitch.step", self.step, "must be > 0 rad"
+        )
+        p.raise_if_any("invalid pitch approach")
+        v.setflags(write=False)
+        object.__setattr__(self, "values", v)
+
+    @property
+    def period(self) -> float:
+        """Pinion angle of a hunting period (rad)."""
+        return self.values.size * self.step
+
+    def coefficients(self) -> np.ndarray:
+        """Spline coefficients per sample interval, shape (n, 4): a = c0 + c1 d + c2 d^2
+        + c3 d^3 with d in [0, 1) the position within the interval (in samples)."""
+        from scipy.interpolate import CubicSpline
+
+        v = self.values
+        cs = CubicSpline(np.arange(v.size + 1), np.append(v, v[0]), bc_type="periodic")
+        return np.ascontiguousarray(cs.c[::-1].T)
+
+    def __call__(self, theta1):
+        """a (m) and da / dtheta_1 (m/rad) at pinion angles theta1 (any shape)."""
+        return _pitch_eval(
+            np.asarray(theta1, dtype=float), self.coefficients(), self.angle0, self.step, np
+        )
+
+    @classmethod
+    def from_table(cls, table: MeshTable, pinion, gear, torque: float) -> PitchApproach:
+        """From a mesh table with pair weights and torque arm (a loaded TCA's) and the
+        cumulative pitch deviations of the drive flanks (m, one per tooth, docs/ltca.md
+        "Pitch deviations"), at ``torque``: samples over lcm(N_1, N_2) mesh cycles."""
+        from ..meshtable import TORQUE_ARM, pair_weight_fields
+
+        p = Problems()
+        fields_ = pair_weight_fields(table)
+        p.check(
+            bool(fields_) and TORQUE_ARM in table.extra and "drive" in table.flanks,
+            "mesh table",
+            table.attrs.get("method", ""),
+            "pitch deviations need a loaded-TCA mesh table with the drive flank's pair "
+            "weights and torque arm (the analytical tables have none)",
+        )
+        radii = [table.attrs.get(f"{m}_reference_pitch_radius_m") for m in ("pinion", "gear")]
+        p.check(
+            all(r is not None and float(r) > 0 for r in radii),
+            "mesh table attrs",
+            radii,
+            "need pinion_reference_pitch_radius_m and gear_reference_pitch_radius_m",
+        )
+        z1, z2 = table.pinion_teeth, table.gear_teeth
+        pin = np.asarray(pinion, dtype=float).reshape(-1)
+        gea = np.asarray(gear, dtype=float).reshape(-1)
+        p.check(pin.size == z1, "pinion deviations", pin.size, f"must be {z1} values")
+        p.check(gea.size == z2, "gear deviations", gea.size, f"must be {z2} values")
+        p.raise_if_any("invalid pitch deviations")
+        H = z1 * z2 // math.gcd(z1, z2)
+        ks = np.array(sorted(fields_))
+        w = np.stack([table.values_at(fields_[k], "drive", torque) for k in ks], axis=1)  # (P,K)
+        arm = table.values_at(TORQUE_ARM, "drive", torque)  # (P,)
+        c = np.arange(H)[:, None] - ks[None, :]
+        alpha = pin[c % z1] / float(radii[0]) + gea[c % z2] / float(radii[1]) * (z2 / z1)
+        values = (arm[None, :] * (alpha @ w.T)).reshape(-1)
+        step = float(table.angle[1] - table.angle[0])
+        return cls(values, float(table.angle[0]), step)
+
+
+def _pitch_eval(theta1, coef, angle0, step, xp):
+    """The spline of :class:`PitchApproach` (coefficients ``coef`` (n, 4)) and its
+    derivative per radian at ``theta1``: the interval found by division (uniform
+    samples), so numpy and jax alike."""
+    n = coef.shape[0]
+    u = (theta1 - angle0) / step
+    i0 = xp.floor(u)
+    d = u - i0
+    i = xp.mod(i0, n).astype(int) if xp is np else xp.mod(i0, n).astype(xp.int32)
+    c = coef[i]
+    a = c[..., 0] + d * (c[..., 1] + d * (c[..., 2] + d * c[..., 3]))
+    da = (c[..., 1] + d * (2.0 * c[..., 2] + 3.0 * d * c[..., 3])) / step
+    return a, da
+
+
+def _pitch_of(scene, table: MeshTable, torque: float) -> PitchApproach | None:
+    """The scene's ``[pitch]`` deviations as the drive flank's approach when
+    ``drivetrain.pitch_deviations`` is on (docs §3c), else None."""
+    if not scene["drivetrain"]["pitch_deviations"]:
+        return None
+    from ..ltca.pitch import deviations_from_section
+
+    pin, gear = deviations_from_section(scene["pitch"], (table.pinion_teeth, table.gear_teeth))
+    return PitchApproach.from_table(table, pin, gear, torque)
+
+
+@dataclass(frozen=True)
 class DrivetrainModel:
     """All parameters of the drivetrain in SI (docs/drivetrain.md §8).
 
@@ -121,6 +240,7 @@ class DrivetrainModel:
     pinion_eccentricity_angle: float = 0.0  # psi_1 (rad)
     gear_eccentricity: float = 0.0  # e_2 (m)
     gear_eccentricity_angle: float = 0.0  # psi_2 (rad)
+    pitch: PitchApproach | None = None  # docs §3c
     meta: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self):
@@ -258,6 +378,7 @@ class DrivetrainModel:
             pinion_eccentricity_angle=math.radians(d["pinion_eccentricity_angle_deg"]),
             gear_eccentricity=d["gear_eccentricity_um"] * 1e-6,
             gear_eccentricity_angle=math.radians(d["gear_eccentricity_angle_deg"]),
+            pitch=_pitch_of(scene, table, torque),
             meta={"scene": scene.name, "table_method": table.attrs.get("method", "")},
         )
 
@@ -440,6 +561,9 @@ class DrivetrainModel:
             orders.append(Fraction(1))  # once per pinion revolution (docs §3b)
         if self.gear_eccentricity > 0:
             orders.append(ratio)  # once per gear revolution
+        if self.pitch is not None:  # once per hunting period (docs §3c)
+            z1, z2 = self.pinion_teeth, self.gear_teeth
+            orders.append(Fraction(z1, z1 * z2 // math.gcd(z1, z2)))
         # period of order o (in revolutions) is 1/o = q/p; LCM of fractions q_i/p_i
         num = 1
         den = 0
@@ -590,6 +714,10 @@ class DrivetrainModel:
             "phase": np.array(self.phase),
             "phase2": np.array(self.phase * self.pinion_teeth / self.gear_teeth),
             "rc": rc,
+            # pitch deviations: none -> nothing to evaluate (docs §3c)
+            "pt": self.pitch.coefficients() if self.pitch is not None else np.zeros((0, 4)),
+            "pt0": np.array(self.pitch.angle0 if self.pitch is not None else 0.0),
+            "pts": np.array(self.pitch.step if self.pitch is not None else 1.0),
             "T": np.array(self.torque),
             "eo": eo,
             "ea": ea,
@@ -766,6 +894,41 @@ def eccentricity_terms(t, q1, q2, v1, v2, p, xp=np):
     return eps, rate
 
 
+def pitch_terms(t, q1, v1, p, xp=np):
+    """The pitch deviations' approach a (m) of the drive flank and its rate da/dt (m/s)
+    from the pinion's coordinate q_1 and speed v_1 (docs §3c); None without them
+    (``p['pt']`` with no rows)."""
+    pt = p["pt"]
+    if pt.shape[0] == 0:
+        return None
+    th1 = p["Omega"] * t + q1 + p["phase"]
+    a, da = _pitch_eval(th1, pt, p["pt0"], p["pts"], xp)
+    return a, da * (p["Omega"] + v1)
+
+
+def approach_terms(t, q1, q2, v1, v2, p, xp=np):
+    """The flanks' kinematic approach and its rate, two lists [drive, coast]: the
+    eccentricities' (:func:`eccentricity_terms`) plus the pitch deviations' on the
+    drive flank (:func:`pitch_terms`); None with neither."""
+    ecc = eccentricity_terms(t, q1, q2, v1, v2, p, xp)
+    pit = pitch_terms(t, q1, v1, p, xp)
+    if pit is None:
+        return ecc
+    if ecc is None:
+        return [pit[0], 0.0 * pit[0]], [pit[1], 0.0 * pit[1]]
+    (e0, e1), (r0, r1) = ecc
+    return [e0 + pit[0], e1], [r0 + pit[1], r1]
+
+
+def approach(t, x, v, p, xp=np):
+    """:func:`approach_terms` of states x, v of shape S + (n,): each shape S + (2,);
+    None with neither eccentricity nor pitch deviations."""
+    out = approach_terms(t, x[..., 1], x[..., 2], v[..., 1], v[..., 2], p, xp)
+    if out is None:
+        return None
+    return xp.stack(out[0], axis=-1), xp.stack(out[1], axis=-1)
+
+
 def eccentricity_approach(t, x, v, p, xp=np):
     """:func:`eccentricity_terms` of states x, v of shape S + (n,): eps_f and its rate,
     each shape S + (2,); None without eccentricity."""
@@ -783,7 +946,7 @@ def mesh_forces(t, x, v, p, xp=np):
     ddelta = p["G"] @ v
     s = delta - e - p["bl"]
     sdot = ddelta - de * (p["Omega"] + v[1])
-    ecc = eccentricity_approach(t, x, v, p, xp)
+    ecc = approach(t, x, v, p, xp)
     if ecc is not None:
         s = s + ecc[0]
         sdot = sdot + ecc[1]
@@ -834,7 +997,7 @@ def energy(t, y, p, xp=np):
     theta1 = p["Omega"] * t + x[1] + p["phase"]
     k, _, e, _ = mesh_laws(theta1, p, xp)
     s = p["G"] @ x - e - p["bl"]
-    ecc = eccentricity_approach(t, x, v, p, xp)
+    ecc = approach(t, x, v, p, xp)
     if ecc is not None:
         s = s + ecc[0]
     sp = xp.maximum(s, 0.0)
@@ -858,7 +1021,7 @@ def power(t, y, p, xp=np):
     ext = te * (p["Wn"][0] + v[0]) - tp * (p["Wn"][3] + v[3])
     t1, t2 = friction_torques(theta1, f, p, xp)
     ext = ext + t1 * dth + t2 * (p["Wn"][2] + v[2])
-    ecc = eccentricity_approach(t, x, v, p, xp)
+    ecc = approach(t, x, v, p, xp)
     if ecc is not None:
         ext = ext + xp.sum(f * ecc[1])
     return ext + xp.sum(0.5 * dk * sp * sp * dth - f * de * dth)
@@ -886,6 +1049,7 @@ CHANNEL_UNITS = {
     "gear_friction_torque_Nm": "N m",
     "mesh_friction_power_W": "W",
     "eccentricity_approach_m": "m",
+    "pitch_approach_m": "m",
 }
 
 
@@ -904,9 +1068,11 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     s = x @ p["G"].T - e - p["bl"]
     sdot = v @ p["G"].T - de * (p["Omega"] + v[:, 1])[:, None]
     ecc = eccentricity_approach(t, x, v, p)
-    if ecc is not None:
-        s = s + ecc[0]
-        sdot = sdot + ecc[1]
+    pit = pitch_terms(t, x[:, 1], v[:, 1], p)
+    both = approach(t, x, v, p)
+    if both is not None:
+        s = s + both[0]
+        sdot = sdot + both[1]
     forces = np.where(s > 0, np.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
     tt = t[:, None]
     te = p["T"] * (1.0 + np.sum(p["ea"] * np.sin(p["eo"] * p["Omega"] * tt), axis=-1))
@@ -943,6 +1109,8 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
         out["gear_bearing_force_N"] = K[5, 5] * x[:, 5] + C[5, 5] * v[:, 5]
     if ecc is not None:
         out["eccentricity_approach_m"] = ecc[0][:, 0]
+    if pit is not None:
+        out["pitch_approach_m"] = pit[0]
     if p["fc"].shape[-1]:
         t1, t2 = friction_torques(theta1, forces, p)
         out["pinion_friction_torque_Nm"] = t1

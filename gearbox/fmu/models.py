@@ -83,7 +83,18 @@ def _eccentricity(model) -> bool:
 
 def _mesh_features(model, table) -> dict[str, bool]:
     """The optional parts of the mesh FMUs: ``friction`` (:func:`_friction`) and
-    ``eccentricity`` (:func:`_eccentricity`)."""
+    ``eccentricity`` (:func:`_eccentricity`). Pitch deviations (docs/drivetrain.md §3c)
+    are not in the FMUs: a model with them raises InputError."""
+    from ..errors import InputError, Problem
+
+    if getattr(model, "pitch", None) is not None:
+        raise InputError(
+            Problem(
+                "drivetrain.pitch_deviations",
+                True,
+                "the FMUs do not model pitch deviations yet: set it to false for the FMU",
+            )
+        )
     return {"friction": _friction(model, table), "eccentricity": _eccentricity(model)}
 
 

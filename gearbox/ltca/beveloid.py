@@ -838,6 +838,8 @@ def beveloid_ltca(
         "frame": "Sf of gearbox.tca.assembly (paper Fig. 11); drive = R flank, coast = L flank",
         "field_newton_iterations": int(sum(fields.values())),
         "flank_modifications": describe_pair(relief),
+        "pinion_reference_pitch_radius_m": float(design.pinion.reference_pitch_radius),
+        "gear_reference_pitch_radius_m": float(design.gear.reference_pitch_radius),
     }
     table = mesh_table(
         results,

@@ -50,6 +50,7 @@ __all__ = [
     "PitchDeviations",
     "PitchResult",
     "deviations_from_scene",
+    "deviations_from_section",
     "exact_rotation",
     "hunting_lte",
     "pair_angles",
@@ -300,21 +301,19 @@ def exact_rotation(grid, compliance, torque, alpha, pair_index, *, solver=None):
     return rot[inverse], arm[inverse]
 
 
-def deviations_from_scene(design, scene) -> PitchDeviations:
-    """The scene's ``[pitch]`` deviations (SI): each member's list where given (one
-    value per tooth), else random single pitch deviations within
-    +-``random_single_um`` (uniform, less their mean; pinion drawn first from
-    ``seed``), else zeros. Raises InputError naming the key of a list of the wrong
-    length."""
-    pt = scene["pitch"]
-    rng = np.random.default_rng(int(pt["seed"]))
-    a = float(pt["random_single_um"]) * 1e-6
+def deviations_from_section(section, teeth: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Cumulative deviations (m) of pinion and gear from a scene's ``[pitch]`` section:
+    each member's list where given (one value per tooth), else random single pitch
+    deviations within +-``random_single_um`` (uniform, less their mean; both members
+    drawn from ``seed``, the pinion first), else zeros. Raises InputError naming the
+    key of a list of the wrong length."""
+    rng = np.random.default_rng(int(section["seed"]))
+    a = float(section["random_single_um"]) * 1e-6
     p = Problems()
     out = []
-    for member in ("pinion", "gear"):
-        z = int(getattr(design, member).teeth)
-        given = pt[f"{member}_cumulative_um"]
-        f = rng.uniform(-a, a, z)  # drawn for both members alike: the seed's sequence
+    for member, z in zip(("pinion", "gear"), teeth, strict=True):
+        given = section[f"{member}_cumulative_um"]
+        f = rng.uniform(-a, a, int(z))  # drawn for both members alike: the seed's sequence
         if given:
             p.check(
                 len(given) == z,
@@ -327,11 +326,16 @@ def deviations_from_scene(design, scene) -> PitchDeviations:
             f = f - f.mean()
             out.append(np.concatenate([[0.0], np.cumsum(f)[:-1]]))
     p.raise_if_any("invalid pitch deviations")
+    return out[0], out[1]
+
+
+def deviations_from_scene(design, scene) -> PitchDeviations:
+    """The scene's ``[pitch]`` deviations (:func:`deviations_from_section`) on the
+    design's reference pitch radii."""
+    teeth = (design.pinion.teeth, design.gear.teeth)
+    pin, gear = deviations_from_section(scene["pitch"], teeth)
     return PitchDeviations(
-        out[0],
-        out[1],
-        design.pinion.reference_pitch_radius,
-        design.gear.reference_pitch_radius,
+        pin, gear, design.pinion.reference_pitch_radius, design.gear.reference_pitch_radius
     )
 
 

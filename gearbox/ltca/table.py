@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import Problems
-from ..meshtable import FRICTION_ARMS, MeshTable
+from ..meshtable import FRICTION_ARMS, TORQUE_ARM, MeshTable, pair_weight_name
 from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle, root_stress_method
 from .compliance import compliance_for, describe_compliance
 from .parallel import ParallelPair, parallel_grid
@@ -89,6 +89,20 @@ def mesh_table(
     if all(flanks[f].friction_arm is not None for f in names):
         arms = stack("friction_arm")
         extra.update(zip(FRICTION_ARMS, (arms[..., 0], arms[..., 1]), strict=True))
+    if all(flanks[f].pair_weight is not None for f in names):
+        # each tooth pair's weight (docs/ltca.md "Pitch deviations"), 0 where a flank
+        # does not track the pair; and the torque arm T / sum F_n
+        ks = sorted({int(k) for f in names for k in flanks[f].pair_index})
+        for k in ks:
+            w = np.zeros((len(names), first.torque.size, P))
+            for i, f in enumerate(names):
+                hit = np.flatnonzero(flanks[f].pair_index == k)
+                if hit.size:
+                    w[i] = flanks[f].pair_weight[:, :, hit[0]]
+            extra[pair_weight_name(k)] = w
+        extra[TORQUE_ARM] = np.stack(
+            [flanks[f].torque[:, None] / flanks[f].normal_load for f in names]
+        )
     return MeshTable(
         pinion_teeth=pinion_teeth,
         gear_teeth=gear_teeth,
@@ -228,6 +242,8 @@ def parallel_ltca(
         "gearbox_version": __version__,
         "frame": "pinion axis z through origin, gear axis through (a, 0, 0); drive = R flank",
         "flank_modifications": describe_pair(mods),
+        "pinion_reference_pitch_radius_m": float(pair.pitch_radius(0)),
+        "gear_reference_pitch_radius_m": float(pair.pitch_radius(1)),
     }
     table = mesh_table(
         res,

@@ -21,7 +21,7 @@ from .stage import Stage
 __all__ = ["STAGES", "require"]
 
 _PAIR = ("pair", "pinion", "gear", "tool")
-_DRIVE = ("drivetrain", "simulation", "load.torques_Nm", "load.operating_torque_Nm")
+_DRIVE = ("drivetrain", "simulation", "load.torques_Nm", "load.operating_torque_Nm", "pitch")
 
 
 def _check_torques(scene):

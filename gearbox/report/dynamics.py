@@ -78,6 +78,12 @@ def _parameters(m) -> list[tuple]:
             else "0 (none)",
         ),
         (
+            "pitch deviations: the drive flank's approach, peak-to-peak (um)",
+            fmt(float(np.ptp(m.pitch.values)) * 1e6, 4)
+            if getattr(m, "pitch", None) is not None
+            else "none (nominal teeth)",
+        ),
+        (
             "backlash along the line of action (mm)",
             (m.coast.backlash * 1e3) if m.coast is not None else "no coast flank",
         ),

@@ -283,6 +283,7 @@ def excitation_orders(
     strokes: int = 4,
     pinion_eccentricity: bool = False,
     gear_eccentricity: bool = False,
+    pitch_orders: int = 0,
 ) -> tuple[ExcitationOrder, ...]:
     """Excitation orders relative to the pinion (cycles per pinion revolution).
 
@@ -306,11 +307,16 @@ def excitation_orders(
         Add the once per revolution of an eccentric pinion (order 1) or gear (order
         N_1/N_2; needs ``gear_teeth``), docs/drivetrain.md §3b. Their sidebands about
         the mesh orders are not listed.
+    pitch_orders : int
+        Pitch deviations (docs/drivetrain.md §3c): add pinion orders 1..k and gear
+        orders 1..k (k N_1/N_2; needs ``gear_teeth``), family ``pitch``. Their lines
+        lie at every multiple of 1 / (the hunting period in pinion revolutions); these
+        are the long-wave ones.
 
     Returns
     -------
     tuple of ExcitationOrder, sorted by order; duplicates (same order) keep the
-    first family in the order mesh, engine, propeller, eccentricity, engine-half.
+    first family in the order mesh, engine, propeller, eccentricity, pitch, engine-half.
     """
     p = Problems()
     p.check(
@@ -337,17 +343,18 @@ def excitation_orders(
             "must be an integer >= 1",
         )
     p.check(strokes in (2, 4), "strokes", strokes, "must be 2 or 4")
-    if gear_eccentricity:
+    if gear_eccentricity or pitch_orders:
         p.check(
             isinstance(gear_teeth, int) and gear_teeth >= 1,
             "gear_teeth",
             gear_teeth,
-            "must be an integer >= 1 (needed for the gear's eccentricity order)",
+            "must be an integer >= 1 (needed for the gear's eccentricity and pitch orders)",
         )
     for nm, v in (
         ("mesh_harmonics", mesh_harmonics),
         ("firing_harmonics", firing_harmonics),
         ("blade_harmonics", blade_harmonics),
+        ("pitch_orders", pitch_orders),
     ):
         p.check(isinstance(v, int) and v >= 0, nm, v, "must be an integer >= 0")
     p.raise_if_any("excitation orders")
@@ -369,6 +376,9 @@ def excitation_orders(
         out.append(ExcitationOrder("pinion eccentricity", 1.0, "eccentricity"))
     if gear_eccentricity:
         out.append(ExcitationOrder("gear eccentricity", pinion_teeth / gear_teeth, "eccentricity"))
+    for h in range(1, pitch_orders + 1):
+        out.append(ExcitationOrder(f"pitch, pinion {h}", float(h), "pitch"))
+        out.append(ExcitationOrder(f"pitch, gear {h}", h * pinion_teeth / gear_teeth, "pitch"))
     if cylinders is not None and half_orders:
         firing = cylinders * (2.0 / strokes)
         top = firing if max_half_order is None else min(firing, max_half_order + 0.25)
@@ -386,6 +396,10 @@ def excitation_orders(
     return tuple(sorted(unique, key=lambda e: e.order))
 
 
+#: Pinion and gear orders listed for pitch deviations (:func:`excitation_orders`).
+PITCH_ORDERS = 3
+
+
 def excitation_orders_from_scene(scene, **options) -> tuple[ExcitationOrder, ...]:
     """:func:`excitation_orders` of the orders a scene's drivetrain model excites.
 
@@ -393,7 +407,8 @@ def excitation_orders_from_scene(scene, **options) -> tuple[ExcitationOrder, ...
     (4-stroke), ``drivetrain.propeller_blades``, and, where the scene has them,
     ``drivetrain.engine_harmonics`` (firing harmonics) and
     ``drivetrain.blade_pass_harmonics``, and the eccentricities' orders where
-    ``drivetrain.pinion_eccentricity_um`` / ``gear_eccentricity_um`` > 0. Half orders 0.5, 1, 1.5 (those the
+    ``drivetrain.pinion_eccentricity_um`` / ``gear_eccentricity_um`` > 0, pinion and
+    gear orders 1..:data:`PITCH_ORDERS` with ``drivetrain.pitch_deviations``. Half orders 0.5, 1, 1.5 (those the
     drivetrain model drives) are included when ``drivetrain.half_order_ripple`` > 0.
     ``options`` override any of these.
     """
@@ -408,6 +423,8 @@ def excitation_orders_from_scene(scene, **options) -> tuple[ExcitationOrder, ...
     if "pinion_eccentricity_um" in fields:
         options.setdefault("pinion_eccentricity", float(dt["pinion_eccentricity_um"]) > 0)
         options.setdefault("gear_eccentricity", float(dt["gear_eccentricity_um"]) > 0)
+    if "pitch_deviations" in fields:
+        options.setdefault("pitch_orders", PITCH_ORDERS if dt["pitch_deviations"] else 0)
     return excitation_orders(
         pinion_teeth=int(scene["pinion"]["teeth"]),
         gear_teeth=int(scene["gear"]["teeth"]),

@@ -23,6 +23,7 @@ _SOURCE_STYLE = {
     "engine-half": {"color": "tab:gray", "linestyle": ":"},
     "propeller": {"color": "tab:green", "linestyle": "-."},
     "eccentricity": {"color": "tab:purple", "linestyle": (0, (5, 1, 1, 1))},
+    "pitch": {"color": "tab:brown", "linestyle": (0, (1, 2))},
 }
 
 

@@ -51,6 +51,11 @@ SPECTRUM_CHANNELS = (
 #: releases the GIL (exudyn and scipy runs stay one after the other, or in processes).
 THREADED = ("diffrax",)
 
+#: Pinion and gear orders of the pitch deviations listed among the excitations
+#: (gearbox.spectrum.campbell.PITCH_ORDERS, kept here so that the stage module does
+#: not import the spectrum package before it runs).
+PITCH_ORDERS = 3
+
 #: Speeds of the Campbell diagram's mode curves (eigenvalues are cheap).
 CAMPBELL_SPEEDS = 61
 
@@ -210,7 +215,8 @@ class Spectra:
 def _orders(model) -> tuple:
     """The model's excitation orders: mesh (3 harmonics), firing and blade-pass orders
     with the harmonics the model applies, half orders when it has cylinder imbalance,
-    the eccentric members' once per revolution."""
+    the eccentric members' once per revolution, the pitch deviations' first pinion and
+    gear orders."""
     spectrum = require("gearbox.spectrum", "excitation_orders")
     return spectrum.excitation_orders(
         pinion_teeth=model.pinion_teeth,
@@ -223,6 +229,7 @@ def _orders(model) -> tuple:
         max_half_order=1.5,  # the half orders the model applies (0.5, 1, 1.5)
         pinion_eccentricity=model.pinion_eccentricity > 0,
         gear_eccentricity=model.gear_eccentricity > 0,
+        pitch_orders=PITCH_ORDERS if getattr(model, "pitch", None) is not None else 0,
     )
 
 
