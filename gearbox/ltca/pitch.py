@@ -53,6 +53,7 @@ __all__ = [
     "deviations_from_section",
     "exact_rotation",
     "hunting_lte",
+    "order_kind",
     "pair_angles",
 ]
 
@@ -358,7 +359,7 @@ class PitchResult:
         out = []
         for i in idx:
             o = float(orders[i])
-            out.append({"order": o, "amplitude_m": float(amp[i]), "kind": _kind(o, z1, z2)})
+            out.append({"order": o, "amplitude_m": float(amp[i]), "kind": order_kind(o, z1, z2)})
         return out
 
     def to_dict(self) -> dict:
@@ -387,7 +388,7 @@ class PitchResult:
         }
 
 
-def _kind(order: float, z1: int, z2: int) -> str:
+def order_kind(order: float, z1: int, z2: int) -> str:
     """What a pinion order is: 'mesh h', 'pinion h', 'gear h' or 'combination'."""
     tol = 1e-9
     h = order / z1
