@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{41d9302d-1ac5-3714-c34d-ca2d3beb2ff3}"
+#define MODEL_GUID "{378d4d4b-7faf-12c4-25c0-d0c6ed44145c}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
@@ -129,6 +129,10 @@ typedef struct {
      * revolutions per second, whether one is not 0 */
     double rc[2][4], frev[2];
     int ecc;
+    /* pitch deviations: the drive flank's approach, a periodic cubic spline over npt
+     * samples from the pinion angle pt0 every pts (rad), coefficients (npt, 4) */
+    double *pitch, pt0, pts;
+    int npt;
 } GbxModelData;
 
 #endif /* config_h */

@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{0397b4eb-68a1-a7d7-3528-3d8cfaf202b1}"
+#define MODEL_GUID "{11ce7538-b017-a963-8ac3-c0d52d3fa0e2}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
@@ -108,6 +108,10 @@ typedef struct {
      * revolutions per second, whether one is not 0 */
     double rc[2][4], frev[2];
     int ecc;
+    /* pitch deviations: the drive flank's approach, a periodic cubic spline over npt
+     * samples from the pinion angle pt0 every pts (rad), coefficients (npt, 4) */
+    double *pitch, pt0, pts;
+    int npt;
 } GbxModelData;
 
 #endif /* config_h */

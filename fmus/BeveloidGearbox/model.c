@@ -76,6 +76,7 @@ const gbx_var GBX_VARS[GBX_NR] = {
 #define GBX_BEARINGS 0
 #define GBX_FRICTION 1
 #define GBX_ECCENTRICITY 1
+#define GBX_PITCH 0
 #define GBX_MAX_HARMONICS 24
 #define GBX_ENGINE_HARMONICS 3
 #define GBX_BLADE_HARMONICS 1
@@ -88,8 +89,8 @@ static const int GBX_STATE_OF_DOF[4] = {-1, 0, 1, -1};
  *
  *   M dv/dt = Q_ext - K_s x - C_s v - sum_f G_f F_f                         (section 7)
  *   F_f = H(s_f) max(0, k_f(theta_1) s_f + c_f sdot_f)                      (section 3)
- *   s_f = G_f . x + eps_f - e_f(theta_1) - b_f,
- *   sdot_f = G_f . v + deps_f/dt - e_f'(theta_1)(Omega + v_1)                  (3b)
+ *   s_f = G_f . x + eps_f + a_f - e_f(theta_1) - b_f,
+ *   sdot_f = G_f . v + deps_f/dt + da_f/dt - e_f'(theta_1)(Omega + v_1)       (3b, 3c)
  *   Q_ext,1 += -mu sum_f phi_1f(theta_1) F_f,  Q_ext,2 += +mu sum_f phi_2f(theta_1) F_f  (3a)
  *
  * x = [q_e, q_1, q_2, q_p (, y_1, y_2)] deviations from the nominal rotation
@@ -118,10 +119,19 @@ static const int GBX_STATE_OF_DOF[4] = {-1, 0, 1, -1};
  * (gearbox.drivetrain.model.transverse_axes), computed here from the table like the
  * rotation radii. Nothing is evaluated while both eccentricities are 0.
  *
+ * Pitch deviations (GBX_PITCH): the drive flank's approach a (a_coast = 0) over a hunting
+ * period, the periodic cubic spline of gearbox.drivetrain.model.PitchApproach through
+ * the n samples of resources/pitch_samples.txt at the pinion angles angle0 + j step
+ * (pitch_meta.txt), fitted at instantiation (pitch_load): with u = (theta_1 - angle0) /
+ * step, interval i = floor(u) mod n at d = u - floor(u), a = c0 + d (c1 + d (c2 + d c3))
+ * and da/dt = (c1 + d (2 c2 + 3 d c3)) / step (Omega + v_1) (pitch_terms). The model's
+ * approach at its torque: not refitted at another engine.mean_torque, no parameter.
+ *
  * Build switches: GBX_WITH_ENGINE, GBX_WITH_PROPELLER (0: that shaft end is an input
  * flange), GBX_BEARINGS (bearing translations along the drive line of action),
  * GBX_FRICTION (friction arms in the table: mesh.friction_coefficient and its outputs),
- * GBX_ECCENTRICITY (the eccentricities' parameters and mesh.eccentricity_approach). */
+ * GBX_ECCENTRICITY (the eccentricities' parameters and mesh.eccentricity_approach),
+ * GBX_PITCH (the pitch deviations' spline and mesh.pitch_approach). */
 
 #define NDOF (GBX_BEARINGS ? 6 : 4)
 #define TWO_PI 6.283185307179586
@@ -147,6 +157,9 @@ static int fail(ModelInstance *m, const char *what) {
 
 #if GBX_ECCENTRICITY
 static void turn_grid(double *cells);
+#endif
+#if GBX_PITCH
+static int pitch_load(ModelInstance *m);
 #endif
 
 int gbx_model_load(ModelInstance *m) {
@@ -219,6 +232,9 @@ int gbx_model_load(ModelInstance *m) {
     if (!d->tgrid) return fail(m, "out of memory");
     turn_grid(d->tgrid);
 #endif
+#if GBX_PITCH
+    if (pitch_load(m) != 0) return 1;
+#endif
     return 0;
 }
 
@@ -231,8 +247,91 @@ void gbx_model_free(ModelInstance *m) {
     gbx_free(m, d->egrid);
     gbx_free(m, d->pgrid);
     gbx_free(m, d->tgrid);
-    d->torque = d->samples = d->coef = d->grid = d->egrid = d->pgrid = d->tgrid = NULL;
+    gbx_free(m, d->pitch);
+    d->torque = d->samples = d->coef = d->grid = d->egrid = d->pgrid = d->tgrid = d->pitch = NULL;
 }
+
+#if GBX_PITCH
+/* x of the tridiagonal system with sub- and superdiagonal 1 and diagonal b (n), right-hand
+ * side r (n), g (n) work (Numerical Recipes 2.4) */
+static void tridiagonal_ones(int n, const double *b, const double *r, double *x, double *g) {
+    double bet = b[0];
+    int j;
+    x[0] = r[0] / bet;
+    for (j = 1; j < n; j++) {
+        g[j] = 1.0 / bet;
+        bet = b[j] - g[j];
+        x[j] = (r[j] - x[j - 1]) / bet;
+    }
+    for (j = n - 2; j >= 0; j--) x[j] -= g[j + 1] * x[j + 1];
+}
+
+/* The pitch deviations' spline (docs section 3c): n, angle0, step from pitch_meta.txt,
+ * the samples a_j (m) from pitch_samples.txt, and the coefficients (n, 4) of the periodic
+ * cubic spline through them at unit spacing (PitchApproach.coefficients, scipy's
+ * CubicSpline with periodic ends): the second derivatives M_j solve the cyclic system
+ * M_{j-1} + 4 M_j + M_{j+1} = 6 (a_{j+1} - 2 a_j + a_{j-1}) (Sherman-Morrison on the
+ * tridiagonal part, Numerical Recipes 2.7), then c0 = a_j, c1 = a_{j+1} - a_j - (2 M_j +
+ * M_{j+1}) / 6, c2 = M_j / 2, c3 = (M_{j+1} - M_j) / 6. */
+static int pitch_load(ModelInstance *m) {
+    GbxModelData *d = &m->data;
+    const double gamma = -4.0;
+    double *meta = NULL, *a = NULL, *w, *b, *r, *x, *z, *g, fact;
+    int rows, cols, n, j;
+    if (gbx_read_table(m, "pitch_meta.txt", &rows, &cols, &meta) != 0) return 1;
+    if (rows != 1 || cols != 3) {
+        gbx_free(m, meta);
+        return fail(m, "pitch_meta.txt must have 1 row of 3 values");
+    }
+    if (!(meta[0] >= 4.0 && meta[0] <= 1e8 && meta[0] == floor(meta[0]))) {
+        gbx_free(m, meta);
+        return fail(m, "pitch_meta.txt: the sample count must be a whole number in [4, 1e8]");
+    }
+    n = (int)meta[0];
+    d->pt0 = meta[1];
+    d->pts = meta[2];
+    gbx_free(m, meta);
+    if (!(d->pts > 0.0)) return fail(m, "pitch_meta.txt: the step must be > 0 rad");
+    if (gbx_read_table(m, "pitch_samples.txt", &rows, &cols, &a) != 0) return 1;
+    if ((long)rows * (long)cols != (long)n) {
+        gbx_free(m, a);
+        return fail(m, "pitch_samples.txt must hold the n samples of pitch_meta.txt");
+    }
+    d->pitch = (double *)gbx_calloc(m, (size_t)4 * (size_t)n, sizeof(double));
+    w = (double *)gbx_calloc(m, (size_t)6 * (size_t)n, sizeof(double));
+    if (!d->pitch || !w) {
+        gbx_free(m, a);
+        gbx_free(m, w);
+        return fail(m, "out of memory");
+    }
+    b = w, r = w + n, x = r + n, z = x + n, g = z + n;
+    for (j = 0; j < n; j++) {
+        b[j] = 4.0;
+        r[j] = 6.0 * (a[(j + 1) % n] - 2.0 * a[j] + a[(j + n - 1) % n]);
+    }
+    b[0] -= gamma;
+    b[n - 1] -= 1.0 / gamma;
+    tridiagonal_ones(n, b, r, x, g);
+    r[0] = gamma; /* the rank-one correction's u = (gamma, 0, ..., 0, 1) */
+    for (j = 1; j < n - 1; j++) r[j] = 0.0;
+    r[n - 1] = 1.0;
+    tridiagonal_ones(n, b, r, z, g);
+    fact = (x[0] + x[n - 1] / gamma) / (1.0 + z[0] + z[n - 1] / gamma);
+    for (j = 0; j < n; j++) x[j] -= fact * z[j]; /* M_j */
+    for (j = 0; j < n; j++) {
+        const int k = (j + 1) % n;
+        double *c = d->pitch + 4 * (size_t)j;
+        c[0] = a[j];
+        c[1] = (a[k] - a[j]) - (2.0 * x[j] + x[k]) / 6.0;
+        c[2] = x[j] / 2.0;
+        c[3] = (x[k] - x[j]) / 6.0;
+    }
+    gbx_free(m, a);
+    gbx_free(m, w);
+    d->npt = n;
+    return 0;
+}
+#endif
 
 /* a0, a_1..a_h, b_1..b_h of samples v[0..np) (gearbox.meshtable.fourier_fit). */
 static void fourier_fit(int np, int h, const double *v, double *c) {
@@ -879,9 +978,33 @@ static void eccentricity(const GbxModelData *d, double t, const double *x, const
 }
 #endif
 
-/* The flanks' approach delta[f] = G_f . x (+ eps_f, section 3b; exact or from the grid)
- * and its rate ddelta[f] at (t, x, v), and want[f]: whether flank f can be closed (s <= delta + max|e| - b: where
- * not, F = 0 without the laws); returns whether any can */
+#if GBX_PITCH
+/* The pitch deviations' approach *a (m) of the drive flank and its rate (m/s) at the
+ * pinion's coordinate x1 and speed deviation v1, docs section 3c
+ * (gearbox.drivetrain.model.pitch_terms, the same operations): theta_1 = Omega t + x1,
+ * u = (theta_1 - angle0) / step, the spline's interval floor(u) mod n at d = u -
+ * floor(u); exact in the right-hand side and the outputs alike (one interval's four
+ * coefficients) */
+static inline void pitch_approach(const GbxModelData *d, double t, double x1, double v1,
+                                  double *a, double *rate) {
+    const double u = (d->Omega * t + x1 - d->pt0) / d->pts;
+    long w = (long)u, i; /* floor(u) for |u| < 2^63 without the library call */
+    const double *c;
+    double s;
+    if ((double)w > u) w--;
+    s = u - (double)w;
+    i = w % d->npt;
+    if (i < 0) i += d->npt;
+    c = d->pitch + 4 * i;
+    *a = c[0] + s * (c[1] + s * (c[2] + s * c[3]));
+    *rate = (c[1] + s * (2.0 * c[2] + 3.0 * s * c[3])) / d->pts * (d->Omega + v1);
+}
+#endif
+
+/* The flanks' approach delta[f] = G_f . x (+ eps_f, section 3b; exact or from the grid;
+ * + a on the drive flank, section 3c) and its rate ddelta[f] at (t, x, v), and want[f]:
+ * whether flank f can be closed (s <= delta + max|e| - b: where not, F = 0 without the
+ * laws); returns whether any can */
 static inline int approach(const GbxModelData *d, double t, const double *x, const double *v,
                     int exact, double *delta, double *ddelta, int *want) {
     int f, i, any = 0;
@@ -908,6 +1031,14 @@ static inline int approach(const GbxModelData *d, double t, const double *x, con
 #else
     (void)t;
     (void)exact;
+#endif
+#if GBX_PITCH
+    {
+        double a, rate;
+        pitch_approach(d, t, x[1], v[1], &a, &rate);
+        delta[0] += a;
+        ddelta[0] += rate;
+    }
 #endif
     for (f = 0; f < d->nf; f++) {
         want[f] = delta[f] + d->ebound[f] - d->bl[f] > 0.0;
@@ -1042,6 +1173,13 @@ void gbx_model_outputs(ModelInstance *m, double t, const double *s) {
         m->r[VR_mesh_eccentricity_approach] = eps[0];
     }
 #endif
+#if GBX_PITCH
+    {
+        double a, rate;
+        pitch_approach(d, t, x[1], v[1], &a, &rate);
+        m->r[VR_mesh_pitch_approach] = a;
+    }
+#endif
 #if GBX_FRICTION
     m->r[VR_mesh_pinion_friction_torque] = tf[0];
     m->r[VR_mesh_gear_friction_torque] = tf[1];
@@ -1130,7 +1268,8 @@ int gbx_model_in_contact(const ModelInstance *m, double t, const double *s) {
     double gap[2], load[2];
     int f, want[2];
     coordinates(m, t, s, x, v);
-    /* the gap with the eccentricities' approach (gearbox.drivetrain.fixed_step: lost) */
+    /* the gap with the eccentricities' and the pitch deviations' approach
+     * (gearbox.drivetrain.fixed_step: lost) */
     approach(d, t, x, v, 0, delta, ddelta, want);
     if (!want[0]) return 0; /* drive flank surely open */
     mesh_laws(d, t, x[1], want, 0, kf, ef, de, NULL, NULL);

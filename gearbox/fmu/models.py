@@ -18,7 +18,10 @@ the friction torques as outputs (docs/drivetrain.md §3a). The mesh FMUs of a mo
 built from a table (whose flanks carry ``MeshFlank.transverse``) have the pinion's
 and the gear's eccentricities as parameters (``pinion.eccentricity``,
 ``pinion.eccentricity_angle``, ``gear.*``; start: the model's) and their approach of
-the flanks as an output (docs/drivetrain.md §3b).
+the flanks as an output (docs/drivetrain.md §3b). A model with pitch deviations
+(``DrivetrainModel.pitch``) ships the drive flank's approach samples in ``resources/``
+too: the mesh FMUs fit the same periodic cubic spline at instantiation, add its
+approach to the drive flank's gap and have it as an output (docs/drivetrain.md §3c).
 """
 
 from __future__ import annotations
@@ -81,30 +84,55 @@ def _eccentricity(model) -> bool:
     return model.drive.transverse is not None
 
 
-def _mesh_features(model, table) -> dict[str, bool]:
-    """The optional parts of the mesh FMUs: ``friction`` (:func:`_friction`) and
-    ``eccentricity`` (:func:`_eccentricity`). Pitch deviations (docs/drivetrain.md §3c)
-    are not in the FMUs: a model with them raises InputError."""
+def _pitch(model) -> bool:
+    """Whether the FMU has the pitch deviations' approach of the drive flank (docs §3c):
+    where the model has one (``DrivetrainModel.pitch``). Its samples travel in
+    ``resources/`` (:func:`mesh_resources`); it is the model's, at the model's torque,
+    and not a parameter."""
+    return getattr(model, "pitch", None) is not None
+
+
+def _pitch_layout(n: int) -> tuple[int, int]:
+    """(rows, columns) of ``pitch_samples.txt`` for n samples (row-major): one per row
+    up to 100000, else the fewest columns that divide n into at most 100000 rows
+    (InputError naming ``pitch.values`` where none does)."""
     from ..errors import InputError, Problem
 
-    if getattr(model, "pitch", None) is not None:
-        raise InputError(
-            Problem(
-                "drivetrain.pitch_deviations",
-                True,
-                "the FMUs do not model pitch deviations yet: set it to false for the FMU",
-            )
-        )
-    return {"friction": _friction(model, table), "eccentricity": _eccentricity(model)}
+    for cols in range(1, 1001):
+        if n % cols == 0 and n // cols <= 100_000:
+            return n // cols, cols
+    raise InputError(
+        Problem(
+            "pitch.values",
+            n,
+            "the FMU reads the pitch approach as at most 100000 rows of up to 1000 samples: "
+            "use a sample count with a divisor up to 1000 that leaves at most 100000 rows",
+        ),
+        "cannot build the FMU with pitch deviations",
+    )
+
+
+def _mesh_features(model, table) -> dict[str, bool]:
+    """The optional parts of the mesh FMUs: ``friction`` (:func:`_friction`),
+    ``eccentricity`` (:func:`_eccentricity`) and ``pitch`` (:func:`_pitch`)."""
+    return {
+        "friction": _friction(model, table),
+        "eccentricity": _eccentricity(model),
+        "pitch": _pitch(model),
+    }
 
 
 def mesh_resources(model, table) -> dict[str, str]:
-    """Table samples for the FMU's ``resources/``: meta, torque levels, samples.
+    """Table samples for the FMU's ``resources/``: meta, torque levels, samples, and
+    with pitch deviations (:func:`_pitch`) their approach.
 
     ``mesh_samples.txt`` rows: (flank, torque, position) with flank drive first; columns
     tangent stiffness (N/m), LTE (m), mesh point P (m, Sf), line of action n (Sf), and
     where the table has them the friction arms about the pinion's and the gear's axis
-    (m; :func:`_friction`).
+    (m; :func:`_friction`). ``pitch_meta.txt``: n, angle0 (rad), step (rad) of
+    ``DrivetrainModel.pitch``; ``pitch_samples.txt``: its n values a_j (m), row-major
+    (:func:`_pitch_layout`), through which the C code fits the periodic cubic spline of
+    ``PitchApproach.coefficients``.
     """
     friction = _friction(model, table)
     flanks = [f for f in ("drive", "coast") if f in table.flanks]
@@ -143,7 +171,7 @@ def mesh_resources(model, table) -> dict[str, str]:
 
     attrs = table.attrs
     src = f"# source: mesh table of scene {attrs.get('scene', '?')}, {attrs.get('method', '?')}"
-    return {
+    out = {
         "mesh_meta.txt": fmt(
             "meta",
             "N_1 N_2 n_flanks n_torques n_positions harmonics pinion_axis(dir, point) "
@@ -163,6 +191,23 @@ def mesh_resources(model, table) -> dict[str, str]:
             rows,
         ),
     }
+    if _pitch(model):
+        pa = model.pitch
+        n = pa.values.size
+        rows_, cols_ = _pitch_layout(n)
+        out["pitch_meta.txt"] = fmt(
+            "pitch_meta",
+            "pitch deviations' approach of the drive flank (docs/drivetrain.md 3c): n samples, "
+            "pinion angle of sample 0 (rad), step (rad)",
+            [[n, pa.angle0, pa.step]],
+        )
+        out["pitch_samples.txt"] = fmt(
+            "pitch_samples",
+            f"approach a_j (m) at pinion angles angle0 + j step, j = 0..n-1, row-major, "
+            f"{cols_} per row; a periodic cubic spline passes through them",
+            pa.values.reshape(rows_, cols_),
+        )
+    return out
 
 
 # ----------------------------------------------------------------- variables
@@ -286,7 +331,9 @@ def _propeller_params(model, *, full: bool) -> list[Variable]:
     return v
 
 
-def _gearbox_params(model, *, friction: bool, eccentricity: bool) -> list[Variable]:
+def _gearbox_params(model, *, friction: bool, eccentricity: bool, pitch: bool) -> list[Variable]:
+    """The gearbox's parameters; the pitch approach (``pitch``) has none: its spline
+    is data, not tunable."""
     v = [
         _p(
             "input_shaft.stiffness",
@@ -439,7 +486,7 @@ def _mesh_damping_ratio(model) -> float:
     return float(d.damping / c_unit)
 
 
-def _gearbox_outputs(model, *, friction: bool, eccentricity: bool) -> list[Variable]:
+def _gearbox_outputs(model, *, friction: bool, eccentricity: bool, pitch: bool) -> list[Variable]:
     v = [
         _out("pinion.phi", "rad", "Pinion angle (absolute)"),
         _out("pinion.w", "rad/s", "Pinion speed"),
@@ -488,6 +535,15 @@ def _gearbox_outputs(model, *, friction: bool, eccentricity: bool) -> list[Varia
                 "action (in the gap beside mesh.deflection)",
             )
         )
+    if pitch:
+        v.append(
+            _out(
+                "mesh.pitch_approach",
+                "m",
+                "The pitch deviations' approach a of the drive flank along its line of action "
+                "(in the drive flank's gap beside mesh.deflection)",
+            )
+        )
     if model.bearing_dofs:
         v += [
             _out("pinion_bearing.force", "N", "Pinion bearing force along the line of action"),
@@ -527,6 +583,7 @@ def _mesh_c(
     propeller,
     friction,
     eccentricity,
+    pitch,
     readme,
     resources,
 ) -> FmuModel:
@@ -539,6 +596,7 @@ def _mesh_c(
         f"#define GBX_BEARINGS {int(model.bearing_dofs)}\n"
         f"#define GBX_FRICTION {int(friction)}\n"
         f"#define GBX_ECCENTRICITY {int(eccentricity)}\n"
+        f"#define GBX_PITCH {int(pitch)}\n"
         f"#define GBX_MAX_HARMONICS {h}\n"
         f"#define GBX_ENGINE_HARMONICS {model.engine_harmonics}\n"
         f"#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
@@ -559,7 +617,11 @@ def _mesh_c(
     /* eccentricities: [A_1, B_1, A_2, B_2] of each flank (m), the pinion's and the gear's
      * revolutions per second, whether one is not 0 */
     double rc[2][4], frev[2];
-    int ecc;"""
+    int ecc;
+    /* pitch deviations: the drive flank's approach, a periodic cubic spline over npt
+     * samples from the pinion angle pt0 every pts (rad), coefficients (npt, 4) */
+    double *pitch, pt0, pts;
+    int npt;"""
     return FmuModel(identifier, description, tuple(variables), data, code, resources, readme)
 
 

@@ -46,6 +46,8 @@ DRIVETRAIN_COLUMNS = {
     "mesh.friction_power": "mesh_friction_power_W",
     # with an eccentricity (pinion or gear) only
     "mesh.eccentricity_approach": "eccentricity_approach_m",
+    # with pitch deviations only
+    "mesh.pitch_approach": "pitch_approach_m",
 }
 
 
