@@ -25,7 +25,13 @@ The :class:`~gearbox.drivetrain.model.DrivetrainModel` becomes a real exudyn sys
   approach eps_f = R_1f cos(theta_1 - phi_1f) + R_2f cos(theta_2 - phi_2f) and its
   rate gains d eps_f/dt, theta_2 = Omega_2 t + q_2 + theta_20 the gear angle: the
   object then reads the gear coordinate for an angle too. Without eccentricity nothing
-  of it is built.
+  of it is built. With pitch deviations (docs/drivetrain.md §3c) the drive flank's gap
+  gains the approach a(theta_1) of a periodic cubic spline over the hunting period and
+  its rate gains a'(theta_1) (Omega + v_1); the symbolic expression finds the spline's
+  interval by a balanced tree of ``IfThenElse`` on the interval index (exudyn's symbolic
+  vectors take no symbolic index), so a call evaluates about log2(n) comparisons, and
+  the Python path indexes the coefficient table. Without pitch deviations nothing of it
+  is built.
 
 User functions are exudyn *symbolic* user functions by default: the expression is
 recorded once in Python and evaluated in C++, with no Python call per right-hand side
@@ -59,7 +65,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError, Problem, Problems
+from ..errors import Problems
 
 __all__ = [
     "ExudynSolver",
@@ -175,6 +181,8 @@ class _Flank:
     r1, r2: FourierSeries of one harmonic (teeth 1) in theta_1 and in theta_2 of the
     approach eps_f the pinion's and the gear's eccentricity give the flank (m, docs
     §3b: A_i cos theta_i + B_i sin theta_i); None without eccentricity.
+    pitch: :class:`_Pitch`, the pitch deviations' approach a(theta_1) of the drive flank
+    (docs §3c); None without them (and always on the coast flank).
     """
 
     name: str
@@ -187,6 +195,7 @@ class _Flank:
     f2: Any = None
     r1: Any = None
     r2: Any = None
+    pitch: Any = None
 
     def __post_init__(self):
         object.__setattr__(self, "k_harmonics", _harmonics(self.k))
@@ -210,14 +219,18 @@ class _Flank:
 
     @property
     def gap_bounds(self) -> tuple[float, float]:
-        """Bounds (m) of e_f - eps_f: the flank is in contact when delta_f - b_f is above
-        the upper one, out of it when at or below the lower one (:func:`_bounds` of the
-        error series, widened by the eccentricities' amplitudes R_1f + R_2f)."""
+        """Bounds (m) of e_f - eps_f - a_f: the flank is in contact when delta_f - b_f is
+        above the upper one, out of it when at or below the lower one (:func:`_bounds` of
+        the error series, widened by the eccentricities' amplitudes R_1f + R_2f and by the
+        pitch spline's range, :attr:`_Pitch.bounds`)."""
         lo, hi = _bounds(self.e, self.e_harmonics)
         if self.eccentric:
             r = sum(R for _, R, _ in self.r1_harmonics + self.r2_harmonics)
             r = r + 1e-9 * r
             lo, hi = lo - r, hi + r
+        if self.pitch is not None:
+            a_lo, a_hi = self.pitch.bounds
+            lo, hi = lo - a_hi, hi - a_lo
         return lo, hi
 
     @property
@@ -231,6 +244,103 @@ class _Flank:
         w[1] += float(self.f1.a0)
         w[2] -= float(self.f2.a0)
         return w
+
+
+@dataclass(frozen=True)
+class _Pitch:
+    """The pitch deviations' approach of the drive flank (docs/drivetrain.md §3c): the
+    periodic cubic spline of :class:`~gearbox.drivetrain.model.PitchApproach`.
+
+    coef: shape (n, 4), ``params()['pt']``: a = c0 + d (c1 + d (c2 + d c3)) on the
+    interval i, d in [0, 1) the position in it (in samples); angle0 (rad), the pinion
+    angle of sample 0, ``params()['pt0']``; step (rad), the sample spacing,
+    ``params()['pts']``. The interval of theta_1 is i = floor(u) mod n,
+    u = (theta_1 - angle0) / step, in the model's order of operations
+    (``model._pitch_eval``), so both user-function kinds give its numbers bit for bit.
+    """
+
+    coef: np.ndarray
+    angle0: float
+    step: float
+
+    @property
+    def n(self) -> int:
+        return int(self.coef.shape[0])
+
+    @property
+    def bounds(self) -> tuple[float, float]:
+        """Lower and upper bounds (m) of a(theta_1): the cubic's extremes on each interval
+        (its ends and the roots of its derivative inside), widened by 1e-9 relative."""
+        if "_bounds" not in self.__dict__:
+            c0, c1, c2, c3 = (self.coef[:, j] for j in range(4))
+            cands = [c0, c0 + c1 + c2 + c3]
+            # roots of c1 + 2 c2 d + 3 c3 d^2 in (0, 1), without cancellation:
+            # q = -(B + sign(B) sqrt(B^2 - 4 A C)) / 2, roots q / A and C / q
+            A, B, C = 3.0 * c3, 2.0 * c2, c1
+            disc = B * B - 4.0 * A * C
+            ok = disc >= 0.0
+            q = -0.5 * (B + np.copysign(np.sqrt(np.where(ok, disc, 0.0)), B))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                roots = [q / A, C / q]
+            for d in roots:
+                inside = ok & np.isfinite(d) & (d > 0.0) & (d < 1.0)
+                dd = np.where(inside, d, 0.0)
+                cands.append(np.where(inside, c0 + dd * (c1 + dd * (c2 + dd * c3)), c0))
+            v = np.concatenate(cands)
+            lo, hi = float(v.min()), float(v.max())
+            pad = 1e-9 * max(abs(lo), abs(hi)) + 1e-300
+            object.__setattr__(self, "_bounds", (lo - pad, hi + pad))
+        return self.__dict__["_bounds"]
+
+    def terms(self, theta, w):
+        """(a, da/dt) in m and m/s at the pinion angle theta (rad) and its absolute speed
+        w = Omega + v_1 (rad/s), floats: the coefficient table indexed directly."""
+        u = (theta - self.angle0) / self.step
+        i0 = math.floor(u)
+        d = u - i0
+        c0, c1, c2, c3 = self.rows[i0 % self.n]
+        a = c0 + d * (c1 + d * (c2 + d * c3))
+        da = (c1 + d * (2.0 * c2 + 3.0 * d * c3)) / self.step
+        return a, da * w
+
+    @property
+    def rows(self) -> list:
+        """The coefficients as a list of float 4-tuples (the Python path's table)."""
+        if "_rows" not in self.__dict__:
+            object.__setattr__(self, "_rows", [tuple(map(float, r)) for r in self.coef])
+        return self.__dict__["_rows"]
+
+    def terms_symbolic(self, theta, w):
+        """(a, da/dt) as exudyn symbolic expressions of the pinion angle expression theta
+        and the speed expression w: i = i0 - n floor(i0 / n) (i0 = floor(u), exact in
+        floating point; exudyn's ``mod`` keeps the sign of i0), then one balanced
+        ``IfThenElse`` tree on i per quantity whose leaves are the intervals' cubics in
+        d = u - i0. ``IfThenElse`` evaluates only the branch taken: ceil(log2 n)
+        comparisons and one cubic per evaluation; the tree holds all n cubics.
+        """
+        import exudyn as exu
+
+        esym = exu.symbolic
+        n, step = self.n, self.step
+        u = (theta - self.angle0) / step
+        i0 = esym.floor(u)
+        d = u - i0
+        i = i0 - n * esym.floor(i0 / n)
+        rows = self.rows
+
+        def tree(lo, hi, leaf):
+            if hi - lo == 1:
+                return leaf(*rows[lo])
+            mid = (lo + hi) // 2
+            return esym.IfThenElse(i < mid - 0.5, tree(lo, mid, leaf), tree(mid, hi, leaf))
+
+        def value(c0, c1, c2, c3):
+            return c0 + d * (c1 + d * (c2 + d * c3))
+
+        def slope(c0, c1, c2, c3):
+            return (c1 + d * (2.0 * c2 + 3.0 * d * c3)) / step
+
+        return tree(0, n, value), tree(0, n, slope) * w
 
 
 @dataclass(frozen=True)
@@ -313,18 +423,10 @@ def _plan_from_model(model) -> _Plan:
     With mesh friction (mu > 0) each flank's friction arms times mu (docs §3a), their
     harmonics floored at 1e-12 mu lambda_1 (lambda_2): about 1e-12 of the mesh torque.
     With eccentricities each flank's approach coefficients ``params()['rc']`` and the
-    gear angle's phase ``params()['phase2']`` (docs §3b). Pitch deviations (docs §3c)
-    are not built here: a model with them raises InputError.
+    gear angle's phase ``params()['phase2']`` (docs §3b). With pitch deviations the
+    drive flank's spline ``params()['pt']``, ``['pt0']``, ``['pts']`` (docs §3c, a
+    :class:`_Pitch`).
     """
-    if getattr(model, "pitch", None) is not None:
-        raise InputError(
-            Problem(
-                "drivetrain.pitch_deviations",
-                True,
-                "the exudyn backend does not model pitch deviations yet: use the solver "
-                "'diffrax' or 'scipy', or set it to false",
-            )
-        )
     n = model.n_dof
     K, C = model.structural_matrices()
     G = model.mesh_vectors()
@@ -361,6 +463,9 @@ def _plan_from_model(model) -> _Plan:
         if rc.shape[-1]:  # docs/drivetrain.md §3b: [A_1, B_1, A_2, B_2]
             extra["r1"] = _series(np.r_[0.0, rc[r, 0:2]], 1)
             extra["r2"] = _series(np.r_[0.0, rc[r, 2:4]], 1)
+        if name == "drive" and p["pt"].shape[0]:  # docs/drivetrain.md §3c
+            pt = np.array(p["pt"], dtype=float)
+            extra["pitch"] = _Pitch(pt, float(p["pt0"]), float(p["pts"]))
         flanks.append(
             _Flank(
                 name,
@@ -475,6 +580,31 @@ def _eccentricity_terms(fl: _Flank, theta1, theta2, w1, w2, cos, sin):
     return None if eps is None else (eps, rate)
 
 
+def _approach_terms(fl: _Flank, angles, speeds, symbolic: bool):
+    """The flank's kinematic approach and its rate (m, m/s), or None: the
+    eccentricities' (:func:`_eccentricity_terms`, docs/drivetrain.md §3b) plus the pitch
+    deviations' a(theta_1), a'(theta_1) (Omega + v_1) on the drive flank (docs §3c), in
+    the order of ``model.approach_terms``. angles, speeds: (theta_1, theta_2) and
+    (Omega + v_1, Omega_2 + v_2) (theta_2 and its speed None without eccentricity).
+    """
+    out = None
+    if fl.eccentric:
+        if symbolic:
+            import exudyn as exu
+
+            cos, sin = exu.symbolic.cos, exu.symbolic.sin
+        else:
+            cos, sin = math.cos, math.sin
+        out = _eccentricity_terms(fl, *angles, *speeds, cos, sin)
+    if fl.pitch is not None:
+        if symbolic:
+            a, rate = fl.pitch.terms_symbolic(angles[0], speeds[0])
+        else:
+            a, rate = fl.pitch.terms(angles[0], speeds[0])
+        out = (a, rate) if out is None else (out[0] + a, out[1] + rate)
+    return out
+
+
 def _friction_direction_symbolic(fl: _Flank, pos: dict[int, int], size: int, theta, u, gv):
     """Symbolic direction W_f(theta_1) of one flank's generalised force -W_f F_f with
     friction, length ``size``: gv (= -G_f) plus -mu phi_1(theta_1) on the pinion and
@@ -520,9 +650,10 @@ def flank_force_symbolic(
     e_f' (m/rad). With friction (``fl.friction``) the vector is -W_f(theta) F_f, the
     friction torques included (:func:`_friction_direction_symbolic`; theta: the pinion
     angle expression, rad, needed then). ecc: (eps_f, d eps_f/dt) expressions of the
-    eccentricities' approach (m, m/s; :func:`_eccentricity_terms`, docs §3b) added to
-    the gap and its rate, or None. Contact law of docs/drivetrain.md §3. The contact
-    test uses the bounds lo <= e_f - eps_f <= hi (:attr:`_Flank.gap_bounds`) where they
+    kinematic approach (m, m/s; :func:`_approach_terms`: the eccentricities', docs §3b,
+    and the pitch deviations', §3c) added to the gap and its rate, or None. Contact law
+    of docs/drivetrain.md §3. The contact test uses the bounds
+    lo <= e_f - eps_f <= hi (:attr:`_Flank.gap_bounds`) where they
     decide: u = delta - b > hi means contact, u <= lo none, and only in between is the
     gap s itself tested. Same result, one series evaluation fewer per call in loaded
     running and none for a flank out of contact (exudyn's trees have no common
@@ -565,7 +696,8 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
     -mu phi_1f(theta_1) F_f on the pinion and +mu phi_2f(theta_1) F_f on the gear. With
     eccentricities (docs §3b) s_f gains eps_f(theta_1, theta_2) and sdot_f its rate,
     theta_2 = Omega_2 t + q_2 + theta_20 (:func:`_eccentricity_terms`; ``pos`` then
-    holds the gear coordinate).
+    holds the gear coordinate); with pitch deviations (docs §3c) the drive flank's s_f
+    gains a(theta_1) and sdot_f a'(theta_1) (Omega + v_1) (:func:`_approach_terms`).
 
     Symbolic: an exudyn vector expression ``sum_f (-G_f) * F_f``: each flank force is one
     sub-expression, evaluated once per call (a list of per-coordinate expressions would
@@ -578,6 +710,8 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
         ig = pos[2]
         angles = (theta, plan.omega2 * t + q[ig] + plan.theta20)
         speeds = (plan.omega + q_t[ip], plan.omega2 + q_t[ig])
+    elif any(fl.pitch is not None for fl in plan.flanks):  # pinion's alone (docs §3c)
+        angles, speeds = (theta, None), (plan.omega + q_t[ip], None)
     if symbolic:
         import exudyn as exu
 
@@ -588,8 +722,8 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
             de = _fourier_derivative_terms(fl.e, fl.e_harmonics, theta, esym.sin)
             k = _fourier_terms(fl.k, fl.k_harmonics, theta, esym.cos)
             ecc = None
-            if fl.eccentric:
-                ecc = _eccentricity_terms(fl, *angles, *speeds, esym.cos, esym.sin)
+            if fl.eccentric or fl.pitch is not None:
+                ecc = _approach_terms(fl, angles, speeds, True)
             term = flank_force_symbolic(plan, fl, pos, size, q, q_t, k, e, de, theta, ecc)
             total = term if total is None else total + term
         return total
@@ -605,8 +739,8 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
         arg = we * theta - pe
         s = float(G @ qa[idx]) - (fl.e.a0 + float(Re @ np.cos(arg))) - fl.b
         ecc = None
-        if fl.eccentric:
-            ecc = _eccentricity_terms(fl, *angles, *speeds, math.cos, math.sin)
+        if fl.eccentric or fl.pitch is not None:
+            ecc = _approach_terms(fl, angles, speeds, False)
             if ecc is not None:
                 s = s + ecc[0]
         if s > 0.0:
@@ -793,6 +927,12 @@ class ExudynSystem:
     connectors: name -> object index; loads: load indices; mesh_object: the generic
     ODE2 object carrying the mesh force. keepalive: recorded symbolic expressions,
     which must live as long as the system.
+
+    exudyn 1.13.6 does not free a system that holds symbolic user functions when its
+    last Python reference goes (measured on the default scene: about 0.04 MB per build
+    without pitch deviations, 35 MB with a pitch spline of 31,320 intervals, 24 per
+    mesh cycle over the hunting period of 29 and 45 teeth); :meth:`release` frees it.
+    :func:`integrate_exudyn` releases the systems it builds.
     """
 
     system_container: Any
@@ -805,7 +945,14 @@ class ExudynSystem:
     loads: list
     mesh_object: Any
     sensors: list = field(default_factory=list)
-    keepalive: list = field(default_factory=list)
+    keepalive: list = field(default_factory=list, repr=False)
+
+    def release(self) -> None:
+        """Reset the main system (``mbs.Reset()``: nodes, objects, markers, loads,
+        sensors and their user functions and stored data) and drop the recorded
+        expressions: the system is empty afterwards."""
+        self.mbs.Reset()
+        self.keepalive.clear()
 
 
 def build_exudyn_system(model, solver: ExudynSolver = ExudynSolver(), *, y0=None) -> ExudynSystem:
@@ -1005,8 +1152,8 @@ def _linearised(plan: _Plan) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     k(theta)) and its damping; the propeller load adds its speed derivative
     dT_p/dv = 2 kappa Omega_2 as damping (docs/drivetrain.md §3, §6). With friction the
     mesh terms are k W G^T and c W G^T, W the force's mean direction (:attr:`_Flank.W`,
-    docs §3a, as ``linear.linear_matrices``). The eccentricities (docs §3b), a kinematic
-    excitation, do not enter.
+    docs §3a, as ``linear.linear_matrices``). The eccentricities (docs §3b) and the
+    pitch deviations (§3c), kinematic excitations, do not enter.
     """
     K, C = _structural(plan)
     fl = plan.flanks[0]
@@ -1195,63 +1342,66 @@ def integrate_exudyn(model, y0, t_eval, solver: ExudynSolver = ExudynSolver(), *
     p.raise_if_any("invalid exudyn integration request")
     start = time.perf_counter()
     system = build_exudyn_system(model, solver, y0=y0)
-    plan = _plan_from_model(model)
-    h_target = _target_step(plan, solver)
-    h_lim = _step_limit(plan, solver.method)
-    if h_target > h_lim:
-        q = Problems()
-        q.add(
-            "step",
-            h_target,
-            f"must be <= {h_lim:.4g} s, the {solver.method} stability limit "
-            "of the model's highest eigenfrequency (drive mesh at its largest stiffness)",
-        )
-        q.raise_if_any("unstable exudyn step")
-    lead = float(t_eval[0]) - t0
-    n1 = math.ceil(lead / h_target - 1e-9) if lead > 0 else 0
-    dt = float(t_eval[1] - t_eval[0]) if t_eval.size >= 2 else 0.0
-    sub = math.ceil(dt / h_target - 1e-9) if dt > 0 else 0
-    n2 = sub * (t_eval.size - 1)
-    if n1 + n2 > solver.max_steps:
-        q = Problems()
-        q.add(
-            "max_steps",
-            solver.max_steps,
-            f"must be >= {n1 + n2} for this run at step {h_target:.4g} s",
-        )
-        q.raise_if_any("exudyn step limit")
-    mbs = system.mbs
-    add_state_sensors(system)
-    build = time.perf_counter() - start
-    stages = 7 if solver.method == "RK67" else 4
-    steps = 0
-    wall = 0.0
-    msg = ""
-    ts_all, Y_all = [], []
-    phases = []
-    if n1 > 0:
-        h1 = lead / n1
-        # settling samples (for locating a failure) every `every` steps, a divisor of
-        # n1 so that the last sample is the state at t_eval[0]
-        every = min(n1, max(1, round(max(dt, lead / 100) / h1)))
-        while n1 % every:
-            every -= 1
-        phases.append((t0, float(t_eval[0]), n1, h1 * every))
-    if n2 > 0:
-        phases.append((float(t_eval[0]), float(t_eval[-1]), n2, dt))
-    ok = True
-    for a, b, nst, wp in phases:
-        s = _settings(a, b, nst, wp)
-        t1 = time.perf_counter()
-        ok, err, done = _solve(mbs, s, solver.method)
-        wall += time.perf_counter() - t1
-        steps += done
-        tt, YY = _stored(system)
-        ts_all.append(tt)
-        Y_all.append(YY)
-        if not ok:
-            msg = err or f"exudyn {solver.method} reported failure"
-            break
+    try:
+        plan = _plan_from_model(model)
+        h_target = _target_step(plan, solver)
+        h_lim = _step_limit(plan, solver.method)
+        if h_target > h_lim:
+            q = Problems()
+            q.add(
+                "step",
+                h_target,
+                f"must be <= {h_lim:.4g} s, the {solver.method} stability limit "
+                "of the model's highest eigenfrequency (drive mesh at its largest stiffness)",
+            )
+            q.raise_if_any("unstable exudyn step")
+        lead = float(t_eval[0]) - t0
+        n1 = math.ceil(lead / h_target - 1e-9) if lead > 0 else 0
+        dt = float(t_eval[1] - t_eval[0]) if t_eval.size >= 2 else 0.0
+        sub = math.ceil(dt / h_target - 1e-9) if dt > 0 else 0
+        n2 = sub * (t_eval.size - 1)
+        if n1 + n2 > solver.max_steps:
+            q = Problems()
+            q.add(
+                "max_steps",
+                solver.max_steps,
+                f"must be >= {n1 + n2} for this run at step {h_target:.4g} s",
+            )
+            q.raise_if_any("exudyn step limit")
+        mbs = system.mbs
+        add_state_sensors(system)
+        build = time.perf_counter() - start
+        stages = 7 if solver.method == "RK67" else 4
+        steps = 0
+        wall = 0.0
+        msg = ""
+        ts_all, Y_all = [], []
+        phases = []
+        if n1 > 0:
+            h1 = lead / n1
+            # settling samples (for locating a failure) every `every` steps, a divisor of
+            # n1 so that the last sample is the state at t_eval[0]
+            every = min(n1, max(1, round(max(dt, lead / 100) / h1)))
+            while n1 % every:
+                every -= 1
+            phases.append((t0, float(t_eval[0]), n1, h1 * every))
+        if n2 > 0:
+            phases.append((float(t_eval[0]), float(t_eval[-1]), n2, dt))
+        ok = True
+        for a, b, nst, wp in phases:
+            s = _settings(a, b, nst, wp)
+            t1 = time.perf_counter()
+            ok, err, done = _solve(mbs, s, solver.method)
+            wall += time.perf_counter() - t1
+            steps += done
+            tt, YY = _stored(system)
+            ts_all.append(tt)
+            Y_all.append(YY)
+            if not ok:
+                msg = err or f"exudyn {solver.method} reported failure"
+                break
+    finally:
+        system.release()  # the symbolic user functions (see ExudynSystem.release)
     t_rec = np.concatenate(ts_all) if ts_all else np.zeros(0)
     Y_rec = np.concatenate(Y_all) if Y_all else np.zeros((0, 2 * n))
     if not phases:  # t_eval == [t0]
