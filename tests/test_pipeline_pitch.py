@@ -107,3 +107,23 @@ def test_exact_method_through_the_pipeline(tmp_path):
     dl = lin["pitch"].record.lte - lin["pitch"].record.lte_nominal
     de = ex.lte - ex.lte_nominal
     assert np.abs(dl - de).max() < 0.03 * np.abs(de).max()
+
+
+def test_a_record_shorter_than_the_common_period_is_warned_of():
+    """The spectra section says when the record holds less than one common period of
+    the excitation orders (a pitch-deviation run needs a hunting period), and not
+    otherwise."""
+    from gearbox.pipeline.adapters.dynamics import Spectra
+    from gearbox.report.dynamics import render_spectra
+    from gearbox.spectrum import excitation_orders, order_spectrum
+
+    exc = excitation_orders(pinion_teeth=29, gear_teeth=45, pitch_orders=1)
+    runs = {}
+    for revs, period in ((10, None), (45, 45.0)):
+        t = np.arange(revs * 29 * 16 + 1) / (10.0 * 29 * 16)  # 600 rpm: 10 rev/s
+        x = np.sin(2 * np.pi * 29 * 10 * t)
+        sp = order_spectrum(t, x, speed_rpm=600.0, period_revs=period, name="mesh_force_N")
+        runs[revs] = render_spectra(Spectra(600.0, {"mesh_force_N": sp}, exc), None)
+    assert any("less than one common period" in w.text for w in runs[10].warnings)
+    assert "45 pinion revolutions (1305 mesh cycles)" in runs[10].warnings[0].text
+    assert not runs[45].warnings

@@ -226,7 +226,28 @@ def render_spectra(sp, run) -> Section:
         "stiffness): where the two part, the drive runs out of the linear range (contact "
         "loss, impacts) or orders mix.</p>"
     )
-    return Section("Order spectra", intro + "".join(parts), anchor="spectra")
+    warnings = []
+    short = [s for s in sp.spectra.values() if s.window != "rectangular"]
+    if short:
+        from ..spectrum import common_period_revs
+
+        try:
+            revs = common_period_revs([e.order for e in sp.excitations])
+            z1 = min((e.order for e in sp.excitations if e.source == "mesh"), default=None)
+            cycles = f" ({fmt(revs * z1)} mesh cycles)" if z1 else ""
+            need = f"{fmt(revs)} pinion revolutions{cycles}"
+        except Exception:  # no common period of these orders
+            need = "a common period of the excitation orders"
+        warnings.append(
+            ReportWarning(
+                "spectra",
+                f"the settled record ({fmt(short[0].revs)} pinion revolutions) holds less than "
+                f"one common period of the excitation orders, {need}: the spectra are over "
+                "whole revolutions with a flat-top window, and orders that are not whole "
+                "numbers fall between bins (simulation.settled_mesh_cycles sets the record)",
+            )
+        )
+    return Section("Order spectra", intro + "".join(parts), tuple(warnings), anchor="spectra")
 
 
 def _bins_up_to(wf, top: float) -> int:
