@@ -220,7 +220,7 @@ def hunting_lte(
     grids=None,
     compliance=None,
     solver: ContactSolver | None = None,
-    map=None,
+    mapper=None,
 ) -> HuntingRecord:
     """The loaded TE over a hunting period (lcm(z1, z2) mesh cycles) at ``torque``
     (N m, within the result's torque levels; the linear method interpolates the
@@ -228,7 +228,7 @@ def hunting_lte(
 
     ``method="exact"`` needs the loaded TCA's ``grids`` (one per position, as
     :func:`~gearbox.ltca.analysis.ltca_cycle` made them, :func:`drive_grids`) and
-    ``compliance``; ``map(fn, jobs) -> list`` may spread the positions over processes
+    ``compliance``; ``mapper(fn, jobs) -> list`` may spread the positions over processes
     (a pipeline run's executor), else they run here one after the other.
     """
     _check_result(res, dev, teeth, torque, method)
@@ -251,7 +251,7 @@ def hunting_lte(
             p.raise_if_any("invalid pitch-deviation analysis")
         rows = np.vstack([alpha, np.zeros((1, alpha.shape[1]))])  # last: the nominal
         jobs = [(g, compliance, float(torque), rows, res.pair_index, solver) for g in grids]
-        cols = np.column_stack((map or _serial)(_exact_column, jobs))  # (H + 1, P)
+        cols = np.column_stack((mapper or _serial)(_exact_column, jobs))  # (H + 1, P)
         lte, nominal = cols[:-1], cols[-1]
     return HuntingRecord(
         angle=angle.reshape(-1),

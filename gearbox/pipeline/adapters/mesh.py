@@ -148,7 +148,7 @@ def compute_pitch(ctx: StageContext):
     kw = {}
     if method == "exact":
         grids, compliance = pitch.drive_grids(design, scene, res.fraction.size)
-        kw = {"grids": grids, "compliance": compliance, "map": ctx.map}
+        kw = {"grids": grids, "compliance": compliance, "mapper": ctx.map}
     teeth = (design.pinion.teeth, design.gear.teeth)
     rec = pitch.hunting_lte(res, dev, _pitch_torque(scene), teeth=teeth, method=method, **kw)
     return pitch.PitchResult(dev, rec)
