@@ -35,8 +35,10 @@ __all__ = [
     "CONNECTIONS",
     "RATE_CONNECTIONS",
     "CHANNELS",
+    "OPTIONAL_CHANNELS",
     "CosimResult",
     "build_cosim_fmus",
+    "channels_for",
     "cosim_drivetrain",
     "run_system",
     "system_structure",
@@ -76,6 +78,33 @@ CHANNELS = {
     "propeller_torque_Nm": ("propeller", "propeller.torque"),
 }
 
+#: The gearbox FMU's outputs that exist only with their feature (docs/fmu.md): mesh
+#: friction, eccentricities, pitch deviations; :func:`channels_for` adds those a model
+#: has.
+OPTIONAL_CHANNELS = {
+    "pinion_friction_torque_Nm": ("gearbox", "mesh.pinion_friction_torque"),
+    "gear_friction_torque_Nm": ("gearbox", "mesh.gear_friction_torque"),
+    "mesh_friction_power_W": ("gearbox", "mesh.friction_power"),
+    "eccentricity_approach_m": ("gearbox", "mesh.eccentricity_approach"),
+    "pitch_approach_m": ("gearbox", "mesh.pitch_approach"),
+}
+
+
+def channels_for(model) -> dict[str, tuple[str, str]]:
+    """:data:`CHANNELS` plus the :data:`OPTIONAL_CHANNELS` of the features ``model``
+    has (mesh friction coefficient > 0, an eccentricity, pitch deviations)."""
+    out = dict(CHANNELS)
+    names = []
+    if model.mesh_friction_coefficient > 0:
+        names += ["pinion_friction_torque_Nm", "gear_friction_torque_Nm", "mesh_friction_power_W"]
+    if model.has_eccentricity:
+        names.append("eccentricity_approach_m")
+    if getattr(model, "pitch", None) is not None:
+        names.append("pitch_approach_m")
+    out.update({k: OPTIONAL_CHANNELS[k] for k in names})
+    return out
+
+
 _UNITS = {
     "engine_speed_rad_per_s": "rad/s",
     "pinion_speed_rad_per_s": "rad/s",
@@ -88,6 +117,11 @@ _UNITS = {
     "output_shaft_torque_Nm": "N m",
     "engine_torque_Nm": "N m",
     "propeller_torque_Nm": "N m",
+    "pinion_friction_torque_Nm": "N m",
+    "gear_friction_torque_Nm": "N m",
+    "mesh_friction_power_W": "W",
+    "eccentricity_approach_m": "m",
+    "pitch_approach_m": "m",
 }
 
 
@@ -325,7 +359,7 @@ def cosim_drivetrain(
         out_dir / "OspSystemStructure.xml",
         system_structure(fmus, step, initial_values=init, extrapolate=extrapolate),
     )
-    return run_system(structure, stop_time, step)
+    return run_system(structure, stop_time, step, channels=channels_for(model))
 
 
 def compare_monolithic(model, table, out_dir: str | Path, res: CosimResult, *, rtol: float = 1e-8):
