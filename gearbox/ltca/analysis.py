@@ -41,7 +41,7 @@ from ..errors import Problems
 from .compliance import Compliance, FastCompliance
 from .grid import ContactGrid
 from .slice_model import hertz_half_width, hertz_pressure
-from .solver import ContactSolver, rotation_sensitivity, solve_contact
+from .solver import ContactSolver, pair_sensitivities, solve_contact
 from .stress import grid_root_stress
 
 __all__ = ["CycleResult", "LTCAOptions", "ltca_cycle", "root_stress_method"]
@@ -103,7 +103,10 @@ class CycleResult:
     on the gear): all three ``None`` where the grids carry no axes. pair_weight
     (T, P, K): how much of a tooth pair's normal offset the loaded rotation takes up
     (:func:`~gearbox.ltca.solver.rotation_sensitivity`; sums to 1 over the pairs,
-    :mod:`gearbox.ltca.pitch`); ``None`` in results stored before it existed.
+    :mod:`gearbox.ltca.pitch`); pair_load_sensitivity (T, P, K, K): d(normal load of
+    pair j) / d(alpha_k) (N/rad) for an offset -m_i alpha_k of pair k's points
+    (:func:`~gearbox.ltca.solver.pair_sensitivities`); both ``None`` in results stored
+    before they existed.
     """
 
     torque: np.ndarray
@@ -136,6 +139,7 @@ class CycleResult:
     sliding_speed: np.ndarray | None = None
     friction_arm: np.ndarray | None = None
     pair_weight: np.ndarray | None = None
+    pair_load_sensitivity: np.ndarray | None = None
 
     @property
     def edge_contact(self) -> np.ndarray:
@@ -310,6 +314,7 @@ def ltca_cycle(
     lte0 = np.zeros(P)
     share = np.zeros((T, P, pair_index.size))
     weight = np.zeros((T, P, pair_index.size))
+    load_sens = np.zeros((T, P, pair_index.size, pair_index.size))
     pair_rs = np.zeros((T, P, pair_index.size, 2))
     mesh_point = np.zeros((T, P, 3))
     loa = np.zeros((T, P, 3))
@@ -374,11 +379,12 @@ def ltca_cycle(
             out["root_stress_gear"][t, j] = float(m2.max())
             np.maximum.at(rs_face1[t], grid.slot, s1)
             np.maximum.at(rs_face2[t], grid.slot, s2)
-            dphi = rotation_sensitivity(grid, compliance, sol, tooth_matrix=C0) * grid.arm
+            weight[t, j], load_sens[t, j] = pair_sensitivities(
+                grid, compliance, sol, pair_index, tooth_matrix=C0
+            )
             for kk, k in enumerate(pair_index):
                 on = grid.pair == k
                 share[t, j, kk] = float(F[on].sum()) / Fn
-                weight[t, j, kk] = float(dphi[on].sum())
                 if on.any():
                     pair_rs[t, j, kk] = (float(m1[on].max()), float(m2[on].max()))
             mesh_point[t, j] = (F @ grid.position) / Fn
@@ -459,6 +465,7 @@ def ltca_cycle(
         sliding_speed=sliding,
         friction_arm=friction_arm,
         pair_weight=weight,
+        pair_load_sensitivity=load_sens,
     )
 
 

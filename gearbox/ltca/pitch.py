@@ -52,6 +52,7 @@ __all__ = [
     "deviations_from_scene",
     "deviations_from_section",
     "exact_rotation",
+    "exact_solutions",
     "hunting_lte",
     "order_kind",
     "pair_angles",
@@ -146,7 +147,11 @@ class HuntingRecord:
     angle (n,) pinion angle from the record's start (rad), n = cycles x positions;
     lte (n,) loaded TE with the deviations (m); lte_nominal (n,) without them (the
     loaded TCA's cycle repeated); torque (N m); teeth (z1, z2); cycles (mesh cycles:
-    a hunting period); method ('linear' or 'exact').
+    a hunting period); method ('linear' or 'exact'). pair_index (K,); pair_load
+    (n, K): each tooth pair's normal load (N; linear: first order through the loaded
+    TCA's ``pair_load_sensitivity``, floored at 0; None where the result lacks it);
+    pair_load_nominal (P, K) and pair_root_stress_nominal (P, K, 2) (Pa, pinion and
+    gear) of the nominal teeth at the torque.
     """
 
     angle: np.ndarray
@@ -156,10 +161,50 @@ class HuntingRecord:
     teeth: tuple[int, int]
     cycles: int
     method: str
+    pair_index: np.ndarray | None = None
+    pair_load: np.ndarray | None = None
+    pair_load_nominal: np.ndarray | None = None
+    pair_root_stress_nominal: np.ndarray | None = None
 
     @property
     def pinion_revolutions(self) -> float:
         return self.cycles / self.teeth[0]
+
+    def tooth_loads(self) -> tuple[np.ndarray, np.ndarray]:
+        """The largest normal load (N) each pinion tooth (z1,) and each gear tooth (z2,)
+        carries over the hunting period (teeth numbered as the module doc says)."""
+        z1, z2 = self.teeth
+        P = self.lte.size // self.cycles
+        F = self.pair_load.reshape(self.cycles, P, -1)
+        c = np.arange(self.cycles)[:, None] - np.asarray(self.pair_index)[None, :]  # (H, K)
+        top = F.max(axis=1)  # (H, K): over the positions of each cycle
+        out = []
+        for z in (z1, z2):
+            t = np.zeros(z)
+            np.maximum.at(t, np.mod(c, z).ravel(), top.ravel())
+            out.append(t)
+        return out[0], out[1]
+
+    @property
+    def tooth_load_nominal(self) -> float:
+        """The largest normal load (N) a tooth carries through its engagement with
+        nominal teeth."""
+        return float(np.max(self.pair_load_nominal))
+
+    def root_stress(self) -> tuple[float, float]:
+        """The largest root stress (Pa) of the pinion and of the gear over the hunting
+        period: each pair's stress at nominal load scaled by its load (the load along
+        the contact line keeps its shape to first order)."""
+        P = self.pair_load_nominal.shape[0]
+        F = self.pair_load.reshape(self.cycles, P, -1)
+        F0 = self.pair_load_nominal[None]
+        ratio = np.divide(F, F0, out=np.zeros_like(F), where=F0 > 0)
+        s = self.pair_root_stress_nominal[None] * ratio[..., None]  # (H, P, K, 2)
+        return float(s[..., 0].max()), float(s[..., 1].max())
+
+    def root_stress_nominal(self) -> tuple[float, float]:
+        s = self.pair_root_stress_nominal
+        return float(s[..., 0].max()), float(s[..., 1].max())
 
     def order_spectrum(self, which: str = "lte") -> tuple[np.ndarray, np.ndarray]:
         """(orders, amplitude): single-sided peak amplitudes (m) of ``lte`` (or
@@ -239,10 +284,16 @@ def hunting_lte(
     nominal = _at_torque(res, torque, res.lte)  # (P,)
     angle = (cycles[:, None] + res.fraction[None, :]) * (2.0 * math.pi / z1)
     alpha = pair_angles(dev, res.pair_index, cycles)  # (H, K)
+    F0 = _at_torque(res, torque, res.pair_share) * _at_torque(res, torque, res.normal_load)[:, None]
     if method == "linear":
         w = _at_torque(res, torque, res.pair_weight)  # (P, K)
         arm = torque / _at_torque(res, torque, res.normal_load)  # (P,)
         lte = nominal[None, :] - arm[None, :] * (alpha @ w.T)
+        loads = None
+        if res.pair_load_sensitivity is not None:
+            S = _at_torque(res, torque, res.pair_load_sensitivity)  # (P, K, K)
+            # first order; a pair it would unload below zero has lifted off
+            loads = np.maximum(F0[None] + np.einsum("pjk,hk->hpj", S, alpha), 0.0)
     else:
         if grids is None or compliance is None or len(grids) != P:
             p = Problems()
@@ -251,8 +302,11 @@ def hunting_lte(
             p.raise_if_any("invalid pitch-deviation analysis")
         rows = np.vstack([alpha, np.zeros((1, alpha.shape[1]))])  # last: the nominal
         jobs = [(g, compliance, float(torque), rows, res.pair_index, solver) for g in grids]
-        cols = np.column_stack((mapper or _serial)(_exact_column, jobs))  # (H + 1, P)
+        got = (mapper or _serial)(_exact_column, jobs)
+        cols = np.column_stack([g[0] for g in got])  # (H + 1, P)
         lte, nominal = cols[:-1], cols[-1]
+        pl = np.stack([g[1] for g in got], axis=1)  # (H + 1, P, K)
+        loads, F0 = pl[:-1], pl[-1]
     return HuntingRecord(
         angle=angle.reshape(-1),
         lte=lte.reshape(-1),
@@ -261,6 +315,10 @@ def hunting_lte(
         teeth=(int(teeth[0]), int(teeth[1])),
         cycles=H,
         method=method,
+        pair_index=np.asarray(res.pair_index),
+        pair_load=None if loads is None else loads.reshape(H * P, -1),
+        pair_load_nominal=F0,
+        pair_root_stress_nominal=_at_torque(res, torque, res.pair_root_stress),
     )
 
 
@@ -272,23 +330,34 @@ def _exact_column(job):
     """One position's loaded TE (m) for each row of pair angles (module level: runs in
     worker processes)."""
     grid, compliance, torque, alpha, pair_index, solver = job
-    rot, arm = exact_rotation(grid, compliance, torque, alpha, pair_index, solver=solver)
-    return rot * arm
+    rot, arm, loads = exact_solutions(grid, compliance, torque, alpha, pair_index, solver=solver)
+    return rot * arm, loads
 
 
 def exact_rotation(grid, compliance, torque, alpha, pair_index, *, solver=None):
     """Loaded rotation (rad) and torque arm T / sum F (m) at one grid position for each
-    row of pair angles ``alpha`` (shape (R, K), pinion radians, K = len(pair_index)):
-    the contact problem with the separations offset by -m_i alpha_k. Rows that repeat
-    are solved once; each solve starts from the previous row's loads."""
+    row of pair angles ``alpha`` (:func:`exact_solutions`)."""
+    rot, arm, _ = exact_solutions(grid, compliance, torque, alpha, pair_index, solver=solver)
+    return rot, arm
+
+
+def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None):
+    """Loaded rotation (rad), torque arm T / sum F (m) and each pair's normal load (N,
+    shape (R, K)) at one grid position for each row of pair angles ``alpha`` (shape
+    (R, K), pinion radians, K = len(pair_index)): the contact problem with the
+    separations offset by -m_i alpha_k. Rows that repeat are solved once; each solve
+    starts from the previous row's loads."""
     solver = solver or ContactSolver()
     alpha = np.atleast_2d(np.asarray(alpha, dtype=float))
-    col = {int(k): kk for kk, k in enumerate(pair_index)}
+    ks = np.asarray(pair_index)
+    col = {int(k): kk for kk, k in enumerate(ks)}
     idx = np.array([col[int(k)] for k in grid.pair])
+    member = (np.asarray(grid.pair)[:, None] == ks[None, :]).astype(float)  # (n, K)
     C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
     rows, inverse = np.unique(alpha[:, idx], axis=0, return_inverse=True)
     rot = np.empty(len(rows))
     arm = np.empty(len(rows))
+    loads = np.empty((len(rows), ks.size))
     prev = None
     for r, a in enumerate(rows):
         g = replace(grid, separation=grid.separation - grid.arm * a)
@@ -298,8 +367,9 @@ def exact_rotation(grid, compliance, torque, alpha, pair_index, *, solver=None):
         prev = sol.load
         rot[r] = sol.rotation
         arm[r] = torque / float(sol.load.sum())
+        loads[r] = sol.load @ member
     inverse = np.asarray(inverse).reshape(-1)
-    return rot[inverse], arm[inverse]
+    return rot[inverse], arm[inverse], loads[inverse]
 
 
 def deviations_from_section(section, teeth: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
@@ -362,6 +432,26 @@ class PitchResult:
             out.append({"order": o, "amplitude_m": float(amp[i]), "kind": order_kind(o, z1, z2)})
         return out
 
+    def loads_summary(self) -> dict:
+        """The teeth's largest normal loads and root stresses over the hunting period
+        against the nominal teeth's (SI; empty where the record has no pair loads)."""
+        rec = self.record
+        if rec.pair_load is None:
+            return {}
+        pin, gear = rec.tooth_loads()
+        rs, rs0 = rec.root_stress(), rec.root_stress_nominal()
+        return {
+            "pinion_tooth_max_load_N": pin.tolist(),
+            "gear_tooth_max_load_N": gear.tolist(),
+            "tooth_max_load_nominal_N": rec.tooth_load_nominal,
+            "tooth_load_factor": [
+                float(pin.max()) / rec.tooth_load_nominal,
+                float(gear.max()) / rec.tooth_load_nominal,
+            ],
+            "root_stress_max_Pa": list(rs),
+            "root_stress_max_nominal_Pa": list(rs0),
+        }
+
     def to_dict(self) -> dict:
         rec = self.record
         orders, amp = rec.order_spectrum()
@@ -377,6 +467,7 @@ class PitchResult:
             "reference_pitch_radii_m": [self.deviations.pinion_radius, self.deviations.gear_radius],
             "lte_peak_to_peak_m": float(np.ptp(rec.lte)),
             "lte_nominal_peak_to_peak_m": float(np.ptp(rec.lte_nominal)),
+            **self.loads_summary(),
             "lines": self.lines(),
             "spectrum": {
                 "order": orders.tolist(),

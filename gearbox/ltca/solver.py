@@ -31,6 +31,7 @@ from ..errors import Problems
 __all__ = [
     "ContactSolution",
     "ContactSolver",
+    "pair_sensitivities",
     "rotation_sensitivity",
     "solve_contact",
     "solve_lcp",
@@ -267,23 +268,12 @@ def solve_contact(
     )
 
 
-def rotation_sensitivity(grid, compliance, solution, *, tooth_matrix=None, rel_step=1.0e-4):
-    """Derivative of the loaded rotation phi with respect to the initial separations,
-    d phi / d s, shape (n,) (rad/m), at a solution of :func:`solve_contact`.
-
-    With the loaded set A held (the derivative of the piecewise-smooth solution away
-    from a change of the set), the closed gaps K dF_A + ds_A - m_A dphi = 0 and the
-    balance m_A^T dF_A = 0 give dphi / ds_A = K^-T m_A / (m_A^T K^-1 m_A), zero off A.
-    K is the tangent compliance: the tooth part plus, for a load-dependent level, the
-    derivative of each point's flattening approach c_i(q_i) F_i with respect to F_i
-    (a forward difference of ``rel_step`` in the line load; the flattening is local).
-
-    A normal offset of tooth pair k, ds_i = -m_i alpha on its points (its pinion tooth
-    turned ahead by alpha), moves phi by -alpha sum_(i in k) m_i dphi/ds_i; those pair
-    weights sum to m^T dphi/ds = 1 over the pairs.
-    """
+def _tangent(grid, compliance, solution, tooth_matrix, rel_step):
+    """The loaded set (bool, (n,)) and the tangent compliance K on it: the tooth part
+    plus, for a load-dependent level, the derivative of each point's flattening
+    approach c_i(q_i) F_i with respect to F_i (a forward difference of ``rel_step`` in
+    the line load; the flattening is local)."""
     F = np.asarray(solution.load, dtype=float)
-    m = np.asarray(grid.arm, dtype=float)
     q = F / np.asarray(grid.line_length, dtype=float)
     on = F > 0
     if compliance.load_dependent:
@@ -294,7 +284,51 @@ def rotation_sensitivity(grid, compliance, solution, *, tooth_matrix=None, rel_s
         K[np.diag_indices_from(K)] += (c_hi * (1.0 + rel_step) - c) / rel_step
     else:
         K = compliance.matrix(grid, q)[np.ix_(on, on)]
+    return on, K
+
+
+def rotation_sensitivity(grid, compliance, solution, *, tooth_matrix=None, rel_step=1.0e-4):
+    """Derivative of the loaded rotation phi with respect to the initial separations,
+    d phi / d s, shape (n,) (rad/m), at a solution of :func:`solve_contact`.
+
+    With the loaded set A held (the derivative of the piecewise-smooth solution away
+    from a change of the set), the closed gaps K dF_A + ds_A - m_A dphi = 0 and the
+    balance m_A^T dF_A = 0 give dphi / ds_A = K^-T m_A / (m_A^T K^-1 m_A), zero off A.
+    K is the tangent compliance (:func:`_tangent`).
+
+    A normal offset of tooth pair k, ds_i = -m_i alpha on its points (its pinion tooth
+    turned ahead by alpha), moves phi by -alpha sum_(i in k) m_i dphi/ds_i; those pair
+    weights sum to m^T dphi/ds = 1 over the pairs (:func:`pair_sensitivities`).
+    """
+    on, K = _tangent(grid, compliance, solution, tooth_matrix, rel_step)
+    m = np.asarray(grid.arm, dtype=float)
     g = np.linalg.solve(K.T, m[on])
-    d = np.zeros(F.size)
+    d = np.zeros(on.size)
     d[on] = g / float(m[on] @ g)
     return d
+
+
+def pair_sensitivities(
+    grid, compliance, solution, pair_index, *, tooth_matrix=None, rel_step=1.0e-4
+):
+    """Each tooth pair's weight and load sensitivity at a solution of
+    :func:`solve_contact`, for offsets ds_i = -m_i alpha_k of the points of pair k
+    (pinion radians alpha_k; pairs ``pair_index``, shape (K,)).
+
+    Returns (w, S): w (K,), the loaded rotation's change per unit alpha_k with the sign
+    turned (dphi = -sum_k w_k alpha_k; :func:`rotation_sensitivity`), and S (K, K),
+    S[j, k] = d(normal load of pair j) / d alpha_k (N/rad): with the loaded set held,
+    dF_A = K^-1 (m_A o 1_k - w_k m_A) per unit alpha_k, K the tangent compliance.
+    m^T dF = 0 (the torque stays), so a pair that takes load early takes it from the
+    others.
+    """
+    on, K = _tangent(grid, compliance, solution, tooth_matrix, rel_step)
+    m = np.asarray(grid.arm, dtype=float)[on]
+    pair = np.asarray(grid.pair)[on]
+    ks = np.asarray(pair_index)
+    member = (pair[:, None] == ks[None, :]).astype(float)  # (n_A, K)
+    g = np.linalg.solve(K.T, m)
+    w = (member * m[:, None]).T @ g / float(m @ g)
+    X = np.linalg.solve(K, member * m[:, None])  # K^-1 (m o 1_k), (n_A, K)
+    dF = X - np.outer(X.sum(axis=1), w)  # K^-1 m = sum_k K^-1 (m o 1_k)
+    return w, member.T @ dF

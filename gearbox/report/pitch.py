@@ -45,6 +45,21 @@ def render_pitch(pr, run) -> Section:
         ("loaded TE peak-to-peak, nominal teeth (um)", fmt(1e6 * np.ptp(rec.lte_nominal), 4)),
         ("loaded TE peak-to-peak, with the deviations (um)", fmt(1e6 * np.ptp(rec.lte), 4)),
     ]
+    if rec.pair_load is not None:
+        pin, gear = rec.tooth_loads()
+        f0 = rec.tooth_load_nominal
+        (r1, r2), (n1, n2) = rec.root_stress(), rec.root_stress_nominal()
+        summary += [
+            (
+                "largest tooth normal load, pinion / gear (N; nominal teeth)",
+                f"{fmt(pin.max(), 5)} / {fmt(gear.max(), 5)} ({fmt(f0, 5)})",
+            ),
+            ("tooth load factor, pinion / gear", f"{pin.max() / f0:.3f} / {gear.max() / f0:.3f}"),
+            (
+                "largest root stress, pinion / gear (MPa; nominal teeth)",
+                f"{r1 / 1e6:.1f} / {r2 / 1e6:.1f} ({n1 / 1e6:.1f} / {n2 / 1e6:.1f})",
+            ),
+        ]
     lines = [(fmt(x["order"], 5), x["kind"], fmt(x["amplitude_m"] * 1e6, 4)) for x in pr.lines()]
     fig, ax = new_figure(2, 1, size=(10, 6.2))
     plot_hunting_lte(rec, ax[0, 0])
