@@ -101,6 +101,9 @@ def _drive(table):
         pair_weight = np.stack([table.extra[fields[k]][i] for k in ks], axis=-1)
         normal_load = table.torque[:, None] / table.extra[TORQUE_ARM][i]
         lte = table.lte[i]
+        pair_share = np.zeros(pair_weight.shape)  # no loads in the table: none asked for
+        pair_root_stress = np.zeros(pair_weight.shape + (2,))
+        pair_load_sensitivity = None
 
     return View()
 
