@@ -127,3 +127,22 @@ def test_a_record_shorter_than_the_common_period_is_warned_of():
     assert any("less than one common period" in w.text for w in runs[10].warnings)
     assert "45 pinion revolutions (1305 mesh cycles)" in runs[10].warnings[0].text
     assert not runs[45].warnings
+
+
+def test_the_drive_reads_the_pitch_section_only_when_it_carries_the_deviations(marine):
+    """The drivetrain stages' keys take ``[pitch]`` only with
+    ``drivetrain.pitch_deviations``: other deviations leave the dynamics, spectra,
+    waterfall and Campbell keys alone when it is off (only ``pitch`` changes) and
+    change them when it is on."""
+    from gearbox.pipeline import preview
+
+    want = ["pitch", "dynamics", "spectra", "waterfall", "campbell"]
+    for on in (False, True):
+        scene = marine.replaced(drivetrain={"pitch_deviations": on})
+        other = scene.replaced(pitch={"random_single_um": 2.0})
+        a = {n: k for n, k, _ in preview(scene, want, cache=False)}
+        b = {n: k for n, k, _ in preview(other, want, cache=False)}
+        changed = {n for n in a if a[n] != b[n]}
+        assert changed == (
+            {"pitch", "dynamics", "spectra", "waterfall", "campbell"} if on else {"pitch"}
+        )

@@ -116,12 +116,17 @@ class PitchApproach:
 
     def coefficients(self) -> np.ndarray:
         """Spline coefficients per sample interval, shape (n, 4): a = c0 + c1 d + c2 d^2
-        + c3 d^3 with d in [0, 1) the position within the interval (in samples)."""
-        from scipy.interpolate import CubicSpline
+        + c3 d^3 with d in [0, 1) the position within the interval (in samples); fitted
+        once (read-only)."""
+        if "_coef" not in self.__dict__:
+            from scipy.interpolate import CubicSpline
 
-        v = self.values
-        cs = CubicSpline(np.arange(v.size + 1), np.append(v, v[0]), bc_type="periodic")
-        return np.ascontiguousarray(cs.c[::-1].T)
+            v = self.values
+            cs = CubicSpline(np.arange(v.size + 1), np.append(v, v[0]), bc_type="periodic")
+            c = np.ascontiguousarray(cs.c[::-1].T)
+            c.setflags(write=False)
+            object.__setattr__(self, "_coef", c)
+        return self.__dict__["_coef"]
 
     def __call__(self, theta1):
         """a (m) and da / dtheta_1 (m/rad) at pinion angles theta1 (any shape)."""
@@ -1069,10 +1074,12 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     sdot = v @ p["G"].T - de * (p["Omega"] + v[:, 1])[:, None]
     ecc = eccentricity_approach(t, x, v, p)
     pit = pitch_terms(t, x[:, 1], v[:, 1], p)
-    both = approach(t, x, v, p)
-    if both is not None:
-        s = s + both[0]
-        sdot = sdot + both[1]
+    if ecc is not None:  # the same sum as approach(), each part kept for its channel
+        s = s + ecc[0]
+        sdot = sdot + ecc[1]
+    if pit is not None:  # the drive flank only
+        s[:, 0] = s[:, 0] + pit[0]
+        sdot[:, 0] = sdot[:, 0] + pit[1]
     forces = np.where(s > 0, np.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
     tt = t[:, None]
     te = p["T"] * (1.0 + np.sum(p["ea"] * np.sin(p["eo"] * p["Omega"] * tt), axis=-1))

@@ -766,6 +766,17 @@ def scene_grids(design, scene, side: str, positions: int, *, relief=None):
     return grids, sense, field
 
 
+def scene_compliance(design, scene):
+    """The compliance level ``ltca.fidelity`` of a beveloid pair: the FE level meshes
+    the generated teeth (their blanks), the fast level needs nothing of the pair."""
+    fidelity = scene["ltca"]["fidelity"]
+    if fidelity == "fe":
+        from ..surface import blanks_from_design
+
+        return compliance_for("fe", blanks=blanks_from_design(design))
+    return compliance_for(fidelity)
+
+
 def beveloid_ltca(
     design,
     scene,
@@ -782,12 +793,7 @@ def beveloid_ltca(
     lt = scene["ltca"]
     options = options or LTCAOptions(positions=lt["positions"])
     P = options.positions
-    if lt["fidelity"] == "fe":  # the FE level meshes the generated teeth
-        from ..surface import blanks_from_design
-
-        compliance = compliance_for("fe", blanks=blanks_from_design(design))
-    else:
-        compliance = compliance_for(lt["fidelity"])
+    compliance = scene_compliance(design, scene)
     torques = scene["load"]["torques_Nm"]
     if relief is None:
         relief = modifications_from_scene(design, scene)

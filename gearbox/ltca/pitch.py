@@ -58,8 +58,8 @@ __all__ = [
     "pair_angles",
 ]
 
-#: Largest cumulative pitch deviation accepted (m): 1 mm, far beyond any gear quality
-#: of ISO 1328-1 (class 11 allows about 0.2 mm on the default pair).
+#: Largest cumulative pitch deviation accepted (m): 1 mm, far beyond the deviations
+#: of any gear that is measured for its noise.
 MAX_DEVIATION = 1.0e-3
 
 
@@ -116,9 +116,15 @@ class PitchDeviations:
                 f"sum {total:.3e} m",
                 "single pitch deviations must sum to 0 over a turn",
             )
-            out.append(np.concatenate([[0.0], np.cumsum(f)[:-1]]) if f.size else f)
+            out.append(_cumulative(f))
         p.raise_if_any("invalid pitch deviations")
         return cls(out[0], out[1], pinion_radius, gear_radius)
+
+
+def _cumulative(single: np.ndarray) -> np.ndarray:
+    """Cumulative pitch deviations from single ones that close over the turn: tooth 0
+    the reference (0), F_p,i = f_pt,1 + ... + f_pt,i."""
+    return np.concatenate([[0.0], np.cumsum(single)[:-1]]) if single.size else single
 
 
 def pair_angles(dev: PitchDeviations, pair_index, cycles) -> np.ndarray:
@@ -220,19 +226,6 @@ class HuntingRecord:
         if n % 2 == 0:
             amp[-1] /= 2.0
         return np.arange(amp.size) / self.pinion_revolutions, amp
-
-    def to_dict(self) -> dict:
-        return {
-            "torque_Nm": self.torque,
-            "teeth": list(self.teeth),
-            "cycles": self.cycles,
-            "method": self.method,
-            "angle_rad": self.angle.tolist(),
-            "lte_m": self.lte.tolist(),
-            "lte_nominal_m": self.lte_nominal.tolist(),
-            "peak_to_peak_m": float(np.ptp(self.lte)),
-            "peak_to_peak_nominal_m": float(np.ptp(self.lte_nominal)),
-        }
 
 
 def _check_result(res: CycleResult, dev: PitchDeviations, teeth, torque: float, method: str):
@@ -394,8 +387,7 @@ def deviations_from_section(section, teeth: tuple[int, int]) -> tuple[np.ndarray
             )
             out.append(np.asarray(given, dtype=float) * 1e-6)
         else:
-            f = f - f.mean()
-            out.append(np.concatenate([[0.0], np.cumsum(f)[:-1]]))
+            out.append(_cumulative(f - f.mean()))
     p.raise_if_any("invalid pitch deviations")
     return out[0], out[1]
 
@@ -494,14 +486,17 @@ def order_kind(order: float, z1: int, z2: int) -> str:
 
 
 def drive_grids(design, scene, positions: int):
-    """The drive flank's contact grids at ``positions`` per mesh cycle and the scene's
-    compliance level, as the loaded TCA makes them (for ``method="exact"``)."""
+    """The drive flank's contact grids at ``positions`` per mesh cycle and the
+    compliance, as the loaded TCA makes them (for ``method="exact"``): the closed-form
+    grids and ``compliance_for(fidelity)`` of :func:`~gearbox.ltca.table.parallel_ltca`
+    for a parallel pair, else :func:`~gearbox.ltca.beveloid.scene_grids` and
+    :func:`~gearbox.ltca.beveloid.scene_compliance`."""
+    from .beveloid import modifications_from_scene, scene_compliance, scene_grids
     from .compliance import compliance_for
     from .table import is_parallel
 
     lt = scene["ltca"]
     if is_parallel(design):
-        from .beveloid import modifications_from_scene
         from .modification import as_modification
         from .parallel import parallel_grid
         from .table import parallel_pair_from_design
@@ -512,16 +507,10 @@ def drive_grids(design, scene, positions: int):
             parallel_grid(pair, j / positions, lt["grid_face"], relief=relief)
             for j in range(positions)
         ]
-    else:
-        from .beveloid import scene_grids
-
-        grids = scene_grids(design, scene, "R", positions)[0]
-    if lt["fidelity"] == "fe":
-        from ..surface import blanks_from_design
-
-        compliance = compliance_for("fe", blanks=blanks_from_design(design))
-    else:
         compliance = compliance_for(lt["fidelity"])
+    else:
+        grids = scene_grids(design, scene, "R", positions)[0]
+        compliance = scene_compliance(design, scene)
     reserve = getattr(compliance, "reserve", None)
     if callable(reserve):
         reserve(grids)

@@ -113,7 +113,7 @@ def validate(scene: Scene, names: Iterable[str], stages: Mapping[str, Stage]) ->
         if check is None:
             continue
         try:
-            check(restricted_scene(scene, stages[name].reads))
+            check(restricted_scene(scene, stages[name].reads_for(scene)))
         except InputError as exc:
             problems += [p for p in exc.problems if p not in problems]
         except StageUnavailable:
@@ -160,7 +160,7 @@ def preview(
         st = stages[name]
         req, opt = st.upstream(scene)
         upstream = {d: keys[d] for d in (*req, *opt)}
-        keys[name] = stage_key(name, read_values(scene, st.reads), upstream, _code(st))
+        keys[name] = stage_key(name, read_values(scene, st.reads_for(scene)), upstream, _code(st))
         cached = bool(store is not None and st.cacheable and store.path(name, keys[name]).exists())
         out.append((name, keys[name], cached))
     return out
@@ -242,7 +242,9 @@ def run_pipeline(
             req, opt = st.upstream(scene)
             used = (*req, *(d for d in opt if d in results))
             upstream = {d: keys[d] for d in used} | {d: "absent" for d in opt if d not in results}
-            keys[name] = stage_key(name, read_values(scene, st.reads), upstream, _code(st))
+            keys[name] = stage_key(
+                name, read_values(scene, st.reads_for(scene)), upstream, _code(st)
+            )
             missing = [d for d in req if d not in results]
             if missing:
                 record(
@@ -267,7 +269,7 @@ def run_pipeline(
                     continue
             ctx = StageContext(
                 name=name,
-                scene=restricted_scene(scene, st.reads),
+                scene=restricted_scene(scene, st.reads_for(scene)),
                 inputs=MappingProxyType({d: results[d] for d in used}),
                 map=functools.partial(
                     map_items, executor=executor, jobs=jobs, progress=progress, desc=name

@@ -51,6 +51,11 @@ class Stage:
         ``route(scene) -> (depends, optional)`` for a stage whose upstream depends on
         a scene value (e.g. ``outputs.mesh_tables``); overrides the two fields. It
         sees the whole scene, so what it reads must also be in ``reads``.
+    reads_also : callable, optional
+        ``reads_also(scene) -> entries`` read besides ``reads`` only for some scene
+        values (the ``[pitch]`` section when ``drivetrain.pitch_deviations`` is on):
+        they enter the key and the restricted scene then, and only then. What it
+        reads itself must be in ``reads``.
     code : tuple of str
         Modules or packages whose source enters the cache key, so that a changed
         implementation is recomputed even without a version bump; the module of
@@ -70,10 +75,18 @@ class Stage:
     depends: tuple[str, ...] = ()
     optional: tuple[str, ...] = ()
     route: Callable[[Scene], tuple[tuple[str, ...], tuple[str, ...]]] | None = None
+    reads_also: Callable[[Scene], tuple[str, ...]] | None = None
     code: tuple[str, ...] = ()
     validate: Callable[[Scene], None] | None = None
     cacheable: bool = True
     doc: str = ""
+
+    def reads_for(self, scene: Scene) -> tuple[str, ...]:
+        """The scene entries the stage reads for ``scene``: ``reads`` and
+        ``reads_also(scene)``."""
+        if self.reads_also is None:
+            return tuple(self.reads)
+        return (*self.reads, *self.reads_also(scene))
 
     def upstream(self, scene: Scene | None = None) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """(required, optional) upstream stages, for ``scene`` when the stage routes."""

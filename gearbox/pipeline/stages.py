@@ -21,7 +21,14 @@ from .stage import Stage
 __all__ = ["STAGES", "require"]
 
 _PAIR = ("pair", "pinion", "gear", "tool")
-_DRIVE = ("drivetrain", "simulation", "load.torques_Nm", "load.operating_torque_Nm", "pitch")
+_DRIVE = ("drivetrain", "simulation", "load.torques_Nm", "load.operating_torque_Nm")
+
+
+def _pitch_if_on(scene) -> tuple[str, ...]:
+    """The ``[pitch]`` section, read by the drivetrain stages only when the dynamics
+    carry the deviations (``drivetrain.pitch_deviations``): otherwise a change there
+    redoes the ``pitch`` stage alone."""
+    return ("pitch",) if scene["drivetrain"]["pitch_deviations"] else ()
 
 
 def _check_torques(scene):
@@ -38,6 +45,7 @@ def _on_tables(name, compute, validate, doc, *code) -> Stage:
         name,
         compute,
         reads=_DRIVE,
+        reads_also=_pitch_if_on,
         depends=("tables",),
         code=("gearbox.drivetrain", "gearbox.meshtable", *code),
         validate=validate,

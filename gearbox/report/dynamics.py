@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from ..errors import InputError
 from .html import ReportWarning, Section, esc, figure, fmt, new_figure, table
 
 __all__ = [
@@ -236,7 +237,7 @@ def render_spectra(sp, run) -> Section:
             z1 = min((e.order for e in sp.excitations if e.source == "mesh"), default=None)
             cycles = f" ({fmt(revs * z1)} mesh cycles)" if z1 else ""
             need = f"{fmt(revs)} pinion revolutions{cycles}"
-        except Exception:  # no common period of these orders
+        except InputError:  # no common period of these orders
             need = "a common period of the excitation orders"
         warnings.append(
             ReportWarning(

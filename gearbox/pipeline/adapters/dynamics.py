@@ -51,11 +51,6 @@ SPECTRUM_CHANNELS = (
 #: releases the GIL (exudyn and scipy runs stay one after the other, or in processes).
 THREADED = ("diffrax",)
 
-#: Pinion and gear orders of the pitch deviations listed among the excitations
-#: (gearbox.spectrum.campbell.PITCH_ORDERS, kept here so that the stage module does
-#: not import the spectrum package before it runs).
-PITCH_ORDERS = 3
-
 #: Speeds of the Campbell diagram's mode curves (eigenvalues are cheap).
 CAMPBELL_SPEEDS = 61
 
@@ -217,7 +212,7 @@ def _orders(model) -> tuple:
     with the harmonics the model applies, half orders when it has cylinder imbalance,
     the eccentric members' once per revolution, the pitch deviations' first pinion and
     gear orders."""
-    spectrum = require("gearbox.spectrum", "excitation_orders")
+    spectrum = require("gearbox.spectrum.campbell", "excitation_orders", "PITCH_ORDERS")
     return spectrum.excitation_orders(
         pinion_teeth=model.pinion_teeth,
         gear_teeth=model.gear_teeth,
@@ -229,7 +224,7 @@ def _orders(model) -> tuple:
         max_half_order=1.5,  # the half orders the model applies (0.5, 1, 1.5)
         pinion_eccentricity=model.pinion_eccentricity > 0,
         gear_eccentricity=model.gear_eccentricity > 0,
-        pitch_orders=PITCH_ORDERS if getattr(model, "pitch", None) is not None else 0,
+        pitch_orders=spectrum.PITCH_ORDERS if getattr(model, "pitch", None) is not None else 0,
     )
 
 
