@@ -43,6 +43,8 @@ __all__ = [
     "MeshTable",
     "fourier_eval",
     "fourier_fit",
+    "form_weight_fields",
+    "form_weight_name",
     "pair_weight_fields",
     "pair_weight_name",
 ]
@@ -73,6 +75,37 @@ def pair_weight_fields(table) -> dict[int, str]:
         name = pair_weight_name(k)
         if name in table.extra:
             out[k] = name
+    return out
+
+
+#: The form deviations' offset shapes, in the order of ``ContactGrid.FORM_BASES``.
+FORM_BASES = ("pinion_profile", "pinion_helix", "gear_profile", "gear_helix")
+
+#: The attrs of the lengths the loaded contact covers on the drive flanks (m): roll
+#: length and axial length, pinion and gear; the slopes' default evaluation lengths.
+CONTACT_LENGTHS = (
+    "pinion_contact_roll_length_m",
+    "gear_contact_roll_length_m",
+    "pinion_contact_face_length_m",
+    "gear_contact_face_length_m",
+)
+
+
+def form_weight_name(basis: str, k: int) -> str:
+    """Name of the optional field of tooth pair k's weight for a unit slope deviation
+    ``basis`` (one of FORM_BASES, docs/ltca.md "Form deviations"):
+    ``form_weight_pinion_profile_0``, ``form_weight_gear_helix_m1``."""
+    return "form_" + pair_weight_name(k).replace("pair_weight_", f"weight_{basis}_")
+
+
+def form_weight_fields(table) -> dict[int, list[str]]:
+    """Tooth pair index -> the field names of its form weights in the order of
+    FORM_BASES (empty if the table has none)."""
+    out = {}
+    for k in range(-16, 17):
+        names = [form_weight_name(b, k) for b in FORM_BASES]
+        if all(n in table.extra for n in names):
+            out[k] = names
     return out
 
 

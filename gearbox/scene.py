@@ -267,7 +267,63 @@ SCHEMA: dict[str, dict[str, Field]] = {
             0,
             100,
         ),
-        "seed": _i(1, "Seed of the random single pitch deviations (pinion drawn first).", 0),
+        **{
+            f"{member}_{kind}_slope_um": _fl(
+                [],
+                f"{kind.capitalize()} slope deviations f_H_{'alpha' if kind == 'profile' else 'beta'} "
+                f"of the {member}'s drive flanks (um), one per tooth as {member}_cumulative_um "
+                "numbers them, as a gear checker reports them (transverse plane, along the "
+                "base tangent) over the evaluation length "
+                f"{kind}_evaluation_mm; + where material grows towards the "
+                + ("tip." if kind == "profile" else "heel (+z on parallel axes).")
+                + f" Empty: random (random_{kind}_slope_um) or none.",
+                -1000,
+                1000,
+                min_len=0,
+            )
+            for member in ("pinion", "gear")
+            for kind in ("profile", "helix")
+        },
+        "random_profile_slope_um": _f(
+            0.0,
+            "For a member without a profile slope list: profile slope deviations drawn "
+            "uniform within +- this (um), tooth by tooth. 0: none.",
+            0,
+            100,
+        ),
+        "random_helix_slope_um": _f(
+            0.0,
+            "For a member without a helix slope list: helix slope deviations drawn uniform "
+            "within +- this (um), tooth by tooth. 0: none.",
+            0,
+            100,
+        ),
+        "profile_evaluation_mm": _fl(
+            [],
+            "Evaluation lengths L_alpha of the profile slopes (mm of roll length), "
+            "[pinion, gear]. Empty: the roll length the loaded contact covers on each "
+            "member's drive flank in the loaded TCA.",
+            0,
+            1000,
+            True,
+            min_len=0,
+        ),
+        "helix_evaluation_mm": _fl(
+            [],
+            "Evaluation lengths L_beta of the helix slopes (mm along each member's axis), "
+            "[pinion, gear]. Empty: the axial length the loaded contact covers on each "
+            "member's drive flank in the loaded TCA.",
+            0,
+            1000,
+            True,
+            min_len=0,
+        ),
+        "seed": _i(
+            1,
+            "Seed of the random deviations: the single pitch deviations (pinion drawn "
+            "first); the slopes from a generator seeded with [seed, 1].",
+            0,
+        ),
         "method": _s(
             "linear",
             "'linear': the loaded TE's first-order change through the loaded TCA's pair "

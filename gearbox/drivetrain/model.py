@@ -135,11 +135,16 @@ class PitchApproach:
         )
 
     @classmethod
-    def from_table(cls, table: MeshTable, pinion, gear, torque: float) -> PitchApproach:
+    def from_table(
+        cls, table: MeshTable, pinion, gear, torque: float, slopes=None
+    ) -> PitchApproach:
         """From a mesh table with pair weights and torque arm (a loaded TCA's) and the
         cumulative pitch deviations of the drive flanks (m, one per tooth, docs/ltca.md
-        "Pitch deviations"), at ``torque``: samples over lcm(N_1, N_2) mesh cycles."""
-        from ..meshtable import TORQUE_ARM, pair_weight_fields
+        "Pitch deviations"), at ``torque``: samples over lcm(N_1, N_2) mesh cycles.
+        ``slopes``: the teeth's profile and helix slope deviations
+        (:class:`~gearbox.ltca.pitch.SlopeDeviations`, docs/ltca.md "Form deviations"),
+        which need the table's form weights."""
+        from ..meshtable import TORQUE_ARM, form_weight_fields, pair_weight_fields
 
         p = Problems()
         fields_ = pair_weight_fields(table)
@@ -150,6 +155,15 @@ class PitchApproach:
             "pitch deviations need a loaded-TCA mesh table with the drive flank's pair "
             "weights and torque arm (the analytical tables have none)",
         )
+        form = form_weight_fields(table) if slopes is not None else {}
+        if slopes is not None:
+            p.check(
+                bool(form) and set(form) == set(fields_),
+                "mesh table",
+                table.attrs.get("method", ""),
+                "slope deviations need a loaded-TCA mesh table with the drive flank's form "
+                "weights (run the loaded TCA again)",
+            )
         radii = [table.attrs.get(f"{m}_reference_pitch_radius_m") for m in ("pinion", "gear")]
         p.check(
             all(r is not None and float(r) > 0 for r in radii),
@@ -162,6 +176,13 @@ class PitchApproach:
         gea = np.asarray(gear, dtype=float).reshape(-1)
         p.check(pin.size == z1, "pinion deviations", pin.size, f"must be {z1} values")
         p.check(gea.size == z2, "gear deviations", gea.size, f"must be {z2} values")
+        if slopes is not None:
+            p.check(
+                tuple(slopes.teeth) == (z1, z2),
+                "slope deviations",
+                slopes.teeth,
+                f"must be {z1} / {z2} values",
+            )
         p.raise_if_any("invalid pitch deviations")
         H = z1 * z2 // math.gcd(z1, z2)
         ks = np.array(sorted(fields_))
@@ -169,7 +190,13 @@ class PitchApproach:
         arm = table.values_at(TORQUE_ARM, "drive", torque)  # (P,)
         c = np.arange(H)[:, None] - ks[None, :]
         alpha = pin[c % z1] / float(radii[0]) + gea[c % z2] / float(radii[1]) * (z2 / z1)
-        values = (arm[None, :] * (alpha @ w.T)).reshape(-1)
+        turn = alpha @ w.T  # (H, P): sum_k w_k alpha_k
+        if slopes is not None:
+            W = np.stack(
+                [[table.values_at(n, "drive", torque) for n in form[k]] for k in ks], axis=1
+            )  # (J, K, P)
+            turn = turn + np.einsum("hkj,jkp->hp", slopes.slopes(c % z1, c % z2), W)
+        values = (arm[None, :] * turn).reshape(-1)
         step = float(table.angle[1] - table.angle[0])
         return cls(values, float(table.angle[0]), step)
 
@@ -194,10 +221,15 @@ def _pitch_of(scene, table: MeshTable, torque: float) -> PitchApproach | None:
     ``drivetrain.pitch_deviations`` is on (docs §3c), else None."""
     if not scene["drivetrain"]["pitch_deviations"]:
         return None
-    from ..ltca.pitch import deviations_from_section
+    from ..ltca.pitch import deviations_from_section, slopes_from_section
+    from ..meshtable import CONTACT_LENGTHS
 
-    pin, gear = deviations_from_section(scene["pitch"], (table.pinion_teeth, table.gear_teeth))
-    return PitchApproach.from_table(table, pin, gear, torque)
+    teeth = (table.pinion_teeth, table.gear_teeth)
+    pin, gear = deviations_from_section(scene["pitch"], teeth)
+    covered = [table.attrs.get(k) for k in CONTACT_LENGTHS]
+    lengths = None if None in covered else ((covered[0], covered[1]), (covered[2], covered[3]))
+    slopes = slopes_from_section(scene["pitch"], teeth, lengths)
+    return PitchApproach.from_table(table, pin, gear, torque, slopes)
 
 
 @dataclass(frozen=True)

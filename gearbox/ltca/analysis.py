@@ -106,7 +106,14 @@ class CycleResult:
     :mod:`gearbox.ltca.pitch`); pair_load_sensitivity (T, P, K, K): d(normal load of
     pair j) / d(alpha_k) (N/rad) for an offset -m_i alpha_k of pair k's points
     (:func:`~gearbox.ltca.solver.pair_sensitivities`); both ``None`` in results stored
-    before they existed.
+    before they existed. pair_form_weight (T, P, K, 4) and pair_form_load_sensitivity
+    (T, P, K, K, 4): the same for unit slope deviations of pair k's flanks
+    (:meth:`ContactGrid.form_bases`, in the order of ``ContactGrid.FORM_BASES``; the
+    rotation changes by -sum w c, docs/ltca.md "Form deviations"); flank_range (4, 2):
+    the range of the loaded points' flank coordinates (``ContactGrid.flank_coordinates``:
+    roll lengths and axial positions of pinion and gear, m) over the cycle and torques,
+    the flank the contact covers; all three ``None`` where the grids carry no flank
+    coordinates.
     """
 
     torque: np.ndarray
@@ -140,6 +147,9 @@ class CycleResult:
     friction_arm: np.ndarray | None = None
     pair_weight: np.ndarray | None = None
     pair_load_sensitivity: np.ndarray | None = None
+    pair_form_weight: np.ndarray | None = None
+    pair_form_load_sensitivity: np.ndarray | None = None
+    flank_range: np.ndarray | None = None
 
     @property
     def edge_contact(self) -> np.ndarray:
@@ -315,6 +325,12 @@ def ltca_cycle(
     share = np.zeros((T, P, pair_index.size))
     weight = np.zeros((T, P, pair_index.size))
     load_sens = np.zeros((T, P, pair_index.size, pair_index.size))
+    form = all(g.flank_coordinates is not None for g in grids)
+    nb = len(ContactGrid.FORM_BASES)
+    form_weight = np.zeros((T, P, pair_index.size, nb)) if form else None
+    form_sens = np.zeros((T, P, pair_index.size, pair_index.size, nb)) if form else None
+    flank_lo = np.full(nb, np.inf)
+    flank_hi = np.full(nb, -np.inf)
     pair_rs = np.zeros((T, P, pair_index.size, 2))
     mesh_point = np.zeros((T, P, 3))
     loa = np.zeros((T, P, 3))
@@ -336,6 +352,7 @@ def ltca_cycle(
         vs = np.linalg.norm(grid.sliding_velocity(), axis=1) if kinematics else None
         arms = grid.friction_arms() if kinematics else None
         phi0 = float(np.min(grid.separation / grid.arm))
+        bases = grid.form_bases() if form else None
         prev = None
         for t, torque in enumerate(torques):
             init = None if prev is None else prev.load * (torque / torques[t - 1])
@@ -379,9 +396,24 @@ def ltca_cycle(
             out["root_stress_gear"][t, j] = float(m2.max())
             np.maximum.at(rs_face1[t], grid.slot, s1)
             np.maximum.at(rs_face2[t], grid.slot, s2)
-            weight[t, j], load_sens[t, j] = pair_sensitivities(
-                grid, compliance, sol, pair_index, tooth_matrix=C0
-            )
+            if form:
+                w_all, s_all = pair_sensitivities(
+                    grid, compliance, sol, pair_index, tooth_matrix=C0, bases=bases
+                )
+                weight[t, j], load_sens[t, j] = w_all[:, 0], s_all[..., 0]
+                form_weight[t, j], form_sens[t, j] = w_all[:, 1:], s_all[..., 1:]
+                # the loaded points, the face positions widened by half their slices
+                on = F > 0
+                half = np.zeros((int(on.sum()), nb))
+                half[:, 1] = 0.5 * grid.width[on]
+                half[:, 3] = 0.5 * grid.width2[on]
+                c = grid.flank_coordinates[on]
+                flank_lo = np.minimum(flank_lo, (c - half).min(axis=0))
+                flank_hi = np.maximum(flank_hi, (c + half).max(axis=0))
+            else:
+                weight[t, j], load_sens[t, j] = pair_sensitivities(
+                    grid, compliance, sol, pair_index, tooth_matrix=C0
+                )
             for kk, k in enumerate(pair_index):
                 on = grid.pair == k
                 share[t, j, kk] = float(F[on].sum()) / Fn
@@ -466,6 +498,9 @@ def ltca_cycle(
         friction_arm=friction_arm,
         pair_weight=weight,
         pair_load_sensitivity=load_sens,
+        pair_form_weight=form_weight,
+        pair_form_load_sensitivity=form_sens,
+        flank_range=np.column_stack([flank_lo, flank_hi]) if form else None,
     )
 
 

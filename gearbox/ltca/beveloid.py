@@ -711,10 +711,24 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
     # one rigid rotation for all positions (the nominal phase is arbitrary): what is
     # left of each position's rotation to first contact is the unloaded TE
     phi_ref = min(float(np.min(p[3] / p[4])) for p in picks)
+    k_side = _SIDE_INDEX[side]
+    rb1, rb2 = design.pinion.base_radius[k_side], design.gear.base_radius[k_side]
+    roll1_ref = math.sqrt(pinion.reference_pitch_radius**2 - rb1**2)
+    roll2_ref = math.sqrt(gear.reference_pitch_radius**2 - rb2**2)
+    mid1, mid2 = 0.5 * (pinion.z_toe + pinion.z_heel), 0.5 * (gear.z_toe + gear.z_heel)
     grids = []
     for ks, slots, fi, s_i, m_i in picks:
         z1 = field.z[slots]
         rad1 = np.hypot(pt[fi, slots, 0], pt[fi, slots, 1])
+        rad2 = g_rad[fi, slots]
+        flank = np.column_stack(
+            [
+                np.sqrt(np.maximum(rad1**2 - rb1**2, 0.0)) - roll1_ref,
+                z1 - mid1,
+                np.sqrt(np.maximum(rad2**2 - rb2**2, 0.0)) - roll2_ref,
+                g_z[fi, slots] - mid2,
+            ]
+        )
         grids.append(
             ContactGrid(
                 pair=ks,
@@ -741,6 +755,7 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
                 poisson_ratio=nu,
                 pinion_axis=np.array([zaxis, asm.pinion_origin]),
                 gear_axis=np.array([asm.gear_axis, asm.gear_origin]),
+                flank_coordinates=flank,
             )
         )
     return grids, sense

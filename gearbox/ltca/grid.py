@@ -135,6 +135,12 @@ class ContactGrid:
     - ``pinion_axis``, ``gear_axis`` (optional) shape (2, 3): each gear's axis in the
       frame of ``position`` (unit direction, then a point on it), for the flanks'
       sliding (:meth:`sliding_velocity`). ``None``: the grid carries no kinematics.
+    - ``flank_coordinates`` (optional) shape (n, 4): where each point lies on the two
+      flanks, for deviations of their form (docs/ltca.md "Form deviations"): the
+      pinion's roll length from its reference circle (``sqrt(r^2 - r_b^2)`` less its
+      value at the reference pitch radius, m, + towards the tip) and its axial
+      position from its face middle (m, + towards the heel, or +z on parallel
+      axes), then the gear's two in its own frame. ``None``: the grid has none.
     """
 
     pair: np.ndarray
@@ -161,6 +167,7 @@ class ContactGrid:
     transverse_projection2: np.ndarray | None = None
     pinion_axis: np.ndarray | None = None
     gear_axis: np.ndarray | None = None
+    flank_coordinates: np.ndarray | None = None
 
     def __post_init__(self):
         probs = Problems()
@@ -200,6 +207,14 @@ class ContactGrid:
                 v = getattr(self, name[:-1])
             object.__setattr__(self, name, _frozen_array(v, n, name, probs, float))
         self._check_axes(probs)
+        if self.flank_coordinates is not None:
+            a = np.array(self.flank_coordinates, dtype=float)
+            if a.shape != (n, 4) or not np.all(np.isfinite(a)):
+                probs.add(
+                    "flank_coordinates", f"shape {a.shape}", f"must be finite, shape ({n}, 4)"
+                )
+            a.setflags(write=False)
+            object.__setattr__(self, "flank_coordinates", a)
         probs.raise_if_any("invalid contact grid")
         for name in (
             "width",
@@ -301,6 +316,26 @@ class ContactGrid:
         arm2 = np.sum(np.cross(self.position - o2, u) * a2, axis=1)
         return np.stack([arm1, arm2], axis=1)
 
+    #: The form deviations' offset shapes (:meth:`form_bases`), in their order.
+    FORM_BASES = ("pinion_profile", "pinion_helix", "gear_profile", "gear_helix")
+
+    def form_bases(self) -> np.ndarray | None:
+        """Normal offsets of the flanks per unit slope deviation, shape (n, 4), m per
+        (m/m), in the order of :attr:`FORM_BASES`: a profile slope f_H_alpha over an
+        evaluation length L_alpha puts f_H_alpha / L_alpha times the roll length from
+        the reference circle on the flank, a helix slope f_H_beta over L_beta puts
+        f_H_beta / L_beta times the axial position from the face middle, both measured
+        in the transverse plane along the base tangent (as a gear checker measures
+        them), so normal to the flank times the cosine to the transverse plane (cos
+        beta_b on involute helicoids). Plus material closes the gap: a point's
+        separation changes by ``-bases @ slopes``. ``None`` without
+        ``flank_coordinates``."""
+        if self.flank_coordinates is None:
+            return None
+        c = self.flank_coordinates
+        t1, t2 = self.transverse_projection, self.transverse_projection2
+        return np.column_stack([t1 * c[:, 0], t1 * c[:, 1], t2 * c[:, 2], t2 * c[:, 3]])
+
     def _relative_velocity(self):
         kin = self._kinematics()
         return None if kin is None else kin[0]
@@ -339,6 +374,7 @@ class ContactGrid:
         "tooth2",
         "width2",
         "transverse_projection2",
+        "flank_coordinates",
     )
 
     def fields_at(self, idx) -> dict:
@@ -348,7 +384,7 @@ class ContactGrid:
         out = {}
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name in self.PER_POINT:
+            if f.name in self.PER_POINT and v is not None:
                 v = v.take(idx) if isinstance(v, ToothSections) else v[idx]
             out[f.name] = v
         return out

@@ -289,6 +289,9 @@ def parallel_grid(
         # the same shaft-angle error, both hands (tests/test_ltca_modifications.py).
         g = pair.misalignment
         sep = sep + g * (nrm[:, 1] * pos[:, 2] + nrm[:, 2] * pos[:, 1])
+    # roll lengths from each gear's reference circle; both faces share y
+    roll1 = xi - math.sqrt(pair.pitch_radius(0) ** 2 - rb1**2)
+    roll2 = (lam - xi) - math.sqrt(pair.pitch_radius(1) ** 2 - rb2**2)
     return ContactGrid(
         pair=pair_idx.astype(int),
         slot=slot.astype(int),
@@ -319,6 +322,7 @@ def parallel_grid(
                 [pair.working_center_distance, 0.0, 0.0],
             ]
         ),
+        flank_coordinates=np.column_stack([roll1, face, roll2, face]),
     )
 
 

@@ -32,6 +32,14 @@ phi under these offsets:
 
 The transmission error is the loaded TCA's ``lte``: the loaded rotation times the
 torque arm T / sum F (m along the line of action), so a proud tooth lowers it.
+
+Form deviations (:class:`SlopeDeviations`): each tooth's profile and helix slope
+deviations f_H_alpha, f_H_beta tilt its flank about the point where its pitch is
+measured (the reference circle in the face middle). They offset pair k's points by
+ds_i = -B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`, c the slopes
+f / L of pair k's two teeth), which the loaded TCA's form weights
+(``CycleResult.pair_form_weight``) carry through the same two methods: linear,
+phi = phi_0 - sum_k (w_k alpha_k + sum_j W_kj c_kj), and exact.
 """
 
 from __future__ import annotations
@@ -41,7 +49,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import Problems
+from ..errors import InputError, Problem, Problems
 from .analysis import CycleResult
 from .solver import ContactSolver, solve_contact
 
@@ -49,6 +57,10 @@ __all__ = [
     "HuntingRecord",
     "PitchDeviations",
     "PitchResult",
+    "SlopeDeviations",
+    "covered_lengths",
+    "pair_coefficients",
+    "slopes_from_section",
     "deviations_from_scene",
     "deviations_from_section",
     "exact_rotation",
@@ -63,31 +75,115 @@ __all__ = [
 MAX_DEVIATION = 1.0e-3
 
 
+def _per_tooth(name: str, values, p: Problems, size: int | None = None) -> np.ndarray:
+    """A read-only float array of one value per tooth, each finite and within
+    +-MAX_DEVIATION (problems named ``name[i]``)."""
+    a = np.array(values, dtype=float).reshape(-1)
+    if size is None:
+        p.check(a.size >= 8, name, a.size, "needs one deviation per tooth (>= 8 teeth)")
+    else:
+        p.check(a.size == size, name, f"{a.size} values", f"must give one value per tooth: {size}")
+    bad = ~np.isfinite(a) | (np.abs(a) > MAX_DEVIATION)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        p.add(f"{name}[{i}]", float(a[i]), f"must be finite and within +-{MAX_DEVIATION} m")
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True)
+class SlopeDeviations:
+    """Profile and helix slope deviations of each tooth's loaded flank (m), as a gear
+    checker reports them (ISO 1328-1 f_H_alpha, f_H_beta): the departure of the mean
+    trace from the design trace over the evaluation length, measured in the transverse
+    plane along the base tangent. Positive: plus material growing towards the tip
+    (profile) or towards the heel, +z on parallel axes (helix; each member's own axis).
+    The flank turns about the reference circle in the face middle, where the pitch is
+    measured, so the slopes add no offset there.
+
+    pinion_profile, pinion_helix (z1,), gear_profile, gear_helix (z2,), tooth i as the
+    module doc numbers them; profile_length (L_alpha of pinion, gear: roll length, m)
+    and helix_length (L_beta of pinion, gear: axial, m), the evaluation lengths the
+    slopes are given over.
+    """
+
+    pinion_profile: np.ndarray
+    pinion_helix: np.ndarray
+    gear_profile: np.ndarray
+    gear_helix: np.ndarray
+    profile_length: tuple[float, float]
+    helix_length: tuple[float, float]
+
+    def __post_init__(self):
+        p = Problems()
+        z1 = np.size(self.pinion_profile)
+        z2 = np.size(self.gear_profile)
+        for name in ("pinion_profile", "pinion_helix", "gear_profile", "gear_helix"):
+            z = z1 if name.startswith("pinion") else z2
+            object.__setattr__(self, name, _per_tooth(name, getattr(self, name), p, z))
+        for name in ("profile_length", "helix_length"):
+            v = tuple(float(x) for x in getattr(self, name))
+            p.check(len(v) == 2, name, v, "must give (pinion, gear)")
+            for i, x in enumerate(v[:2]):
+                p.in_range(f"{name}[{i}]", x, 0.0, None, lo_open=True)
+            object.__setattr__(self, name, v)
+        p.raise_if_any("invalid slope deviations")
+
+    @property
+    def teeth(self) -> tuple[int, int]:
+        return int(self.pinion_profile.size), int(self.gear_profile.size)
+
+    def slopes(self, pinion_teeth, gear_teeth) -> np.ndarray:
+        """The slopes f / L (m/m) of the given pinion and gear teeth (index arrays of one
+        shape), stacked last in the order of ``ContactGrid.FORM_BASES``."""
+        return np.stack(
+            [
+                self.pinion_profile[pinion_teeth] / self.profile_length[0],
+                self.pinion_helix[pinion_teeth] / self.helix_length[0],
+                self.gear_profile[gear_teeth] / self.profile_length[1],
+                self.gear_helix[gear_teeth] / self.helix_length[1],
+            ],
+            axis=-1,
+        )
+
+    def to_dict(self) -> dict:
+        return {
+            "pinion_profile_slope_m": self.pinion_profile.tolist(),
+            "pinion_helix_slope_m": self.pinion_helix.tolist(),
+            "gear_profile_slope_m": self.gear_profile.tolist(),
+            "gear_helix_slope_m": self.gear_helix.tolist(),
+            "profile_evaluation_length_m": list(self.profile_length),
+            "helix_evaluation_length_m": list(self.helix_length),
+        }
+
+
 @dataclass(frozen=True)
 class PitchDeviations:
     """Cumulative pitch deviations of the loaded flanks (m, arc on the reference pitch
     circle, + proud): ``pinion`` shape (z1,), ``gear`` shape (z2,), tooth i as the
     module doc numbers them; ``pinion_radius``, ``gear_radius`` the reference pitch
-    radii r_1, r_2 (m) the arcs are measured on."""
+    radii r_1, r_2 (m) the arcs are measured on; ``slopes`` the teeth's profile and
+    helix slope deviations (:class:`SlopeDeviations`), None for none."""
 
     pinion: np.ndarray
     gear: np.ndarray
     pinion_radius: float
     gear_radius: float
+    slopes: SlopeDeviations | None = None
 
     def __post_init__(self):
         p = Problems()
         for name in ("pinion", "gear"):
-            a = np.array(getattr(self, name), dtype=float).reshape(-1)
-            p.check(a.size >= 8, name, a.size, "needs one deviation per tooth (>= 8 teeth)")
-            bad = ~np.isfinite(a) | (np.abs(a) > MAX_DEVIATION)
-            if np.any(bad):
-                i = int(np.flatnonzero(bad)[0])
-                p.add(f"{name}[{i}]", float(a[i]), f"must be finite and within +-{MAX_DEVIATION} m")
-            a.setflags(write=False)
-            object.__setattr__(self, name, a)
+            object.__setattr__(self, name, _per_tooth(name, getattr(self, name), p))
         p.in_range("pinion_radius", self.pinion_radius, 0.0, None, lo_open=True)
         p.in_range("gear_radius", self.gear_radius, 0.0, None, lo_open=True)
+        if self.slopes is not None:
+            p.check(
+                self.slopes.teeth == self.teeth,
+                "slopes",
+                f"{self.slopes.teeth[0]} / {self.slopes.teeth[1]} teeth",
+                f"must match the pitch deviations' {self.teeth[0]} / {self.teeth[1]}",
+            )
         p.raise_if_any("invalid pitch deviations")
 
     @property
@@ -101,7 +197,7 @@ class PitchDeviations:
         return z1 * z2 // math.gcd(z1, z2)
 
     @classmethod
-    def from_single(cls, pinion_single, gear_single, pinion_radius, gear_radius):
+    def from_single(cls, pinion_single, gear_single, pinion_radius, gear_radius, slopes=None):
         """From single pitch deviations f_pt,i = F_p,i - F_p,i-1 (m; tooth 0's F_p is
         the reference, 0): each list must close (sum 0 within 1e-9 m, the pitches of a
         whole turn add up to the circle)."""
@@ -118,7 +214,7 @@ class PitchDeviations:
             )
             out.append(_cumulative(f))
         p.raise_if_any("invalid pitch deviations")
-        return cls(out[0], out[1], pinion_radius, gear_radius)
+        return cls(out[0], out[1], pinion_radius, gear_radius, slopes)
 
 
 def _cumulative(single: np.ndarray) -> np.ndarray:
@@ -134,6 +230,32 @@ def pair_angles(dev: PitchDeviations, pair_index, cycles) -> np.ndarray:
     a1 = dev.pinion[np.mod(c, z1)] / dev.pinion_radius
     a2 = dev.gear[np.mod(c, z2)] / dev.gear_radius * (z2 / z1)
     return a1 + a2
+
+
+def pair_coefficients(dev: PitchDeviations, pair_index, cycles) -> np.ndarray:
+    """Each pair's offset coefficients per mesh cycle, shape (len(cycles), K, J): alpha_k
+    (:func:`pair_angles`), then, with slope deviations, the slopes of its two teeth
+    (:meth:`SlopeDeviations.slopes`; J = 5, else 1)."""
+    alpha = pair_angles(dev, pair_index, cycles)[..., None]
+    if dev.slopes is None:
+        return alpha
+    z1, z2 = dev.teeth
+    c = np.asarray(cycles, dtype=int)[:, None] - np.asarray(pair_index, dtype=int)[None, :]
+    return np.concatenate([alpha, dev.slopes.slopes(np.mod(c, z1), np.mod(c, z2))], axis=-1)
+
+
+def _weights(res: CycleResult, torque: float, slopes: bool):
+    """Pair weights (P, K, J) and load sensitivities (P, K, K, J) (None where the result
+    has none) at ``torque``, the pitch offset first, then the slopes' (J = 5)."""
+    w = _at_torque(res, torque, res.pair_weight)[..., None]
+    S = res.pair_load_sensitivity
+    S = None if S is None else _at_torque(res, torque, S)[..., None]
+    if slopes:
+        w = np.concatenate([w, _at_torque(res, torque, res.pair_form_weight)], axis=-1)
+        if S is not None:
+            Sf = _at_torque(res, torque, res.pair_form_load_sensitivity)
+            S = np.concatenate([S, Sf], axis=-1)
+    return w, S
 
 
 def _at_torque(res: CycleResult, torque: float, values: np.ndarray) -> np.ndarray:
@@ -245,6 +367,14 @@ def _check_result(res: CycleResult, dev: PitchDeviations, teeth, torque: float, 
         None,
         "the loaded TCA result predates the pair weights: run the loaded TCA again",
     )
+    if dev.slopes is not None:
+        p.check(
+            res.pair_form_weight is not None,
+            "result.pair_form_weight",
+            None,
+            "slope deviations need the loaded TCA's form weights: a result of grids with "
+            "flank coordinates (run the loaded TCA again)",
+        )
     p.raise_if_any("invalid pitch-deviation analysis")
 
 
@@ -276,24 +406,23 @@ def hunting_lte(
     cycles = np.arange(H)
     nominal = _at_torque(res, torque, res.lte)  # (P,)
     angle = (cycles[:, None] + res.fraction[None, :]) * (2.0 * math.pi / z1)
-    alpha = pair_angles(dev, res.pair_index, cycles)  # (H, K)
+    coef = pair_coefficients(dev, res.pair_index, cycles)  # (H, K, J)
     F0 = _at_torque(res, torque, res.pair_share) * _at_torque(res, torque, res.normal_load)[:, None]
     if method == "linear":
-        w = _at_torque(res, torque, res.pair_weight)  # (P, K)
+        w, S = _weights(res, torque, dev.slopes is not None)  # (P, K, J), (P, K, K, J)
         arm = torque / _at_torque(res, torque, res.normal_load)  # (P,)
-        lte = nominal[None, :] - arm[None, :] * (alpha @ w.T)
+        lte = nominal[None, :] - arm[None, :] * np.einsum("hkj,pkj->hp", coef, w)
         loads = None
-        if res.pair_load_sensitivity is not None:
-            S = _at_torque(res, torque, res.pair_load_sensitivity)  # (P, K, K)
+        if S is not None:
             # first order; a pair it would unload below zero has lifted off
-            loads = np.maximum(F0[None] + np.einsum("pjk,hk->hpj", S, alpha), 0.0)
+            loads = np.maximum(F0[None] + np.einsum("plkj,hkj->hpl", S, coef), 0.0)
     else:
         if grids is None or compliance is None or len(grids) != P:
             p = Problems()
             n = None if grids is None else len(grids)
             p.add("grids", n, f"the exact method needs the {P} grids and the compliance")
             p.raise_if_any("invalid pitch-deviation analysis")
-        rows = np.vstack([alpha, np.zeros((1, alpha.shape[1]))])  # last: the nominal
+        rows = np.concatenate([coef, np.zeros((1,) + coef.shape[1:])])  # last: the nominal
         jobs = [(g, compliance, float(torque), rows, res.pair_index, solver) for g in grids]
         got = (mapper or _serial)(_exact_column, jobs)
         cols = np.column_stack([g[0] for g in got])  # (H + 1, P)
@@ -338,22 +467,37 @@ def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None)
     """Loaded rotation (rad), torque arm T / sum F (m) and each pair's normal load (N,
     shape (R, K)) at one grid position for each row of pair angles ``alpha`` (shape
     (R, K), pinion radians, K = len(pair_index)): the contact problem with the
-    separations offset by -m_i alpha_k. Rows that repeat are solved once; each solve
-    starts from the previous row's loads."""
+    separations offset by -m_i alpha_k. ``alpha`` may also be (R, K, 5), the
+    coefficients of :func:`pair_coefficients` with slope deviations: the offsets are
+    then -m_i alpha_k - B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`).
+    Rows that repeat are solved once; each solve starts from the previous row's loads."""
     solver = solver or ContactSolver()
-    alpha = np.atleast_2d(np.asarray(alpha, dtype=float))
+    coef = np.asarray(alpha, dtype=float)
+    coef = coef[None] if coef.ndim == 1 else coef
+    coef = coef[..., None] if coef.ndim == 2 else coef  # (R, K, J)
     ks = np.asarray(pair_index)
     col = {int(k): kk for kk, k in enumerate(ks)}
     idx = np.array([col[int(k)] for k in grid.pair])
+    X = grid.arm[:, None]
+    if coef.shape[-1] > 1:
+        bases = grid.form_bases()
+        if bases is None:
+            raise InputError(
+                Problem(
+                    "grid.flank_coordinates", None, "slope deviations need the flank coordinates"
+                )
+            )
+        X = np.column_stack([grid.arm, bases])
+    offsets = np.einsum("rnj,nj->rn", coef[:, idx, :], X)  # (R, n): ds = -offsets
     member = (np.asarray(grid.pair)[:, None] == ks[None, :]).astype(float)  # (n, K)
     C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
-    rows, inverse = np.unique(alpha[:, idx], axis=0, return_inverse=True)
+    rows, inverse = np.unique(offsets, axis=0, return_inverse=True)
     rot = np.empty(len(rows))
     arm = np.empty(len(rows))
     loads = np.empty((len(rows), ks.size))
     prev = None
     for r, a in enumerate(rows):
-        g = replace(grid, separation=grid.separation - grid.arm * a)
+        g = replace(grid, separation=grid.separation - a)
         sol = solve_contact(
             g, compliance, torque, solver=solver, tooth_matrix=C0, initial_load=prev
         )
@@ -392,13 +536,78 @@ def deviations_from_section(section, teeth: tuple[int, int]) -> tuple[np.ndarray
     return out[0], out[1]
 
 
-def deviations_from_scene(design, scene) -> PitchDeviations:
-    """The scene's ``[pitch]`` deviations (:func:`deviations_from_section`) on the
-    design's reference pitch radii."""
+def covered_lengths(flank_range) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The roll lengths (pinion, gear) and axial lengths (pinion, gear) that the loaded
+    contact covers, m, from a loaded TCA's ``flank_range`` (4, 2): the slopes'
+    default evaluation lengths."""
+    r = np.asarray(flank_range, dtype=float)
+    width = r[:, 1] - r[:, 0]
+    return (float(width[0]), float(width[2])), (float(width[1]), float(width[3]))
+
+
+def slopes_from_section(section, teeth: tuple[int, int], lengths=None) -> SlopeDeviations | None:
+    """The slope deviations of a scene's ``[pitch]`` section (m), None where it sets
+    none: each member's lists where given, else random within +-``random_*_slope_um``
+    (uniform, tooth by tooth, from a generator seeded with [seed, 1]: pinion profile,
+    pinion helix, gear profile, gear helix). The evaluation lengths are the section's
+    (mm), else ``lengths`` ((L_alpha pinion, gear), (L_beta pinion, gear), m:
+    :func:`covered_lengths` of the loaded TCA). Raises InputError naming each key
+    that is wrong."""
+    keys = [f"{m}_{k}_slope_um" for m in ("pinion", "gear") for k in ("profile", "helix")]
+    rand = {k: float(section[f"random_{k}_slope_um"]) * 1e-6 for k in ("profile", "helix")}
+    if not any(section[k] for k in keys) and not any(rand.values()):
+        return None
+    rng = np.random.default_rng([int(section["seed"]), 1])
+    p = Problems()
+    got = {}
+    for member, z in zip(("pinion", "gear"), teeth, strict=True):
+        for kind in ("profile", "helix"):
+            key = f"{member}_{kind}_slope_um"
+            drawn = rng.uniform(-rand[kind], rand[kind], int(z))  # drawn alike: the sequence
+            given = section[key]
+            if given:
+                p.check(
+                    len(given) == z,
+                    f"pitch.{key}",
+                    f"{len(given)} values",
+                    f"must give one value per {member} tooth: {z}",
+                )
+                got[(member, kind)] = np.asarray(given, dtype=float) * 1e-6
+            else:
+                got[(member, kind)] = drawn
+    length = {}
+    for i, kind in enumerate(("profile", "helix")):
+        key = f"pitch.{kind}_evaluation_mm"
+        given = section[f"{kind}_evaluation_mm"]
+        if given:
+            p.check(len(given) == 2, key, given, "must give [pinion, gear] (mm)")
+            length[kind] = tuple(float(v) * 1e-3 for v in given)
+        elif lengths is not None:
+            length[kind] = tuple(float(v) for v in lengths[i])
+        else:
+            p.add(key, given, "needed: no loaded TCA gives the covered lengths here")
+    p.raise_if_any("invalid slope deviations")
+    return SlopeDeviations(
+        got[("pinion", "profile")],
+        got[("pinion", "helix")],
+        got[("gear", "profile")],
+        got[("gear", "helix")],
+        length["profile"],
+        length["helix"],
+    )
+
+
+def deviations_from_scene(design, scene, flank_range=None) -> PitchDeviations:
+    """The scene's ``[pitch]`` deviations (:func:`deviations_from_section`,
+    :func:`slopes_from_section`) on the design's reference pitch radii; ``flank_range``
+    the drive flank's loaded TCA's (``CycleResult.flank_range``) for the slopes'
+    default evaluation lengths."""
     teeth = (design.pinion.teeth, design.gear.teeth)
     pin, gear = deviations_from_section(scene["pitch"], teeth)
+    lengths = None if flank_range is None else covered_lengths(flank_range)
+    slopes = slopes_from_section(scene["pitch"], teeth, lengths)
     return PitchDeviations(
-        pin, gear, design.pinion.reference_pitch_radius, design.gear.reference_pitch_radius
+        pin, gear, design.pinion.reference_pitch_radius, design.gear.reference_pitch_radius, slopes
     )
 
 
@@ -457,6 +666,7 @@ class PitchResult:
             "pinion_cumulative_m": self.deviations.pinion.tolist(),
             "gear_cumulative_m": self.deviations.gear.tolist(),
             "reference_pitch_radii_m": [self.deviations.pinion_radius, self.deviations.gear_radius],
+            **({} if self.deviations.slopes is None else self.deviations.slopes.to_dict()),
             "lte_peak_to_peak_m": float(np.ptp(rec.lte)),
             "lte_nominal_peak_to_peak_m": float(np.ptp(rec.lte_nominal)),
             **self.loads_summary(),

@@ -309,7 +309,7 @@ def rotation_sensitivity(grid, compliance, solution, *, tooth_matrix=None, rel_s
 
 
 def pair_sensitivities(
-    grid, compliance, solution, pair_index, *, tooth_matrix=None, rel_step=1.0e-4
+    grid, compliance, solution, pair_index, *, tooth_matrix=None, rel_step=1.0e-4, bases=None
 ):
     """Each tooth pair's weight and load sensitivity at a solution of
     :func:`solve_contact`, for offsets ds_i = -m_i alpha_k of the points of pair k
@@ -321,14 +321,27 @@ def pair_sensitivities(
     dF_A = K^-1 (m_A o 1_k - w_k m_A) per unit alpha_k, K the tangent compliance.
     m^T dF = 0 (the torque stays), so a pair that takes load early takes it from the
     others.
+
+    ``bases`` (n, J), optional: further offset shapes, ds_i = -B_ij c_kj on pair k's
+    points for coefficients c_kj (a tooth's form deviations, docs/ltca.md "Form
+    deviations"). Then w is (K, 1 + J) and S (K, K, 1 + J), column 0 the pitch offset
+    (B = m) and column 1 + j basis j, the same formulas with m_A o 1_k replaced by
+    B_Aj o 1_k.
     """
     on, K = _tangent(grid, compliance, solution, tooth_matrix, rel_step)
     m = np.asarray(grid.arm, dtype=float)[on]
+    X = m[:, None] if bases is None else np.column_stack([m, np.asarray(bases, float)[on]])
     pair = np.asarray(grid.pair)[on]
     ks = np.asarray(pair_index)
     member = (pair[:, None] == ks[None, :]).astype(float)  # (n_A, K)
     g = np.linalg.solve(K.T, m)
-    w = (member * m[:, None]).T @ g / float(m @ g)
-    X = np.linalg.solve(K, member * m[:, None])  # K^-1 (m o 1_k), (n_A, K)
-    dF = X - np.outer(X.sum(axis=1), w)  # K^-1 m = sum_k K^-1 (m o 1_k)
-    return w, member.T @ dF
+    d = g / float(m @ g)  # dphi/ds on the loaded set
+    cols = member[:, :, None] * X[:, None, :]  # (n_A, K, J1): B_Aj o 1_k
+    w = np.einsum("i,ikj->kj", d, cols)  # (K, J1)
+    Kinv_m = np.linalg.solve(K, m)
+    Xc = np.linalg.solve(K, cols.reshape(cols.shape[0], -1)).reshape(cols.shape)
+    dF = Xc - Kinv_m[:, None, None] * w[None]  # (n_A, K, J1)
+    S = np.einsum("il,ikj->lkj", member, dF)  # (K, K, J1)
+    if bases is None:
+        return w[:, 0], S[..., 0]
+    return w, S

@@ -14,10 +14,19 @@ import numpy as np
 
 from .. import __version__
 from ..errors import Problems
-from ..meshtable import FRICTION_ARMS, TORQUE_ARM, MeshTable, pair_weight_name
+from ..meshtable import (
+    CONTACT_LENGTHS,
+    FORM_BASES,
+    FRICTION_ARMS,
+    TORQUE_ARM,
+    MeshTable,
+    form_weight_name,
+    pair_weight_name,
+)
 from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle, root_stress_method
 from .compliance import compliance_for, describe_compliance
 from .parallel import ParallelPair, parallel_grid
+from .pitch import covered_lengths
 
 __all__ = [
     "LTCAResult",
@@ -103,6 +112,21 @@ def mesh_table(
         extra[TORQUE_ARM] = np.stack(
             [flanks[f].torque[:, None] / flanks[f].normal_load for f in names]
         )
+    if all(flanks[f].pair_form_weight is not None for f in names):
+        # each pair's weights for its teeth's slope deviations (docs/ltca.md "Form
+        # deviations"), and the lengths the drive flank's contact covers
+        ks = sorted({int(k) for f in names for k in flanks[f].pair_index})
+        for k in ks:
+            for b, basis in enumerate(FORM_BASES):
+                w = np.zeros((len(names), first.torque.size, P))
+                for i, f in enumerate(names):
+                    hit = np.flatnonzero(flanks[f].pair_index == k)
+                    if hit.size:
+                        w[i] = flanks[f].pair_form_weight[:, :, hit[0], b]
+                extra[form_weight_name(basis, k)] = w
+        if "drive" in flanks:
+            (r1, r2), (f1, f2) = covered_lengths(flanks["drive"].flank_range)
+            attrs = {**attrs, **dict(zip(CONTACT_LENGTHS, (r1, r2, f1, f2), strict=True))}
     return MeshTable(
         pinion_teeth=pinion_teeth,
         gear_teeth=gear_teeth,
@@ -180,7 +204,18 @@ def _mirror(res: CycleResult) -> CycleResult:
     n = res.line_of_action.copy()
     n[..., 1] *= -1
     n[..., 2] *= -1
-    return replace(res, mesh_point=P, line_of_action=n)
+    form = {}
+    if res.pair_form_weight is not None:
+        # the faces turn end for end: the helix slopes' offsets change sign
+        flip = np.array([1.0, -1.0, 1.0, -1.0])
+        rng = res.flank_range.copy()
+        rng[[1, 3]] = -rng[[1, 3]][:, ::-1]
+        form = dict(
+            pair_form_weight=res.pair_form_weight * flip,
+            pair_form_load_sensitivity=res.pair_form_load_sensitivity * flip,
+            flank_range=rng,
+        )
+    return replace(res, mesh_point=P, line_of_action=n, **form)
 
 
 def _sloped(mods) -> bool:

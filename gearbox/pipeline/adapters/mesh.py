@@ -126,7 +126,9 @@ def validate_pitch(scene) -> None:
         )
         problems.append(Problem(key, t, f"must lie within load.torques_Nm [{min(tq)}, {max(tq)}]"))
     try:
-        pitch.deviations_from_scene(geometry.design_pair(pair_spec(scene)), scene)
+        # the evaluation lengths left empty come from the loaded TCA: stand-ins here
+        design = geometry.design_pair(pair_spec(scene))
+        pitch.deviations_from_scene(design, scene, flank_range=[[0.0, 1.0]] * 4)
     except InputError as exc:
         problems += [p for p in exc.problems if p.path.startswith("pitch.")]
     if problems:
@@ -143,7 +145,7 @@ def compute_pitch(ctx: StageContext):
     scene = ctx.scene
     design = ctx.inputs["design"]
     res = ctx.inputs["ltca"].flanks["drive"]
-    dev = pitch.deviations_from_scene(design, scene)
+    dev = pitch.deviations_from_scene(design, scene, res.flank_range)
     method = scene["pitch"]["method"]
     kw = {}
     if method == "exact":

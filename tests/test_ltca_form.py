@@ -1,0 +1,274 @@
+"""Tooth-to-tooth form deviations in the loaded TCA (gearbox.ltca.pitch, docs/ltca.md
+"Form deviations"): each tooth's profile and helix slope deviations.
+
+References: finite differences of the full contact solve (the weights), the flank
+modifications' own path through the separation field (the flank coordinates), the
+rigid single-pair zone of a spur pair (the TE follows the flanks' offset at the contact
+point exactly), and the exact re-solve (the linear method)."""
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearbox import load_scene
+from gearbox.errors import InputError
+from gearbox.geometry import PairSpec, design_pair
+from gearbox.ltca import LTCAOptions, ParallelPair, compliance_for, ltca_cycle
+from gearbox.ltca.beveloid import scene_grids
+from gearbox.ltca.grid import ContactGrid
+from gearbox.ltca.modification import FlankModification
+from gearbox.ltca.parallel import parallel_grid
+from gearbox.ltca.pitch import (
+    PitchDeviations,
+    SlopeDeviations,
+    covered_lengths,
+    hunting_lte,
+    slopes_from_section,
+)
+from gearbox.ltca.solver import pair_sensitivities, solve_contact
+from gearbox.ltca.table import parallel_ltca
+
+ROOT = Path(__file__).resolve().parents[1]
+P = 12
+
+
+@pytest.fixture(scope="module")
+def drive():
+    """The default scene's drive flank: design, grids, compliance, loaded TCA."""
+    scene = load_scene(ROOT / "models" / "marine_drive.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    grids, _, _ = scene_grids(design, scene, "R", P)
+    comp = compliance_for("fast")
+    opts = LTCAOptions(positions=P)
+    res = ltca_cycle(lambda f: grids[round(f * P)], [300.0, 802.0], options=opts, compliance=comp)
+    return scene, design, grids, comp, res
+
+
+@pytest.fixture(scope="module")
+def spur():
+    """A spur pair z 20/40 (transverse contact ratio about 1.6): grids and loaded TCA."""
+    pair = ParallelPair(
+        normal_module=0.004,
+        normal_pressure_angle=math.radians(20.0),
+        helix_angle=0.0,
+        teeth=(20, 40),
+        face_width=0.016,
+    )
+    n = 20
+    grids = [parallel_grid(pair, j / n, 20) for j in range(n)]
+    comp = compliance_for("fast")
+    res = ltca_cycle(
+        lambda f: grids[round(f * n) % n],
+        [200.0, 400.0],
+        options=LTCAOptions(positions=n),
+        compliance=comp,
+    )
+    return pair, grids, comp, res
+
+
+def _slopes(z1, z2, scale, seed=3, lengths=((0.01, 0.012), (0.016, 0.016))):
+    rng = np.random.default_rng(seed)
+    return SlopeDeviations(
+        rng.uniform(-scale, scale, z1),
+        rng.uniform(-scale, scale, z1),
+        rng.uniform(-scale, scale, z2),
+        rng.uniform(-scale, scale, z2),
+        *lengths,
+    )
+
+
+def test_form_weights_are_the_derivative_of_the_contact_solve(drive):
+    """Each pair's weight and load sensitivity for a unit slope of each of its four
+    flank shapes against central differences of the full contact solve (loaded set
+    free, flattening iterated), offsets of +-1e-8 m at the shape's largest point:
+    weights within 5e-5 of the largest (measured 4e-6), loads within 1e-4 of the
+    largest entry (measured 3.4e-5, the pitch weights' step error)."""
+    _, _, grids, comp, res = drive
+    ks = res.pair_index
+    for j in (0, 4, 8):
+        g = grids[j]
+        B = g.form_bases()
+        sol = solve_contact(g, comp, 802.0)
+        w, S = pair_sensitivities(g, comp, sol, ks, bases=B)
+        assert w.shape == (ks.size, 5) and S.shape == (ks.size, ks.size, 5)
+        np.testing.assert_allclose(w[:, 0], res.pair_weight[1, j], atol=1e-8)
+        np.testing.assert_allclose(w[:, 1:], res.pair_form_weight[1, j], atol=1e-8)
+        for kk, k in enumerate(ks):
+            on = g.pair == k
+            if not on.any():
+                continue
+            for b in range(4):
+                h = 1e-8 / np.abs(B[on, b]).max()
+                rot, loads = [], []
+                for sign in (1.0, -1.0):
+                    s = g.separation - np.where(on, B[:, b] * sign * h, 0.0)
+                    s2 = solve_contact(
+                        dataclasses.replace(g, separation=s), comp, 802.0, initial_load=sol.load
+                    )
+                    rot.append(s2.rotation)
+                    loads.append(np.array([s2.load[g.pair == q].sum() for q in ks]))
+                fd = -(rot[0] - rot[1]) / (2 * h)
+                assert abs(w[kk, 1 + b] - fd) < 5e-5 * np.abs(w[:, 1:]).max()
+                fdS = (loads[0] - loads[1]) / (2 * h)
+                assert np.abs(fdS - S[:, kk, 1 + b]).max() < 1e-4 * np.abs(S[..., 1 + b]).max()
+
+
+@pytest.mark.parametrize("member", [0, 1])
+def test_flank_coordinates_follow_the_modifications_path(drive, member):
+    """A helix slope modification f_H (removal f_H w / b, through the separation field of
+    the generated flanks) changes each grid point's separation by f_H times the grid's
+    axial coordinate over b, less one rigid turn (the grids' common reference
+    rotation): pinion to round-off (1e-16 m), gear within 2e-10 m of the 2.4 um (measured 9e-11:
+    the gear's contact point moves along the refined contact line)."""
+    scene, design, _, _, _ = drive
+    from gearbox.surface import blanks_from_design
+
+    b = blanks_from_design(design)[member].face_width
+    none = (FlankModification(), FlankModification())
+    mods = list(none)
+    mods[member] = FlankModification(helix_slope=5e-6)
+    g0 = scene_grids(design, scene, "R", 4, relief=none)[0]
+    g1 = scene_grids(design, scene, "R", 4, relief=tuple(mods))[0]
+    tol = 1e-16 if member == 0 else 2e-10
+    for a, c in zip(g0, g1, strict=True):
+        assert a.size == c.size
+        np.testing.assert_array_equal(a.pair, c.pair)
+        np.testing.assert_array_equal(a.slot, c.slot)
+        r = (c.separation - a.separation) - 5e-6 * a.flank_coordinates[:, 1 + 2 * member] / b
+        turn = -(r @ a.arm) / (a.arm @ a.arm)
+        assert np.abs(r + a.arm * turn).max() < tol
+
+
+def test_spur_single_pair_zone_follows_the_flank_offset(spur):
+    """Spur pair, every tooth its own profile slopes on both members: where one pair
+    carries the whole load the TE moves by minus the two flanks' offsets at the contact
+    roll lengths (the contact is rigid there), to 1e-18 m, linear and exact alike."""
+    pair, grids, comp, res = spur
+    z1, z2 = pair.teeth
+    sl = _slopes(z1, z2, 5e-6)
+    sl = dataclasses.replace(sl, pinion_helix=np.zeros(z1), gear_helix=np.zeros(z2))
+    dev = PitchDeviations(
+        np.zeros(z1), np.zeros(z2), pair.pitch_radius(0), pair.pitch_radius(1), sl
+    )
+    n = res.fraction.size
+    lin = hunting_lte(res, dev, 300.0, teeth=(z1, z2))
+    ex = hunting_lte(res, dev, 300.0, teeth=(z1, z2), method="exact", grids=grids, compliance=comp)
+    d_lin = (lin.lte - lin.lte_nominal).reshape(lin.cycles, n)
+    d_ex = (ex.lte - ex.lte_nominal).reshape(ex.cycles, n)
+    single = 0
+    for j in range(n):
+        full = np.flatnonzero(res.pair_share[0, j] > 1 - 1e-9)
+        if full.size == 0:
+            continue
+        single += 1
+        k = res.pair_index[full[0]]
+        roll = grids[j].flank_coordinates[grids[j].pair == k][0]
+        c = np.arange(lin.cycles) - k
+        offset = sl.slopes(c % z1, c % z2)[:, [0, 2]] @ roll[[0, 2]]
+        assert np.abs(d_ex[:, j] + offset).max() < 1e-18
+        assert np.abs(d_lin[:, j] + offset).max() < 1e-18
+    assert single >= 5
+    # elsewhere the linear method is first order: within 1 % of the largest change
+    # (measured 0.5 %)
+    assert np.abs(d_lin - d_ex).max() < 0.01 * np.abs(d_ex).max()
+
+
+def test_slopes_alike_on_every_tooth_give_mesh_orders_only(spur):
+    """The same slopes on every tooth are a flank modification: the TE repeats every
+    mesh cycle, so its spectrum has mesh orders only (other bins below 1e-9 of the
+    largest line)."""
+    pair, _, _, res = spur
+    z1, z2 = pair.teeth
+    sl = SlopeDeviations(
+        np.full(z1, 3e-6),
+        np.full(z1, -2e-6),
+        np.full(z2, 1e-6),
+        np.full(z2, 4e-6),
+        (0.01, 0.012),
+        (0.016, 0.016),
+    )
+    dev = PitchDeviations(
+        np.zeros(z1), np.zeros(z2), pair.pitch_radius(0), pair.pitch_radius(1), sl
+    )
+    rec = hunting_lte(res, dev, 300.0, teeth=(z1, z2))
+    orders, amp = rec.order_spectrum()
+    mesh = np.abs(orders / z1 - np.round(orders / z1)) < 1e-9
+    assert amp[mesh][1:].max() > 1e-8
+    assert amp[~mesh].max() < 1e-9 * amp[mesh][1:].max()
+
+
+def test_the_coast_of_a_parallel_pair_turns_the_helix_weights(spur):
+    """The coast flank of a symmetric parallel pair is the drive contact turned end for
+    end: its helix slopes' weights change sign, its covered face range mirrors. The
+    covered lengths: the face width, and on both members the path of contact (within 2 %,
+    the grid's last points short of its ends)."""
+    pair, _, _, _ = spur
+    helical = dataclasses.replace(pair, helix_angle=math.radians(15.0))
+    out = parallel_ltca(helical, [300.0], options=LTCAOptions(positions=8), n_face=12)
+    d, c = out.flanks["drive"], out.flanks["coast"]
+    np.testing.assert_array_equal(c.pair_form_weight[..., [0, 2]], d.pair_form_weight[..., [0, 2]])
+    np.testing.assert_array_equal(c.pair_form_weight[..., [1, 3]], -d.pair_form_weight[..., [1, 3]])
+    np.testing.assert_array_equal(c.flank_range[1], -d.flank_range[1, ::-1])
+    (r1, r2), (f1, f2) = covered_lengths(d.flank_range)
+    assert f1 == pytest.approx(helical.face_width, rel=1e-12)
+    assert f2 == pytest.approx(helical.face_width, rel=1e-12)
+    # the roll lengths: both flanks roll over the path of contact, g_alpha
+    xa, xe = helical.roll_limits
+    assert r1 == pytest.approx(xe - xa, rel=0.02) and r2 == pytest.approx(r1, rel=1e-9)
+    t = out.table
+    assert t.attrs["pinion_contact_face_length_m"] == pytest.approx(f1, rel=1e-12)
+
+
+def test_scene_slopes_lists_random_and_errors(drive):
+    scene, design, _, _, res = drive
+    teeth = (design.pinion.teeth, design.gear.teeth)
+    lengths = covered_lengths(res.flank_range)
+    assert slopes_from_section(scene["pitch"], teeth, lengths) is None
+    sec = dict(scene["pitch"], random_helix_slope_um=3.0, pinion_profile_slope_um=[1.0] * 29)
+    a = slopes_from_section(sec, teeth, lengths)
+    np.testing.assert_array_equal(a.pinion_profile, 1e-6)
+    assert np.abs(a.gear_helix).max() <= 3e-6 and np.ptp(a.gear_helix) > 1e-6
+    np.testing.assert_array_equal(a.gear_profile, 0.0)
+    assert a.profile_length == lengths[0] and a.helix_length == lengths[1]
+    again = slopes_from_section(sec, teeth, lengths)
+    np.testing.assert_array_equal(again.gear_helix, a.gear_helix)  # seeded
+    sec2 = dict(sec, profile_evaluation_mm=[8.0, 9.0])
+    assert slopes_from_section(sec2, teeth, lengths).profile_length == pytest.approx((8e-3, 9e-3))
+    bad = dict(sec, gear_helix_slope_um=[1.0] * 3, helix_evaluation_mm=[10.0])
+    with pytest.raises(InputError) as err:
+        slopes_from_section(bad, teeth, lengths)
+    keys = {p.path for p in err.value.problems}
+    assert keys == {"pitch.gear_helix_slope_um", "pitch.helix_evaluation_mm"}
+    with pytest.raises(InputError, match="pitch.profile_evaluation_mm"):
+        slopes_from_section(sec, teeth, None)
+    with pytest.raises(InputError, match="helix_length"):
+        SlopeDeviations(np.zeros(29), np.zeros(29), np.zeros(45), np.zeros(45), (1, 1), (0, 1))
+    with pytest.raises(InputError, match=r"pinion_helix\[2\]"):
+        bad = np.zeros(29)
+        bad[2] = np.nan
+        SlopeDeviations(np.zeros(29), bad, np.zeros(45), np.zeros(45), (1, 1), (1, 1))
+
+
+def test_grids_without_flank_coordinates_say_so(spur):
+    pair, grids, comp, res = spur
+    z1, z2 = pair.teeth
+    bare = dataclasses.replace(res, pair_form_weight=None)
+    dev = PitchDeviations(
+        np.zeros(z1),
+        np.zeros(z2),
+        pair.pitch_radius(0),
+        pair.pitch_radius(1),
+        _slopes(z1, z2, 1e-6),
+    )
+    with pytest.raises(InputError, match="form weights"):
+        hunting_lte(bare, dev, 300.0, teeth=(z1, z2))
+    g = grids[0]
+    fields = {f.name: getattr(g, f.name) for f in dataclasses.fields(ContactGrid)}
+    fields["flank_coordinates"] = None
+    assert ContactGrid(**fields).form_bases() is None
+    fields["flank_coordinates"] = np.zeros((g.size, 3))
+    with pytest.raises(InputError, match="flank_coordinates"):
+        ContactGrid(**fields)
