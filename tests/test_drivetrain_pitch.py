@@ -84,6 +84,51 @@ def test_approach_is_the_loaded_tcas_te_change(ltca):
     np.testing.assert_allclose(m.pitch(th)[1], num, atol=1e-7 * np.abs(num).max())
 
 
+def test_approach_carries_the_slope_deviations(ltca):
+    """With profile and helix slopes on every tooth the approach is still minus the
+    loaded TCA's TE change (its form weights through the table): to 1e-12 of its range;
+    the table's form weights are the loaded TCA's."""
+    from gearbox.ltca.pitch import PitchDeviations, hunting_lte, slopes_from_section
+    from gearbox.meshtable import CONTACT_LENGTHS, form_weight_fields
+
+    table, pr = ltca
+    m = DrivetrainModel.from_scene(scene(**QUIET), table)
+    L = [table.attrs[k] for k in CONTACT_LENGTHS]
+    sec = dict(scene()["pitch"], random_profile_slope_um=3.0, random_helix_slope_um=3.0)
+    slopes = slopes_from_section(sec, (29, 45), ((L[0], L[1]), (L[2], L[3])))
+    dev = PitchDeviations(
+        pr.deviations.pinion,
+        pr.deviations.gear,
+        pr.deviations.pinion_radius,
+        pr.deviations.gear_radius,
+        slopes,
+    )
+    approach = PitchApproach.from_table(table, dev.pinion, dev.gear, m.torque, slopes)
+    view = _drive(table)
+    form = form_weight_fields(table)
+    i = table.flank_index("drive")
+    view.pair_form_weight = np.stack(
+        [np.stack([table.extra[n][i] for n in form[k]], axis=-1) for k in view.pair_index],
+        axis=-2,
+    )
+    rec = hunting_lte(view, dev, m.torque, teeth=(29, 45))
+    change = rec.lte - rec.lte_nominal
+    without = hunting_lte(_drive(table), pr.deviations, m.torque, teeth=(29, 45))
+    assert np.ptp(change - (without.lte - without.lte_nominal)) > 0.2e-6  # the slopes' part
+    a, _ = approach(rec.angle + float(table.angle[0]))
+    assert np.abs(a + change).max() < 1e-12 * np.ptp(change) + 1e-18
+    sc = scene(**QUIET).replaced(
+        pitch={"random_profile_slope_um": 3.0, "random_helix_slope_um": 3.0}
+    )
+    a2, _ = DrivetrainModel.from_scene(sc, table).pitch(rec.angle + float(table.angle[0]))
+    np.testing.assert_array_equal(a2, a)
+    with pytest.raises(InputError, match="form weights"):
+        bare = dataclasses.replace(
+            table, extra={k: v for k, v in table.extra.items() if not k.startswith("form_")}
+        )
+        PitchApproach.from_table(bare, dev.pinion, dev.gear, m.torque, slopes)
+
+
 def _drive(table):
     """A CycleResult-like view of the table's drive flank for hunting_lte (weights,
     arm, TE per torque and position)."""

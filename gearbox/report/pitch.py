@@ -1,5 +1,6 @@
-"""Report section of the pitch deviations: the loaded TE over a hunting period on the
-drive flank and its order spectrum, with the largest lines named."""
+"""Report section of the pitch deviations (and the teeth's slope deviations, where the
+scene sets them): the loaded TE over a hunting period on the drive flank and its order
+spectrum, with the largest lines named."""
 
 from __future__ import annotations
 
@@ -34,6 +35,23 @@ def render_pitch(pr, run) -> Section:
             fmt(dev.gear_radius * 1e3, 5),
         ),
     ]
+    if dev.slopes is not None:
+        sl = dev.slopes
+        rows += [
+            (
+                "profile slope f_H_alpha, largest |value| (um)",
+                *(fmt(1e6 * np.abs(a).max(), 4) for a in (sl.pinion_profile, sl.gear_profile)),
+            ),
+            (
+                "helix slope f_H_beta, largest |value| (um)",
+                *(fmt(1e6 * np.abs(a).max(), 4) for a in (sl.pinion_helix, sl.gear_helix)),
+            ),
+            (
+                "profile evaluation length L_alpha (mm)",
+                *(fmt(x * 1e3, 4) for x in sl.profile_length),
+            ),
+            ("helix evaluation length L_beta (mm)", *(fmt(x * 1e3, 4) for x in sl.helix_length)),
+        ]
     summary = [
         ("flank", pr.flank),
         ("pinion torque (N m)", fmt(rec.torque)),
@@ -76,6 +94,7 @@ def render_pitch(pr, run) -> Section:
             "spectrum of the whole hunting period",
         )
         + '<p class="muted">Teeth numbered from the reference pair at the start of the '
-        "record, in the order they enter the mesh (docs/ltca.md, section Pitch deviations).</p>"
+        "record, in the order they enter the mesh (docs/ltca.md, sections Pitch deviations "
+        "and Form deviations).</p>"
     )
     return Section("Pitch deviations", body, anchor="pitch")
