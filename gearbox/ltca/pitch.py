@@ -279,7 +279,9 @@ class HuntingRecord:
     (n, K): each tooth pair's normal load (N; linear: first order through the loaded
     TCA's ``pair_load_sensitivity``, floored at 0; None where the result lacks it);
     pair_load_nominal (P, K) and pair_root_stress_nominal (P, K, 2) (Pa, pinion and
-    gear) of the nominal teeth at the torque.
+    gear) of the nominal teeth at the torque; pair_root_stress (n, K, 2): each pair's
+    largest root stress from the loads of each sample's own solve (exact method; None
+    for the linear one, whose stresses scale the nominal ones).
     """
 
     angle: np.ndarray
@@ -293,6 +295,7 @@ class HuntingRecord:
     pair_load: np.ndarray | None = None
     pair_load_nominal: np.ndarray | None = None
     pair_root_stress_nominal: np.ndarray | None = None
+    pair_root_stress: np.ndarray | None = None
 
     @property
     def pinion_revolutions(self) -> float:
@@ -321,8 +324,12 @@ class HuntingRecord:
 
     def root_stress(self) -> tuple[float, float]:
         """The largest root stress (Pa) of the pinion and of the gear over the hunting
-        period: each pair's stress at nominal load scaled by its load (the load along
-        the contact line keeps its shape to first order)."""
+        period: from each sample's own loads where the record has them (exact method),
+        else each pair's stress at nominal load scaled by its load (the load along the
+        contact line keeps its shape to first order)."""
+        if self.pair_root_stress is not None:
+            s = self.pair_root_stress
+            return float(s[..., 0].max()), float(s[..., 1].max())
         P = self.pair_load_nominal.shape[0]
         F = self.pair_load.reshape(self.cycles, P, -1)
         F0 = self.pair_load_nominal[None]
@@ -408,6 +415,7 @@ def hunting_lte(
     angle = (cycles[:, None] + res.fraction[None, :]) * (2.0 * math.pi / z1)
     coef = pair_coefficients(dev, res.pair_index, cycles)  # (H, K, J)
     F0 = _at_torque(res, torque, res.pair_share) * _at_torque(res, torque, res.normal_load)[:, None]
+    stress, stress0 = None, _at_torque(res, torque, res.pair_root_stress)
     if method == "linear":
         w, S = _weights(res, torque, dev.slopes is not None)  # (P, K, J), (P, K, K, J)
         arm = torque / _at_torque(res, torque, res.normal_load)  # (P,)
@@ -429,6 +437,8 @@ def hunting_lte(
         lte, nominal = cols[:-1], cols[-1]
         pl = np.stack([g[1] for g in got], axis=1)  # (H + 1, P, K)
         loads, F0 = pl[:-1], pl[-1]
+        ps = np.stack([g[2] for g in got], axis=1)  # (H + 1, P, K, 2)
+        stress, stress0 = ps[:-1].reshape(H * P, -1, 2), ps[-1]
     return HuntingRecord(
         angle=angle.reshape(-1),
         lte=lte.reshape(-1),
@@ -440,7 +450,8 @@ def hunting_lte(
         pair_index=np.asarray(res.pair_index),
         pair_load=None if loads is None else loads.reshape(H * P, -1),
         pair_load_nominal=F0,
-        pair_root_stress_nominal=_at_torque(res, torque, res.pair_root_stress),
+        pair_root_stress_nominal=stress0,
+        pair_root_stress=stress,
     )
 
 
@@ -449,28 +460,32 @@ def _serial(fn, jobs):
 
 
 def _exact_column(job):
-    """One position's loaded TE (m) for each row of pair angles (module level: runs in
-    worker processes)."""
+    """One position's loaded TE (m), pair loads (N) and pair root stresses (Pa) for each
+    row of coefficients (module level: runs in worker processes)."""
     grid, compliance, torque, alpha, pair_index, solver = job
-    rot, arm, loads = exact_solutions(grid, compliance, torque, alpha, pair_index, solver=solver)
-    return rot * arm, loads
+    rot, arm, loads, stress = exact_solutions(
+        grid, compliance, torque, alpha, pair_index, solver=solver, stress=True
+    )
+    return rot * arm, loads, stress
 
 
 def exact_rotation(grid, compliance, torque, alpha, pair_index, *, solver=None):
     """Loaded rotation (rad) and torque arm T / sum F (m) at one grid position for each
     row of pair angles ``alpha`` (:func:`exact_solutions`)."""
-    rot, arm, _ = exact_solutions(grid, compliance, torque, alpha, pair_index, solver=solver)
+    rot, arm, _ = exact_solutions(grid, compliance, torque, alpha, pair_index, solver=solver)[:3]
     return rot, arm
 
 
-def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None):
+def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None, stress=False):
     """Loaded rotation (rad), torque arm T / sum F (m) and each pair's normal load (N,
     shape (R, K)) at one grid position for each row of pair angles ``alpha`` (shape
     (R, K), pinion radians, K = len(pair_index)): the contact problem with the
     separations offset by -m_i alpha_k. ``alpha`` may also be (R, K, 5), the
     coefficients of :func:`pair_coefficients` with slope deviations: the offsets are
     then -m_i alpha_k - B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`).
-    Rows that repeat are solved once; each solve starts from the previous row's loads."""
+    Rows that repeat are solved once; each solve starts from the previous row's loads.
+    ``stress=True`` adds each pair's largest root stress of pinion and gear under the
+    row's own loads (Pa, (R, K, 2); :func:`pair_root_stresses`)."""
     solver = solver or ContactSolver()
     coef = np.asarray(alpha, dtype=float)
     coef = coef[None] if coef.ndim == 1 else coef
@@ -495,6 +510,7 @@ def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None)
     rot = np.empty(len(rows))
     arm = np.empty(len(rows))
     loads = np.empty((len(rows), ks.size))
+    point_loads = []
     prev = None
     for r, a in enumerate(rows):
         g = replace(grid, separation=grid.separation - a)
@@ -505,8 +521,37 @@ def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None)
         rot[r] = sol.rotation
         arm[r] = torque / float(sol.load.sum())
         loads[r] = sol.load @ member
+        point_loads.append(sol.load)
     inverse = np.asarray(inverse).reshape(-1)
-    return rot[inverse], arm[inverse], loads[inverse]
+    if not stress:
+        return rot[inverse], arm[inverse], loads[inverse]
+    rs = pair_root_stresses(grid, compliance, np.array(point_loads), ks)
+    return rot[inverse], arm[inverse], loads[inverse], rs[inverse]
+
+
+def pair_root_stresses(grid, compliance, loads, pair_index) -> np.ndarray:
+    """Each pair's largest root stress of pinion and gear (Pa, shape (R, K, 2)) under
+    each row of point loads ``loads`` (R, n), as the loaded TCA computes them
+    (its ``pair_root_stress``). The slices' stress is linear in the loads, so it is
+    taken as one matrix per member (n unit loads); a level with its own stress model
+    (the FE fillet) is evaluated row by row."""
+    from .analysis import _root_stress
+    from .stress import grid_root_stress
+
+    ks = np.asarray(pair_index)
+    loads = np.atleast_2d(np.asarray(loads, dtype=float))
+    R, n = loads.shape
+    if callable(getattr(compliance, "grid_root_stress", None)):
+        top = np.array([np.stack(_root_stress(compliance, grid, F)[1]) for F in loads])
+    else:
+        M = np.array([np.stack(grid_root_stress(grid, e)) for e in np.eye(n)])  # (n, 2, n)
+        top = np.einsum("rj,jmi->rmi", loads, M)  # (R, 2, n): at each point
+    out = np.zeros((R, ks.size, 2))
+    for kk, k in enumerate(ks):
+        on = np.asarray(grid.pair) == k
+        if on.any():
+            out[:, kk] = top[:, :, on].max(axis=2)
+    return out
 
 
 def deviations_from_section(section, teeth: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
