@@ -42,7 +42,7 @@ from .compliance import Compliance, FastCompliance
 from .grid import ContactGrid
 from .slice_model import hertz_half_width, hertz_pressure
 from .solver import ContactSolver, pair_sensitivities, solve_contact
-from .stress import grid_root_stress
+from .stress import grid_root_stress, root_stress_matrices
 
 __all__ = ["CycleResult", "LTCAOptions", "ltca_cycle", "root_stress_method"]
 
@@ -246,17 +246,18 @@ def root_stress_method(compliance) -> str:
     return "ISO 6336-3 slices spread along the face by the moment image (gearbox.ltca.stress)"
 
 
-def _root_stress(compliance, grid: ContactGrid, load: np.ndarray):
+def _root_stress(compliance, grid: ContactGrid, load: np.ndarray, matrices=None):
     """Root stress of pinion and gear at the grid points under ``load``:
     ``((at1, at2), (top1, top2))``, each shape (n,), ``at`` at the point's face
     position, ``top`` the largest on the point's tooth. A level with its own stress
     model (``grid_root_stress``, the FE level's fillet) gives both; otherwise the
     slices' ISO 6336-3 stresses spread along the face by the moment image, whose
-    largest on a tooth is the largest over its points."""
+    largest on a tooth is the largest over its points (``matrices``: the grid's
+    :func:`~gearbox.ltca.stress.root_stress_matrices`, if made already)."""
     own = getattr(compliance, "grid_root_stress", None)
     if callable(own):
         return own(grid, load)
-    at = grid_root_stress(grid, load)
+    at = grid_root_stress(grid, load, matrices=matrices)
     top = []
     for s in at:
         m = np.zeros_like(s)
@@ -349,6 +350,8 @@ def ltca_cycle(
     friction_arm = np.zeros((T, P, 2)) if kinematics else None
     for j, grid in enumerate(grids):
         C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
+        own_stress = callable(getattr(compliance, "grid_root_stress", None))
+        stress_maps = None if own_stress else root_stress_matrices(grid)
         vs = np.linalg.norm(grid.sliding_velocity(), axis=1) if kinematics else None
         arms = grid.friction_arms() if kinematics else None
         phi0 = float(np.min(grid.separation / grid.arm))
@@ -391,7 +394,7 @@ def ltca_cycle(
             E, nu = grid.youngs_modulus, grid.poisson_ratio
             p0 = hertz_pressure(q, grid.curvature_radius, E, nu)
             out["max_pressure"][t, j] = float(p0.max())
-            (s1, s2), (m1, m2) = _root_stress(compliance, grid, F)
+            (s1, s2), (m1, m2) = _root_stress(compliance, grid, F, stress_maps)
             out["root_stress_pinion"][t, j] = float(m1.max())
             out["root_stress_gear"][t, j] = float(m2.max())
             np.maximum.at(rs_face1[t], grid.slot, s1)

@@ -532,20 +532,20 @@ def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None,
 def pair_root_stresses(grid, compliance, loads, pair_index) -> np.ndarray:
     """Each pair's largest root stress of pinion and gear (Pa, shape (R, K, 2)) under
     each row of point loads ``loads`` (R, n), as the loaded TCA computes them
-    (its ``pair_root_stress``). The slices' stress is linear in the loads, so it is
-    taken as one matrix per member (n unit loads); a level with its own stress model
-    (the FE fillet) is evaluated row by row."""
+    (its ``pair_root_stress``). The slices' stress is linear in the loads
+    (:func:`~gearbox.ltca.stress.root_stress_matrices`); a level with its own stress
+    model (the FE fillet) is evaluated row by row."""
     from .analysis import _root_stress
-    from .stress import grid_root_stress
+    from .stress import root_stress_matrices
 
     ks = np.asarray(pair_index)
     loads = np.atleast_2d(np.asarray(loads, dtype=float))
-    R, n = loads.shape
+    R = loads.shape[0]
     if callable(getattr(compliance, "grid_root_stress", None)):
         top = np.array([np.stack(_root_stress(compliance, grid, F)[1]) for F in loads])
     else:
-        M = np.array([np.stack(grid_root_stress(grid, e)) for e in np.eye(n)])  # (n, 2, n)
-        top = np.einsum("rj,jmi->rmi", loads, M)  # (R, 2, n): at each point
+        M = np.stack(root_stress_matrices(grid))  # (2, n, n)
+        top = np.einsum("mij,rj->rmi", M, np.maximum(loads, 0.0))  # (R, 2, n)
     out = np.zeros((R, ks.size, 2))
     for kk, k in enumerate(ks):
         on = np.asarray(grid.pair) == k

@@ -63,6 +63,7 @@ __all__ = [
     "acute_end",
     "end_distances",
     "grid_root_stress",
+    "root_stress_matrices",
     "helix_end_factor",
     "iso_nominal_root_stress",
     "iso_pair_root_stress",
@@ -427,7 +428,39 @@ def _spread(stress, face, width, decay, face_range, free_ends, targets=None):
     return moment_image(at, face, width, decay, face_range, free_ends=free_ends) @ stress
 
 
-def grid_root_stress(grid, load, model: RootStressModel | None = None):
+def root_stress_matrices(grid, model: RootStressModel | None = None):
+    """The root stress of pinion and gear at the grid points as linear maps of the
+    points' normal loads: two arrays of shape (n, n), Pa per N (:func:`grid_root_stress`
+    is them applied to the loads). Each point's slice stress per unit load (ISO 6336-3
+    geometry of its section, the helical face-end factor, over its slice width), spread
+    along the face by the moment image within its tooth pair."""
+    model = RootStressModel() if model is None else model
+    n = grid.size
+    out = []
+    for teeth in (grid.tooth1, grid.tooth2):
+        sec = _slice_sections(teeth)
+        a = _slice_stress(teeth, 1.0 / grid.width, sec) * helix_end_factor(grid, teeth, model)
+        if not model.spreads:
+            out.append(np.diag(a))
+            continue
+        c = model.decay_length(sec.h_F, teeth.normal_module)
+        M = np.zeros((n, n))
+        for k in np.unique(grid.pair):
+            idx = np.flatnonzero(grid.pair == k)
+            image = moment_image(
+                grid.face[idx],
+                grid.face[idx],
+                grid.width[idx],
+                c[idx],
+                grid.face_range,
+                free_ends=model.free_ends,
+            )
+            M[np.ix_(idx, idx)] = image * a[idx][None, :]
+        out.append(M)
+    return out[0], out[1]
+
+
+def grid_root_stress(grid, load, model: RootStressModel | None = None, *, matrices=None):
     """Root stress (Pa) of pinion and gear at the grid points, two arrays of shape (n,).
 
     grid: :class:`~gearbox.ltca.grid.ContactGrid`; load: normal load of every point
@@ -436,27 +469,12 @@ def grid_root_stress(grid, load, model: RootStressModel | None = None):
     (:func:`moment_image`, decay length from ``model``), pinion and gear alike, over
     the grid's face coordinate and face range (the pinion's: for crossed axes the
     gear's own face coordinate of the contact points differs by the cosine of the
-    angle between the face directions, which is left out).
+    angle between the face directions, which is left out). ``matrices``: the grid's
+    :func:`root_stress_matrices` if already made (they depend on the grid only).
     """
-    model = RootStressModel() if model is None else model
-    load = np.asarray(load, dtype=float)
-    q = load / grid.width
-    out = []
-    for teeth in (grid.tooth1, grid.tooth2):
-        sec = _slice_sections(teeth)
-        s = _slice_stress(teeth, q, sec) * helix_end_factor(grid, teeth, model)
-        if not model.spreads:
-            out.append(s)
-            continue
-        c = model.decay_length(sec.h_F, teeth.normal_module)
-        spread = np.zeros_like(s)
-        for k in np.unique(grid.pair):
-            idx = np.flatnonzero(grid.pair == k)
-            spread[idx] = _spread(
-                s[idx], grid.face[idx], grid.width[idx], c[idx], grid.face_range, model.free_ends
-            )
-        out.append(spread)
-    return out[0], out[1]
+    M1, M2 = root_stress_matrices(grid, model) if matrices is None else matrices
+    q = np.maximum(np.asarray(load, dtype=float), 0.0)
+    return M1 @ q, M2 @ q
 
 
 @dataclass(frozen=True)
