@@ -404,7 +404,11 @@ def hunting_lte(
     ``method="exact"`` needs the loaded TCA's ``grids`` (one per position, as
     :func:`~gearbox.ltca.analysis.ltca_cycle` made them, :func:`drive_grids`) and
     ``compliance``; ``mapper(fn, jobs) -> list`` may spread the positions over processes
-    (a pipeline run's executor), else they run here one after the other.
+    (a pipeline run's executor), else they run here one after the other. Given them,
+    the linear method takes its root stresses from first-order point loads (one solve
+    and one tangent per position at ``torque``), so a change of the load's shape along
+    the contact lines shows; without them (or on a level with its own stress model) it
+    scales each pair's nominal stress by its load.
     """
     _check_result(res, dev, teeth, torque, method)
     z1 = teeth[0]
@@ -424,6 +428,13 @@ def hunting_lte(
         if S is not None:
             # first order; a pair it would unload below zero has lifted off
             loads = np.maximum(F0[None] + np.einsum("plkj,hkj->hpl", S, coef), 0.0)
+        own = callable(getattr(compliance, "grid_root_stress", None))
+        if grids is not None and compliance is not None and len(grids) == P and not own:
+            # root stresses from first-order point loads: the load's shape changes too
+            jobs = [(g, compliance, float(torque), coef, res.pair_index, solver) for g in grids]
+            got = (mapper or _serial)(_linear_stress_column, jobs)
+            ps = np.stack(got, axis=1)  # (H + 1, P, K, 2)
+            stress, stress0 = ps[:-1].reshape(H * P, -1, 2), ps[-1]
     else:
         if grids is None or compliance is None or len(grids) != P:
             p = Problems()
@@ -457,6 +468,23 @@ def hunting_lte(
 
 def _serial(fn, jobs):
     return [fn(j) for j in jobs]
+
+
+def _linear_stress_column(job):
+    """One position's pair root stresses (Pa, (H + 1, K, 2), the nominal teeth's last)
+    under the first-order point loads of each row of coefficients (module level: runs
+    in worker processes)."""
+    from .solver import point_sensitivities
+
+    grid, compliance, torque, coef, pair_index, solver = job
+    C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
+    sol = solve_contact(grid, compliance, torque, solver=solver or ContactSolver(), tooth_matrix=C0)
+    bases = grid.form_bases() if coef.shape[-1] > 1 else None
+    _, dF, on = point_sensitivities(grid, compliance, sol, pair_index, tooth_matrix=C0, bases=bases)
+    F = np.zeros((coef.shape[0] + 1, grid.size))
+    F[:-1, on] = np.maximum(sol.load[on][None] + np.einsum("akj,hkj->ha", dF, coef), 0.0)
+    F[-1] = sol.load
+    return pair_root_stresses(grid, compliance, F, pair_index)
 
 
 def _exact_column(job):

@@ -32,6 +32,7 @@ __all__ = [
     "ContactSolution",
     "ContactSolver",
     "pair_sensitivities",
+    "point_sensitivities",
     "rotation_sensitivity",
     "solve_contact",
     "solve_lcp",
@@ -328,6 +329,28 @@ def pair_sensitivities(
     (B = m) and column 1 + j basis j, the same formulas with m_A o 1_k replaced by
     B_Aj o 1_k.
     """
+    w, dF, on = point_sensitivities(
+        grid,
+        compliance,
+        solution,
+        pair_index,
+        tooth_matrix=tooth_matrix,
+        rel_step=rel_step,
+        bases=bases,
+    )
+    member = (np.asarray(grid.pair)[on][:, None] == np.asarray(pair_index)[None, :]).astype(float)
+    S = np.einsum("il,ikj->lkj", member, dF)  # (K, K, J1)
+    if bases is None:
+        return w[:, 0], S[..., 0]
+    return w, S
+
+
+def point_sensitivities(
+    grid, compliance, solution, pair_index, *, tooth_matrix=None, rel_step=1.0e-4, bases=None
+):
+    """The pair weights of :func:`pair_sensitivities` (K, 1 + J) and the loads' change at
+    each loaded point per unit coefficient (n_A, K, 1 + J), with the loaded set A (bool,
+    (n,)): dF_A = K^-1 (B_Aj o 1_k - w_kj m_A), column 0 the pitch offset (B = m)."""
     on, K = _tangent(grid, compliance, solution, tooth_matrix, rel_step)
     m = np.asarray(grid.arm, dtype=float)[on]
     X = m[:, None] if bases is None else np.column_stack([m, np.asarray(bases, float)[on]])
@@ -340,8 +363,4 @@ def pair_sensitivities(
     w = np.einsum("i,ikj->kj", d, cols)  # (K, J1)
     Kinv_m = np.linalg.solve(K, m)
     Xc = np.linalg.solve(K, cols.reshape(cols.shape[0], -1)).reshape(cols.shape)
-    dF = Xc - Kinv_m[:, None, None] * w[None]  # (n_A, K, J1)
-    S = np.einsum("il,ikj->lkj", member, dF)  # (K, K, J1)
-    if bases is None:
-        return w[:, 0], S[..., 0]
-    return w, S
+    return w, Xc - Kinv_m[:, None, None] * w[None], on

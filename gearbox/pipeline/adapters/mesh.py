@@ -137,8 +137,9 @@ def validate_pitch(scene) -> None:
 
 def compute_pitch(ctx: StageContext):
     """Pitch deviations' loaded TE over a hunting period on the drive flank
-    (gearbox.ltca.pitch): linear through the loaded TCA's pair weights, or exact
-    (one contact solve per sample, the positions through the run's executor)."""
+    (gearbox.ltca.pitch): linear through the loaded TCA's pair weights (root stresses
+    from first-order point loads), or exact (one contact solve per sample); the
+    positions go through the run's executor."""
     pitch = require(
         "gearbox.ltca.pitch", "hunting_lte", "PitchResult", "drive_grids", "deviations_from_scene"
     )
@@ -147,10 +148,10 @@ def compute_pitch(ctx: StageContext):
     res = ctx.inputs["ltca"].flanks["drive"]
     dev = pitch.deviations_from_scene(design, scene, res.flank_range)
     method = scene["pitch"]["method"]
-    kw = {}
-    if method == "exact":
-        grids, compliance = pitch.drive_grids(design, scene, res.fraction.size)
-        kw = {"grids": grids, "compliance": compliance, "mapper": ctx.map}
+    # the grids give the exact method its solves and the linear one its root stresses
+    # from first-order point loads
+    grids, compliance = pitch.drive_grids(design, scene, res.fraction.size)
+    kw = {"grids": grids, "compliance": compliance, "mapper": ctx.map}
     teeth = (design.pinion.teeth, design.gear.teeth)
     rec = pitch.hunting_lte(res, dev, _pitch_torque(scene), teeth=teeth, method=method, **kw)
     return pitch.PitchResult(dev, rec)
