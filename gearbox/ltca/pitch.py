@@ -593,20 +593,27 @@ def deviations_from_section(section, teeth: tuple[int, int]) -> tuple[np.ndarray
     p = Problems()
     out = []
     for member, z in zip(("pinion", "gear"), teeth, strict=True):
-        given = section[f"{member}_cumulative_um"]
         f = rng.uniform(-a, a, int(z))  # drawn for both members alike: the seed's sequence
-        if given:
-            p.check(
-                len(given) == z,
-                f"pitch.{member}_cumulative_um",
-                f"{len(given)} values",
-                f"must give one value per {member} tooth: {z}",
-            )
-            out.append(np.asarray(given, dtype=float) * 1e-6)
-        else:
-            out.append(_cumulative(f - f.mean()))
+        out.append(
+            _listed_or(section, f"{member}_cumulative_um", member, z, p, _cumulative(f - f.mean()))
+        )
     p.raise_if_any("invalid pitch deviations")
     return out[0], out[1]
+
+
+def _listed_or(section, key: str, member: str, teeth: int, p: Problems, otherwise):
+    """The section's list ``key`` (um -> m) where given, checked for one value per
+    tooth (a problem named ``pitch.<key>`` otherwise), else ``otherwise``."""
+    given = section[key]
+    if not given:
+        return otherwise
+    p.check(
+        len(given) == teeth,
+        f"pitch.{key}",
+        f"{len(given)} values",
+        f"must give one value per {member} tooth: {teeth}",
+    )
+    return np.asarray(given, dtype=float) * 1e-6
 
 
 def covered_lengths(flank_range) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -635,19 +642,10 @@ def slopes_from_section(section, teeth: tuple[int, int], lengths=None) -> SlopeD
     got = {}
     for member, z in zip(("pinion", "gear"), teeth, strict=True):
         for kind in ("profile", "helix"):
-            key = f"{member}_{kind}_slope_um"
             drawn = rng.uniform(-rand[kind], rand[kind], int(z))  # drawn alike: the sequence
-            given = section[key]
-            if given:
-                p.check(
-                    len(given) == z,
-                    f"pitch.{key}",
-                    f"{len(given)} values",
-                    f"must give one value per {member} tooth: {z}",
-                )
-                got[(member, kind)] = np.asarray(given, dtype=float) * 1e-6
-            else:
-                got[(member, kind)] = drawn
+            got[(member, kind)] = _listed_or(
+                section, f"{member}_{kind}_slope_um", member, z, p, drawn
+            )
     length = {}
     for i, kind in enumerate(("profile", "helix")):
         key = f"pitch.{kind}_evaluation_mm"
