@@ -83,3 +83,44 @@ def test_warm_start_gives_the_same_solution_in_fewer_iterations():
     assert ok2 and it2 <= it
     assert phi2 == pytest.approx(phi3, rel=1e-10)
     assert np.allclose(F2, F3, rtol=0, atol=1e-9 * F3.max())
+
+
+def test_newton_on_the_flattening_meets_the_fixed_point():
+    """The default scene's drive flank at 12 positions, all its torques: the flattening's
+    Newton update and the secant fixed point converge to the same loaded TCA (TE,
+    stiffness, largest pressure within 1e-6 relative, the solver's load tolerance;
+    measured 6e-8 at 24 positions), Newton in fewer outer iterations from a cold start
+    (measured 5 against 8)."""
+    from pathlib import Path
+
+    from gearbox import load_scene
+    from gearbox.geometry import PairSpec, design_pair
+    from gearbox.ltca import LTCAOptions, ltca_cycle
+    from gearbox.ltca.beveloid import scene_compliance, scene_grids
+    from gearbox.ltca.solver import solve_contact
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "models" / "marine_drive.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    grids, _, _ = scene_grids(design, scene, "R", 12)
+    comp = scene_compliance(design, scene)
+    out = {}
+    for mode in ("fixed_point", "newton"):
+        out[mode] = ltca_cycle(
+            lambda f: grids[round(f * 12)],
+            scene["load"]["torques_Nm"],
+            options=LTCAOptions(positions=12),
+            compliance=comp,
+            solver=ContactSolver(flattening=mode),
+        )
+        assert out[mode].success
+    for name in ("lte", "stiffness", "max_pressure"):
+        a, b = getattr(out["fixed_point"], name), getattr(out["newton"], name)
+        assert np.abs(a - b).max() < 1e-6 * np.abs(a).max()
+    cold = [
+        solve_contact(grids[3], comp, 802.0, solver=ContactSolver(flattening=mode))
+        for mode in ("fixed_point", "newton")
+    ]
+    assert cold[1].outer_iterations < cold[0].outer_iterations
+    assert cold[1].gap_residual <= cold[0].gap_residual + 1e-12
+    with pytest.raises(Exception, match="flattening"):
+        ContactSolver(flattening="broyden")

@@ -16,8 +16,9 @@ added to the loaded set in blocks for the first iterations (all violated gaps at
 once; the ratio test keeps feasibility), then one at a time, which restores the
 finite termination of the textbook method.
 
-A load-dependent compliance (contact flattening) is handled by a fixed-point
-iteration on the line loads around the active-set solve.
+A load-dependent compliance (contact flattening) is handled by an
+iteration on the line loads around the active-set solve: Newton by default (each
+loaded point's flattening linearised at its load), or the secant fixed point.
 """
 
 from __future__ import annotations
@@ -45,8 +46,12 @@ class ContactSolver:
 
     gap_tol: relative tolerance on gaps (of the mean deflection); max_iter: cap of
     active-set iterations per solve; block_iter: iterations that add violated points
-    in blocks; max_outer: cap of fixed-point iterations on a load-dependent
-    compliance; outer_rtol: their tolerance on the loads (relative to the largest).
+    in blocks; max_outer: cap of the iterations on a load-dependent
+    compliance; outer_rtol: their tolerance on the loads (relative to the largest);
+    flattening: how those iterations update the flattening, ``"newton"`` (each loaded
+    point's approach linearised at its current load: its tangent on the diagonal, the
+    difference to the secant in the separation) or ``"fixed_point"`` (the secant at the
+    current loads).
     """
 
     gap_tol: float = 1.0e-9
@@ -54,6 +59,7 @@ class ContactSolver:
     block_iter: int = 20
     max_outer: int = 40
     outer_rtol: float = 1.0e-6
+    flattening: str = "newton"
 
     def __post_init__(self):
         p = Problems()
@@ -61,6 +67,12 @@ class ContactSolver:
         p.in_range("max_iter", self.max_iter, 1, None)
         p.in_range("max_outer", self.max_outer, 1, None)
         p.in_range("outer_rtol", self.outer_rtol, 0.0, 1.0, lo_open=True)
+        p.check(
+            self.flattening in ("newton", "fixed_point"),
+            "flattening",
+            self.flattening,
+            "must be 'newton' or 'fixed_point'",
+        )
         p.raise_if_any("invalid contact solver settings")
 
 
@@ -100,6 +112,10 @@ class ContactSolution:
         d["load"] = np.asarray(d["load"], dtype=float)
         d["gap"] = np.asarray(d["gap"], dtype=float)
         return cls(**d)
+
+
+#: Relative step in the line load of the flattening's tangent (forward difference).
+_FLATTENING_STEP = 1.0e-4
 
 
 def _eqp(C, s, m, T, P):
@@ -196,7 +212,7 @@ def solve_contact(
     start: optional warm-start mask of loaded points; tooth_matrix: the
     load-independent part of the compliance if already computed (it depends on the
     position only, not on the torque); initial_load: a load estimate (N, shape
-    (n,)) that starts the fixed-point iteration on the contact flattening.
+    (n,)) that starts the iteration on the contact flattening.
     Returns a :class:`ContactSolution`.
     """
     p = Problems()
@@ -222,13 +238,24 @@ def solve_contact(
     prev = None
     while True:
         outer += 1
+        s_k = s
         if compliance.load_dependent:
             C = C0.copy()
-            C[np.diag_indices_from(C)] += compliance.contact_diagonal(grid, q)
+            sec = compliance.contact_diagonal(grid, q)
+            diag = sec
+            if solver.flattening == "newton" and F is not None:
+                # approach c(q) F linearised at the current loads: tangent on the
+                # diagonal, the secant's excess in the separation
+                on = F > 0
+                h = _FLATTENING_STEP
+                tan = (compliance.contact_diagonal(grid, q * (1.0 + h)) * (1.0 + h) - sec) / h
+                diag = np.where(on, tan, sec)
+                s_k = s + np.where(on, (sec - tan) * F, 0.0)
+            C[np.diag_indices_from(C)] += diag
         else:
             C = compliance.matrix(grid)
         F, phi, gap, it, ok = solve_lcp(
-            C, s, m, torque, solver=solver, start=start if F is None else F > 0
+            C, s_k, m, torque, solver=solver, start=start if F is None else F > 0
         )
         total_it += it
         if not ok:
@@ -246,11 +273,16 @@ def solve_contact(
             break
         prev = F
         q = q_new
+    if compliance.load_dependent and s_k is not s:
+        # the gaps of the flattening itself (the secant at the loads found)
+        C = C0.copy()
+        C[np.diag_indices_from(C)] += compliance.contact_diagonal(grid, F / grid.line_length)
+        gap = C @ F + s - m * phi
     scale = float(np.mean(np.diag(C))) * torque / float(np.mean(m))
     compl = float(np.max(np.abs(F * gap)) / (np.max(F) * scale)) if np.max(F) > 0 else 0.0
     msg = {
         "converged": f"converged in {total_it} active-set iterations, "
-        f"{outer} fixed-point iterations",
+        f"{outer} flattening iterations",
         "max_iter": f"active-set iteration cap {solver.max_iter} reached",
         "outer_max_iter": f"fixed-point cap {solver.max_outer} reached on the contact flattening",
     }[status]
