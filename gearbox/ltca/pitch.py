@@ -280,8 +280,8 @@ class HuntingRecord:
     TCA's ``pair_load_sensitivity``, floored at 0; None where the result lacks it);
     pair_load_nominal (P, K) and pair_root_stress_nominal (P, K, 2) (Pa, pinion and
     gear) of the nominal teeth at the torque; pair_root_stress (n, K, 2): each pair's
-    largest root stress from the loads of each sample's own solve (exact method; None
-    for the linear one, whose stresses scale the nominal ones).
+    largest root stress from each sample's own loads (exact: its solve; linear with the
+    grids: its first-order point loads); None where the nominal stresses are scaled.
     """
 
     angle: np.ndarray
@@ -324,9 +324,9 @@ class HuntingRecord:
 
     def root_stress(self) -> tuple[float, float]:
         """The largest root stress (Pa) of the pinion and of the gear over the hunting
-        period: from each sample's own loads where the record has them (exact method),
-        else each pair's stress at nominal load scaled by its load (the load along the
-        contact line keeps its shape to first order)."""
+        period: from each sample's own loads where the record has them
+        (``pair_root_stress``), else each pair's stress at nominal load scaled by its
+        load (the load along the contact line keeps its shape)."""
         if self.pair_root_stress is not None:
             s = self.pair_root_stress
             return float(s[..., 0].max()), float(s[..., 1].max())
@@ -472,18 +472,13 @@ def _serial(fn, jobs):
 
 def _linear_stress_column(job):
     """One position's pair root stresses (Pa, (H + 1, K, 2), the nominal teeth's last)
-    under the first-order point loads of each row of coefficients (module level: runs
-    in worker processes)."""
-    from .solver import point_sensitivities
-
+    under the first-order point loads of each row of coefficients
+    (:func:`_predicted_loads`; module level: runs in worker processes)."""
     grid, compliance, torque, coef, pair_index, solver = job
+    solver = solver or ContactSolver()
     C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
-    sol = solve_contact(grid, compliance, torque, solver=solver or ContactSolver(), tooth_matrix=C0)
-    bases = grid.form_bases() if coef.shape[-1] > 1 else None
-    _, dF, on = point_sensitivities(grid, compliance, sol, pair_index, tooth_matrix=C0, bases=bases)
-    F = np.zeros((coef.shape[0] + 1, grid.size))
-    F[:-1, on] = np.maximum(sol.load[on][None] + np.einsum("akj,hkj->ha", dF, coef), 0.0)
-    F[-1] = sol.load
+    rows = np.concatenate([coef, np.zeros((1,) + coef.shape[1:])])  # last: the nominal
+    F = _predicted_loads(grid, compliance, torque, _offsets(grid, rows, pair_index), solver, C0)
     return pair_root_stresses(grid, compliance, F, pair_index)
 
 
@@ -504,22 +499,14 @@ def exact_rotation(grid, compliance, torque, alpha, pair_index, *, solver=None):
     return rot, arm
 
 
-def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None, stress=False):
-    """Loaded rotation (rad), torque arm T / sum F (m) and each pair's normal load (N,
-    shape (R, K)) at one grid position for each row of pair angles ``alpha`` (shape
-    (R, K), pinion radians, K = len(pair_index)): the contact problem with the
-    separations offset by -m_i alpha_k. ``alpha`` may also be (R, K, 5), the
-    coefficients of :func:`pair_coefficients` with slope deviations: the offsets are
-    then -m_i alpha_k - B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`).
-    Rows that repeat are solved once; each solve starts from the first-order loads of
-    its offsets at the nominal solution (:func:`_predicted_loads`). ``stress=True`` adds each pair's largest root stress of pinion and gear under the
-    row's own loads (Pa, (R, K, 2); :func:`pair_root_stresses`)."""
-    solver = solver or ContactSolver()
-    coef = np.asarray(alpha, dtype=float)
+def _offsets(grid, coef, pair_index) -> np.ndarray:
+    """Each row's normal offsets of the grid's points, shape (R, n), for coefficients
+    (R, K) (pair angles) or (R, K, J) (:func:`pair_coefficients`): m_i alpha_k, plus
+    B_ij c_kj with slopes; the separations are less them."""
+    coef = np.asarray(coef, dtype=float)
     coef = coef[None] if coef.ndim == 1 else coef
     coef = coef[..., None] if coef.ndim == 2 else coef  # (R, K, J)
-    ks = np.asarray(pair_index)
-    col = {int(k): kk for kk, k in enumerate(ks)}
+    col = {int(k): kk for kk, k in enumerate(np.asarray(pair_index))}
     idx = np.array([col[int(k)] for k in grid.pair])
     X = grid.arm[:, None]
     if coef.shape[-1] > 1:
@@ -531,7 +518,23 @@ def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None,
                 )
             )
         X = np.column_stack([grid.arm, bases])
-    offsets = np.einsum("rnj,nj->rn", coef[:, idx, :], X)  # (R, n): ds = -offsets
+    return np.einsum("rnj,nj->rn", coef[:, idx, :], X)
+
+
+def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None, stress=False):
+    """Loaded rotation (rad), torque arm T / sum F (m) and each pair's normal load (N,
+    shape (R, K)) at one grid position for each row of pair angles ``alpha`` (shape
+    (R, K), pinion radians, K = len(pair_index)): the contact problem with the
+    separations offset by -m_i alpha_k. ``alpha`` may also be (R, K, 5), the
+    coefficients of :func:`pair_coefficients` with slope deviations: the offsets are
+    then -m_i alpha_k - B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`).
+    Rows that repeat are solved once; each solve starts from the first-order loads of
+    its offsets at the nominal solution (:func:`_predicted_loads`). ``stress=True``
+    adds each pair's largest root stress of pinion and gear under the row's own loads
+    (Pa, (R, K, 2); :func:`pair_root_stresses`)."""
+    solver = solver or ContactSolver()
+    offsets = _offsets(grid, alpha, pair_index)  # (R, n): ds = -offsets
+    ks = np.asarray(pair_index)
     member = (np.asarray(grid.pair)[:, None] == ks[None, :]).astype(float)  # (n, K)
     C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
     rows, inverse = np.unique(offsets, axis=0, return_inverse=True)
