@@ -172,11 +172,42 @@ def plot_hunting_lte(record, ax=None, revolutions: float = 2.0):
     top = min(float(revolutions), float(rev[-1]))
     k = rev <= top
     ax.plot(rev[k], record.lte_nominal[k] * 1e6, lw=0.8, color="0.5", label="nominal teeth")
-    ax.plot(rev[k], record.lte[k] * 1e6, lw=0.8, color="tab:blue", label="with pitch deviations")
+    ax.plot(rev[k], record.lte[k] * 1e6, lw=0.8, color="tab:blue", label="with the deviations")
     ax.set_xlabel("pinion revolutions (from the start of the hunting period)")
     ax.set_ylabel("loaded TE (um)")
     ax.set_xlim(0.0, top)
     ax.legend(loc="upper right", fontsize=8)
+    return ax
+
+
+def plot_tooth_deviations(deviations, ax=None):
+    """Each tooth's deviations (um) against its number, pinion and gear
+    (:class:`gearbox.ltca.pitch.PitchDeviations`): cumulative pitch F_p, and the
+    profile and helix slopes f_H_alpha, f_H_beta where it has them."""
+    ax = _axes(ax)
+    sl = deviations.slopes
+    for member, color in (("pinion", "tab:blue"), ("gear", "tab:orange")):
+        fp = getattr(deviations, member)
+        i = np.arange(fp.size)
+        ax.plot(i, fp * 1e6, "-o", ms=2.5, lw=0.8, color=color, label=f"{member} F_p")
+        if sl is not None:
+            for kind, marker in (("profile", "^"), ("helix", "s")):
+                f = getattr(sl, f"{member}_{kind}")
+                if np.any(f):
+                    ax.plot(
+                        i,
+                        f * 1e6,
+                        marker,
+                        ms=3,
+                        ls="none",
+                        color=color,
+                        alpha=0.6,
+                        label=f"{member} f_H {kind}",
+                    )
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("tooth (numbered from the reference pair at the start of the record)")
+    ax.set_ylabel("deviation (um)")
+    ax.legend(loc="upper right", fontsize=7, ncol=2)
     return ax
 
 

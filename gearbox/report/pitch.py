@@ -14,7 +14,7 @@ __all__ = ["render_pitch"]
 def render_pitch(pr, run) -> Section:
     """Deviations, TE peak-to-peak with and without them, the largest order lines;
     the hunting record and its spectrum."""
-    from ..ltca.plot import plot_hunting_lte, plot_hunting_spectrum
+    from ..ltca.plot import plot_hunting_lte, plot_hunting_spectrum, plot_tooth_deviations
 
     rec, dev = pr.record, pr.deviations
     z1, z2 = rec.teeth
@@ -79,9 +79,10 @@ def render_pitch(pr, run) -> Section:
             ),
         ]
     lines = [(fmt(x["order"], 5), x["kind"], fmt(x["amplitude_m"] * 1e6, 4)) for x in pr.lines()]
-    fig, ax = new_figure(2, 1, size=(10, 6.2))
-    plot_hunting_lte(rec, ax[0, 0])
-    plot_hunting_spectrum(rec, ax[1, 0])
+    fig, ax = new_figure(3, 1, size=(10, 9.0))
+    plot_tooth_deviations(dev, ax[0, 0])
+    plot_hunting_lte(rec, ax[1, 0])
+    plot_hunting_spectrum(rec, ax[2, 0])
     body = (
         table(["quantity", "value"], summary)
         + table(["deviations", "pinion", "gear"], rows)
@@ -90,8 +91,8 @@ def render_pitch(pr, run) -> Section:
         + table(["order", "kind", "amplitude (um)"], lines)
         + figure(
             fig,
-            "Loaded transmission error: the first two pinion revolutions, and the order "
-            "spectrum of the whole hunting period",
+            "Each tooth's deviations; the loaded transmission error over the first two "
+            "pinion revolutions, and the order spectrum of the whole hunting period",
         )
         + '<p class="muted">Teeth numbered from the reference pair at the start of the '
         "record, in the order they enter the mesh (docs/ltca.md, sections Pitch deviations "
