@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from gearbox import load_scene
+from gearbox.ltca.pitch import order_kind
 from gearbox.pipeline import run_pipeline
 
 HERE = Path(__file__).resolve().parent
@@ -84,7 +85,7 @@ def main(argv=None):
     top = np.argsort(added[1:])[::-1][:8] + 1
     lines = []
     for i in top:
-        kind = _kind(orders[i], z1, z2)
+        kind = order_kind(orders[i], z1, z2)
         lines.append((float(orders[i]), kind, float(amp[i])))
         extra = ""
         if "exact" in out:
@@ -116,20 +117,6 @@ def main(argv=None):
         fig.savefig(args.plot, dpi=110)
         print(f"figure: {args.plot}")
     return lines, out
-
-
-def _kind(order: float, z1: int, z2: int) -> str:
-    """A pinion order as mesh harmonic h plus or minus gear orders g."""
-    g = order * z2 / z1  # in gear orders
-    h = round(order / z1)
-    side = round(g - h * z2)
-    if abs(g - round(g)) > 1e-6:
-        return "not a gear order"
-    if side == 0:
-        return f"mesh {h}"
-    if h == 0:
-        return f"gear {round(g)}"
-    return f"mesh {h} {'+' if side > 0 else '-'} gear {abs(side)}"
 
 
 if __name__ == "__main__":

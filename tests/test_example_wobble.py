@@ -28,7 +28,7 @@ def test_example_wobble(tmp_path, capsys, monkeypatch):
     assert "largest root stress" in text
     # the largest added lines: the first sidebands of the mesh order
     assert {lines[0][1], lines[1][1]} == {"mesh 1 - gear 1", "mesh 1 + gear 1"}
-    assert all(kind != "not a gear order" for _, kind, _ in lines)
+    assert all("pinion" not in kind and kind != "combination" for _, kind, _ in lines)
     rec = out["linear"]["pitch"].record
     orders, amp = rec.order_spectrum()
     added = np.abs(amp - rec.order_spectrum("lte_nominal")[1])
@@ -38,4 +38,3 @@ def test_example_wobble(tmp_path, capsys, monkeypatch):
     for order, _, a in lines[:2]:
         i = int(np.argmin(np.abs(orders - order)))
         assert abs(exact[i] - a) < 0.03 * a
-    assert ex._kind(29.0, 29, 45) == "mesh 1" and ex._kind(29 / 45, 29, 45) == "gear 1"

@@ -341,3 +341,23 @@ def test_linear_root_stresses_follow_the_load_shape(drive):
         top = max(top, float(ex.max()))
     assert worst_lin < 0.03 * top
     assert worst_scaled > 2 * worst_lin
+
+
+def test_order_names_say_the_sidebands():
+    """Pinion orders of the 29 / 45 pair: mesh harmonics, the members' low orders, and
+    the orders within half a mesh order of a mesh harmonic as its sidebands."""
+    from gearbox.ltca.pitch import order_kind
+
+    names = {
+        29.0: "mesh 1",
+        58.0: "mesh 2",
+        3.0: "pinion 3",
+        30.0: "mesh 1 + pinion 1",
+        57.0: "mesh 2 - pinion 1",
+        29 / 45: "gear 1",
+        44 * 29 / 45: "mesh 1 - gear 1",
+        91 * 29 / 45: "mesh 2 + gear 1",
+        1.5: "combination",
+    }
+    for order, name in names.items():
+        assert order_kind(order, 29, 45) == name

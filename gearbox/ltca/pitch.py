@@ -776,16 +776,24 @@ class PitchResult:
 
 
 def order_kind(order: float, z1: int, z2: int) -> str:
-    """What a pinion order is: 'mesh h', 'pinion h', 'gear h' or 'combination'."""
+    """What a pinion order is: 'mesh h'; a pinion or gear order near a mesh harmonic as
+    its sideband, 'mesh h + pinion d' or 'mesh h - gear d' (d within half a mesh order);
+    below half the mesh order 'pinion p' or 'gear g'; else 'combination'."""
     tol = 1e-9
     h = order / z1
     if abs(h - round(h)) < tol:
         return f"mesh {round(h)}"
-    if abs(order - round(order)) < tol:
-        return f"pinion {round(order)}"
-    g = order * z2 / z1
-    if abs(g - round(g)) < tol:
-        return f"gear {round(g)}"
+    for member, per_rev in (("pinion", 1.0), ("gear", z2 / z1)):
+        x = order * per_rev  # in that member's orders
+        if abs(x - round(x)) >= tol:
+            continue
+        x = round(x)
+        z = z1 if member == "pinion" else z2  # its orders per mesh order
+        m = round(x / z)
+        if m == 0:
+            return f"{member} {x}"
+        d = x - m * z
+        return f"mesh {m} {'+' if d > 0 else '-'} {member} {abs(d)}"
     return "combination"
 
 
