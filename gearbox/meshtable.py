@@ -78,7 +78,8 @@ def pair_weight_fields(table) -> dict[int, str]:
     return out
 
 
-#: The form deviations' offset shapes, in the order of ``ContactGrid.FORM_BASES``.
+#: The form deviations' offset shapes, in their order (``ContactGrid.form_bases``'s
+#: columns, the loaded TCA's form weights, the mesh table's fields).
 FORM_BASES = ("pinion_profile", "pinion_helix", "gear_profile", "gear_helix")
 
 #: The attrs of the lengths the loaded contact covers on the drive flanks (m): roll

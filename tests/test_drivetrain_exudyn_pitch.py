@@ -281,12 +281,7 @@ def _measure(repeat=5, cycles=200):  # pragma: no cover - run by hand
                 f"bearings {bear}, {'smoothed' if smooth else 'raw'} samples: mesh force "
                 f"range {np.ptp(f0):.1f} N, moved by {shift:.3f} of it by the pitch approach"
             )
-            for uf in ("symbolic", "python"):
-                ts = simulate(model, ExudynSolver(user_functions=uf), mesh_cycles=n1)
-                a = mesh_force_metrics(ts, model)
-                d = np.abs(ts["mesh_force_N"] - f0).max() / np.ptp(f0)
-                figs = "  ".join(f"{k[11:-2]} {rel(a[k], b[k]):.1e}" for k in METRICS)
-                print(f"  exudyn {uf:8s} max |dF| / range {d:.2e}  {figs}")
+            _print_exudyn_against(model, f0, b, n1)
     for bear in (False, True):
         base = drive_model(sc, bearing_dofs=bear)
         for label, model in (("without", base), ("with", with_pitch(base))):
@@ -363,12 +358,18 @@ def _measure_loaded_tca(sc):  # pragma: no cover - run by hand
             f"{np.ptp(model.pitch.values):.3g} m; mesh force range {np.ptp(f0):.1f} N, moved "
             f"by {np.abs(f0 - bare).max() / np.ptp(f0):.3f} of it by the pitch approach"
         )
-        for uf in ("symbolic", "python"):
-            ts = simulate(model, ExudynSolver(user_functions=uf), mesh_cycles=n1)
-            a = mesh_force_metrics(ts, model)
-            d = np.abs(ts["mesh_force_N"] - f0).max() / np.ptp(f0)
-            figs = "  ".join(f"{k[11:-2]} {rel(a[k], b[k]):.1e}" for k in METRICS)
-            print(f"  exudyn {uf:8s} max |dF| / range {d:.2e}  {figs}")
+        _print_exudyn_against(model, f0, b, n1)
+
+
+def _print_exudyn_against(model, f0, b, n1):
+    """Both exudyn user-function kinds against the scipy reference's mesh force f0 and
+    its metrics b, printed (the measurement script's lines)."""
+    for uf in ("symbolic", "python"):
+        ts = simulate(model, ExudynSolver(user_functions=uf), mesh_cycles=n1)
+        a = mesh_force_metrics(ts, model)
+        d = np.abs(ts["mesh_force_N"] - f0).max() / np.ptp(f0)
+        figs = "  ".join(f"{k[11:-2]} {rel(a[k], b[k]):.1e}" for k in METRICS)
+        print(f"  exudyn {uf:8s} max |dF| / range {d:.2e}  {figs}")
 
 
 if __name__ == "__main__":  # pragma: no cover

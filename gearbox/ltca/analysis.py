@@ -355,7 +355,8 @@ def ltca_cycle(
         vs = np.linalg.norm(grid.sliding_velocity(), axis=1) if kinematics else None
         arms = grid.friction_arms() if kinematics else None
         phi0 = float(np.min(grid.separation / grid.arm))
-        bases = grid.form_bases() if form else None
+        # no form bases: zero columns (the pitch offset alone)
+        bases = grid.form_bases() if form else np.zeros((grid.size, 0))
         prev = None
         for t, torque in enumerate(torques):
             init = None if prev is None else prev.load * (torque / torques[t - 1])
@@ -399,11 +400,11 @@ def ltca_cycle(
             out["root_stress_gear"][t, j] = float(m2.max())
             np.maximum.at(rs_face1[t], grid.slot, s1)
             np.maximum.at(rs_face2[t], grid.slot, s2)
+            w_all, s_all = pair_sensitivities(
+                grid, compliance, sol, pair_index, tooth_matrix=C0, bases=bases
+            )
+            weight[t, j], load_sens[t, j] = w_all[:, 0], s_all[..., 0]
             if form:
-                w_all, s_all = pair_sensitivities(
-                    grid, compliance, sol, pair_index, tooth_matrix=C0, bases=bases
-                )
-                weight[t, j], load_sens[t, j] = w_all[:, 0], s_all[..., 0]
                 form_weight[t, j], form_sens[t, j] = w_all[:, 1:], s_all[..., 1:]
                 # the loaded points, the face positions widened by half their slices
                 on = F > 0
@@ -413,10 +414,6 @@ def ltca_cycle(
                 c = grid.flank_coordinates[on]
                 flank_lo = np.minimum(flank_lo, (c - half).min(axis=0))
                 flank_hi = np.maximum(flank_hi, (c + half).max(axis=0))
-            else:
-                weight[t, j], load_sens[t, j] = pair_sensitivities(
-                    grid, compliance, sol, pair_index, tooth_matrix=C0
-                )
             for kk, k in enumerate(pair_index):
                 on = grid.pair == k
                 share[t, j, kk] = float(F[on].sum()) / Fn

@@ -15,6 +15,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..errors import Problems
+from ..meshtable import FORM_BASES
 
 __all__ = ["ContactGrid", "ToothSections"]
 
@@ -317,7 +318,7 @@ class ContactGrid:
         return np.stack([arm1, arm2], axis=1)
 
     #: The form deviations' offset shapes (:meth:`form_bases`), in their order.
-    FORM_BASES = ("pinion_profile", "pinion_helix", "gear_profile", "gear_helix")
+    FORM_BASES = FORM_BASES
 
     def form_bases(self) -> np.ndarray | None:
         """Normal offsets of the flanks per unit slope deviation, shape (n, 4), m per
