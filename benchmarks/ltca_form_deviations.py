@@ -1,21 +1,23 @@
-"""Profile and helix slope deviations per tooth on the default scene (docs/ltca.md
-"Form deviations"): the linear method against the exact re-solve, and what the slopes
-add to the pitch deviations' loaded TE, tooth loads and root stress.
+"""Profile and helix slope and crowning deviations per tooth on the default scene
+(docs/ltca.md "Form deviations"): the linear method against the exact re-solve, and
+what they add to the pitch deviations' loaded TE, tooth loads and root stress.
 
-    python3 benchmarks/ltca_form_deviations.py            # both parts (about 6 min)
+    python3 benchmarks/ltca_form_deviations.py            # both parts (about 12 min)
     python3 benchmarks/ltca_form_deviations.py --sweep    # linear vs exact, by amplitude
-    python3 benchmarks/ltca_form_deviations.py --table    # the default scene, three cases
+    python3 benchmarks/ltca_form_deviations.py --table    # the default scene, five cases
 
---sweep: random slopes on all four shapes (seed 7) within +-0.5 / 1 / 2 / 5 um, every
-29th mesh cycle of the hunting period, 802 N m, at 12 and 24 positions: the linear
-method's largest and RMS error as a share of the largest TE change of the exact.
+--sweep: random slopes on all four shapes (seed 7) within +-0.5 / 1 / 2 / 5 um, then
+random crownings alone (seed 7) within the same, every 29th mesh cycle of the hunting
+period, 802 N m, at 12 and 24 positions: the linear method's largest and RMS error as
+a share of the largest TE change of the exact.
 
 --table: the default scene (24 positions, its pitch deviations) with and without
 random slopes within +-4 um (`pitch.random_profile_slope_um`, `random_helix_slope_um`),
-and the slopes alone: TE peak-to-peak, the linear method's largest sample error,
-tooth load factor and largest root stress (linear scaled, linear from first-order point
-loads, exact), and the exact method's wall time (the positions over the machine's
-cores).
+the slopes alone, the crownings alone (`random_profile_crowning_um`,
+`random_helix_crowning_um` 4 um) and all three: TE peak-to-peak, the linear method's
+largest sample error, tooth load factor and largest root stress (linear scaled, linear
+from first-order point loads, exact), and the exact method's wall time (the positions
+over the machine's cores).
 """
 
 from __future__ import annotations
@@ -36,8 +38,9 @@ def sweep() -> None:
     from gearbox.ltca import LTCAOptions, compliance_for, ltca_cycle
     from gearbox.ltca.beveloid import scene_grids
     from gearbox.ltca.pitch import (
+        FormDeviations,
         PitchDeviations,
-        SlopeDeviations,
+        covered_centres,
         covered_lengths,
         exact_solutions,
         hunting_lte,
@@ -49,7 +52,7 @@ def sweep() -> None:
     z1, z2 = design.pinion.teeth, design.gear.teeth
     r = (design.pinion.reference_pitch_radius, design.gear.reference_pitch_radius)
     comp = compliance_for("fast")
-    print("positions  slopes (um)  largest change (um)  largest error  RMS error")
+    print("positions  shapes     within (um)  largest change (um)  largest error  RMS error")
     for P in (12, 24):
         grids, _, _ = scene_grids(design, scene, "R", P)
         res = ltca_cycle(
@@ -59,11 +62,17 @@ def sweep() -> None:
             compliance=comp,
         )
         lengths = covered_lengths(res.flank_range)
-        for scale in (0.5e-6, 1e-6, 2e-6, 5e-6):
+        centres = covered_centres(res.flank_range)
+        zero = [np.zeros(z) for z in (z1, z1, z2, z2)]
+        for kind, scale in [
+            (k, s) for k in ("slopes", "crownings") for s in (0.5e-6, 1e-6, 2e-6, 5e-6)
+        ]:
             rng = np.random.default_rng(7)
-            sl = SlopeDeviations(
-                *(rng.uniform(-scale, scale, z) for z in (z1, z1, z2, z2)), *lengths
-            )
+            drawn = [rng.uniform(-scale, scale, z) for z in (z1, z1, z2, z2)]
+            if kind == "slopes":
+                sl = FormDeviations(*drawn, *lengths)
+            else:
+                sl = FormDeviations(*zero, *lengths, *drawn, *centres)
             dev = PitchDeviations(np.zeros(z1), np.zeros(z2), *r, sl)
             lin = hunting_lte(res, dev, 802.0, teeth=(z1, z2))
             cyc = np.arange(0, dev.hunting_cycles, 29)
@@ -78,7 +87,7 @@ def sweep() -> None:
             dl, de = lin.lte.reshape(-1, P)[cyc] - nom, ex - nom
             big = np.abs(de).max()
             print(
-                f"{P:9d}  +-{scale * 1e6:<9g}  {big * 1e6:19.3f}  "
+                f"{P:9d}  {kind:9s}  +-{scale * 1e6:<9g}  {big * 1e6:19.3f}  "
                 f"{np.abs(dl - de).max() / big * 100:12.2f} %  "
                 f"{np.sqrt(np.mean((dl - de) ** 2)) / big * 100:8.2f} %"
             )
@@ -90,10 +99,13 @@ def table() -> None:
 
     scene = load_scene(ROOT / "models" / "marine_drive.toml")
     slopes = {"random_profile_slope_um": 4.0, "random_helix_slope_um": 4.0}
+    crownings = {"random_profile_crowning_um": 4.0, "random_helix_crowning_um": 4.0}
     cases = {
         "pitch only": {},
         "pitch and slopes": slopes,
         "slopes only": {"random_single_um": 0.0, **slopes},
+        "crownings only": {"random_single_um": 0.0, **crownings},
+        "pitch, slopes and crownings": {**slopes, **crownings},
     }
     for name, extra in cases.items():
         got = {}
@@ -135,7 +147,7 @@ def table() -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sweep", action="store_true", help="linear against exact by amplitude")
-    ap.add_argument("--table", action="store_true", help="the default scene, three cases")
+    ap.add_argument("--table", action="store_true", help="the default scene, five cases")
     args = ap.parse_args()
     both = not (args.sweep or args.table)
     if args.sweep or both:

@@ -79,8 +79,18 @@ def pair_weight_fields(table) -> dict[int, str]:
 
 
 #: The form deviations' offset shapes, in their order (``ContactGrid.form_bases``'s
-#: columns, the loaded TCA's form weights, the mesh table's fields).
-FORM_BASES = ("pinion_profile", "pinion_helix", "gear_profile", "gear_helix")
+#: columns, the loaded TCA's form weights, the mesh table's fields): the slopes (linear
+#: in the flank coordinate), then the crownings (its square).
+FORM_BASES = (
+    "pinion_profile",
+    "pinion_helix",
+    "gear_profile",
+    "gear_helix",
+    "pinion_profile_crowning",
+    "pinion_helix_crowning",
+    "gear_profile_crowning",
+    "gear_helix_crowning",
+)
 
 #: The attrs of the lengths the loaded contact covers on the drive flanks (m): roll
 #: length and axial length, pinion and gear; the slopes' default evaluation lengths.
@@ -91,11 +101,21 @@ CONTACT_LENGTHS = (
     "gear_contact_face_length_m",
 )
 
+#: The attrs of the middles of those ranges (m, from the reference circle and the face
+#: middle): the crownings' default vertices.
+CONTACT_CENTRES = (
+    "pinion_contact_roll_centre_m",
+    "gear_contact_roll_centre_m",
+    "pinion_contact_face_centre_m",
+    "gear_contact_face_centre_m",
+)
+
 
 def form_weight_name(basis: str, k: int) -> str:
-    """Name of the optional field of tooth pair k's weight for a unit slope deviation
-    ``basis`` (one of FORM_BASES, docs/ltca.md "Form deviations"):
-    ``form_weight_pinion_profile_0``, ``form_weight_gear_helix_m1``."""
+    """Name of the optional field of tooth pair k's weight for the offset shape
+    ``basis`` (one of FORM_BASES, docs/ltca.md "Form deviations": a unit slope, or a
+    unit coefficient of a flank coordinate's square): ``form_weight_pinion_profile_0``,
+    ``form_weight_gear_helix_crowning_m1``."""
     return "form_" + pair_weight_name(k).replace("pair_weight_", f"weight_{basis}_")
 
 

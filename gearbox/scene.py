@@ -298,9 +298,36 @@ SCHEMA: dict[str, dict[str, Field]] = {
             0,
             100,
         ),
+        **{
+            f"{member}_{kind}_crowning_um": _fl(
+                [],
+                f"{kind.capitalize()} crowning C_{'alpha' if kind == 'profile' else 'beta'} "
+                f"of the {member}'s drive flanks less the design's (um), one per tooth as "
+                f"{member}_cumulative_um numbers them, as a gear checker reports them "
+                "(transverse plane, along the base tangent): the height of the trace's arc "
+                f"over its chord across {kind}_evaluation_mm, its vertex in the middle of the "
+                "range the loaded contact covers; + where the tooth is more crowned than "
+                f"designed. Empty: random (random_{kind}_crowning_um) or none.",
+                -1000,
+                1000,
+                min_len=0,
+            )
+            for member in ("pinion", "gear")
+            for kind in ("profile", "helix")
+        },
+        **{
+            f"random_{kind}_crowning_um": _f(
+                0.0,
+                f"For a member without a {kind} crowning list: {kind} crowning deviations "
+                "drawn uniform within +- this (um), tooth by tooth. 0: none.",
+                0,
+                100,
+            )
+            for kind in ("profile", "helix")
+        },
         "profile_evaluation_mm": _fl(
             [],
-            "Evaluation lengths L_alpha of the profile slopes (mm of roll length), "
+            "Evaluation lengths L_alpha of the profile slopes and crownings (mm of roll length), "
             "[pinion, gear]. Empty: the roll length the loaded contact covers on each "
             "member's drive flank in the loaded TCA.",
             0,
@@ -310,7 +337,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         ),
         "helix_evaluation_mm": _fl(
             [],
-            "Evaluation lengths L_beta of the helix slopes (mm along each member's axis), "
+            "Evaluation lengths L_beta of the helix slopes and crownings (mm along each member's axis), "
             "[pinion, gear]. Empty: the axial length the loaded contact covers on each "
             "member's drive flank in the loaded TCA.",
             0,
@@ -321,7 +348,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "seed": _i(
             1,
             "Seed of the random deviations: the single pitch deviations (pinion drawn "
-            "first); the slopes from a generator seeded with [seed, 1].",
+            "first); the slopes from a generator seeded with [seed, 1], the crownings from one "
+            "seeded with [seed, 2].",
             0,
         ),
         "method": _s(

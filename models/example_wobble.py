@@ -76,7 +76,7 @@ def main(argv=None):
     rec = pr.record
     print(
         f"gear helix slopes {args.amplitude:g} um once per revolution over "
-        f"{pr.deviations.slopes.helix_length[1] * 1e3:.2f} mm; {rec.cycles} mesh cycles at "
+        f"{pr.deviations.form.helix_length[1] * 1e3:.2f} mm; {rec.cycles} mesh cycles at "
         f"{rec.torque:g} N m"
     )
     orders, amp = rec.order_spectrum()

@@ -84,18 +84,29 @@ def test_approach_is_the_loaded_tcas_te_change(ltca):
     np.testing.assert_allclose(m.pitch(th)[1], num, atol=1e-7 * np.abs(num).max())
 
 
-def test_approach_carries_the_slope_deviations(ltca):
-    """With profile and helix slopes on every tooth the approach is still minus the
-    loaded TCA's TE change (its form weights through the table): to 1e-12 of its range;
-    the table's form weights are the loaded TCA's."""
-    from gearbox.ltca.pitch import PitchDeviations, hunting_lte, slopes_from_section
-    from gearbox.meshtable import CONTACT_LENGTHS, form_weight_fields
+def test_approach_carries_the_form_deviations(ltca):
+    """With profile and helix slopes and crownings on every tooth the approach is still
+    minus the loaded TCA's TE change (its form weights through the table): to 1e-12 of
+    its range; the table's form weights are the loaded TCA's, its contact middles the
+    crownings' vertices."""
+    from gearbox.ltca.pitch import PitchDeviations, form_from_section, hunting_lte
+    from gearbox.meshtable import CONTACT_CENTRES, CONTACT_LENGTHS, form_weight_fields
 
     table, pr = ltca
     m = DrivetrainModel.from_scene(scene(**QUIET), table)
     L = [table.attrs[k] for k in CONTACT_LENGTHS]
-    sec = dict(scene()["pitch"], random_profile_slope_um=3.0, random_helix_slope_um=3.0)
-    slopes = slopes_from_section(sec, (29, 45), ((L[0], L[1]), (L[2], L[3])))
+    c = [table.attrs[k] for k in CONTACT_CENTRES]
+    given = {
+        "random_profile_slope_um": 3.0,
+        "random_helix_slope_um": 3.0,
+        "random_profile_crowning_um": 2.0,
+        "random_helix_crowning_um": 2.0,
+    }
+    sec = dict(scene()["pitch"], **given)
+    slopes = form_from_section(
+        sec, (29, 45), ((L[0], L[1]), (L[2], L[3])), ((c[0], c[1]), (c[2], c[3]))
+    )
+    assert slopes.crowned
     dev = PitchDeviations(
         pr.deviations.pinion,
         pr.deviations.gear,
@@ -114,12 +125,10 @@ def test_approach_carries_the_slope_deviations(ltca):
     rec = hunting_lte(view, dev, m.torque, teeth=(29, 45))
     change = rec.lte - rec.lte_nominal
     without = hunting_lte(_drive(table), pr.deviations, m.torque, teeth=(29, 45))
-    assert np.ptp(change - (without.lte - without.lte_nominal)) > 0.2e-6  # the slopes' part
+    assert np.ptp(change - (without.lte - without.lte_nominal)) > 0.2e-6  # the form's part
     a, _ = approach(rec.angle + float(table.angle[0]))
     assert np.abs(a + change).max() < 1e-12 * np.ptp(change) + 1e-18
-    sc = scene(**QUIET).replaced(
-        pitch={"random_profile_slope_um": 3.0, "random_helix_slope_um": 3.0}
-    )
+    sc = scene(**QUIET).replaced(pitch=given)
     a2, _ = DrivetrainModel.from_scene(sc, table).pitch(rec.angle + float(table.angle[0]))
     np.testing.assert_array_equal(a2, a)
     with pytest.raises(InputError, match="form weights"):

@@ -148,17 +148,18 @@ def test_the_drive_reads_the_pitch_section_only_when_it_carries_the_deviations(m
         )
 
 
-def test_slope_deviations_through_the_stage(marine, tmp_path):
-    """Profile and helix slopes from the scene: pitch.json and the report carry them,
-    the evaluation lengths default to what the loaded contact covers (the pinion's
-    face 40 mm), doubling the slopes doubles what they add (linear method), and a wrong
-    list or length is named before anything runs."""
+def test_form_deviations_through_the_stage(marine, tmp_path):
+    """Profile and helix slopes and crownings from the scene: pitch.json and the report
+    carry them, the evaluation lengths default to what the loaded contact covers (the
+    pinion's face 40 mm), doubling the deviations doubles what they add (linear
+    method), and a wrong list or length is named before anything runs."""
     from gearbox.report.pitch import render_pitch
 
     slopes = {
         "random_single_um": 0.0,
         "random_profile_slope_um": 2.0,
         "gear_helix_slope_um": [1.0, -1.0] * 22 + [0.0],
+        "pinion_helix_crowning_um": [1.5, 0.0, -1.5] * 9 + [0.0, 0.0],
     }
     run = run_pipeline(marine.replaced(pitch=slopes), ["pitch"], cache=tmp_path)
     write_outputs(run, tmp_path / "out")
@@ -166,21 +167,31 @@ def test_slope_deviations_through_the_stage(marine, tmp_path):
     assert d["gear_helix_slope_m"][:2] == pytest.approx([1e-6, -1e-6])
     assert np.abs(d["pinion_profile_slope_m"]).max() <= 2e-6
     assert d["helix_evaluation_length_m"][0] == pytest.approx(0.040, rel=1e-9)
+    assert d["pinion_helix_crowning_m"][:3] == pytest.approx([1.5e-6, 0.0, -1.5e-6])
+    assert len(d["helix_evaluation_centre_m"]) == 2
     rec = run["pitch"].record
     assert np.ptp(rec.lte - rec.lte_nominal) > 0.1e-6
     html = render_pitch(run["pitch"], run).body
-    assert "helix slope f_H_beta" in html and "L_alpha" in html
+    assert "helix slope f_H_beta" in html and "L_alpha" in html and "C_beta" in html
     doubled = dict(
-        slopes, random_profile_slope_um=4.0, gear_helix_slope_um=[2.0, -2.0] * 22 + [0.0]
+        slopes,
+        random_profile_slope_um=4.0,
+        gear_helix_slope_um=[2.0, -2.0] * 22 + [0.0],
+        pinion_helix_crowning_um=[3.0, 0.0, -3.0] * 9 + [0.0, 0.0],
     )
     rec2 = run_pipeline(marine.replaced(pitch=doubled), ["pitch"], cache=tmp_path)["pitch"].record
     np.testing.assert_allclose(
         rec2.lte - rec2.lte_nominal, 2 * (rec.lte - rec.lte_nominal), atol=1e-15
     )
     bad = marine.replaced(
-        pitch={"pinion_helix_slope_um": [1.0] * 30, "helix_evaluation_mm": [40.0, 40.0, 1.0]}
+        pitch={
+            "pinion_helix_slope_um": [1.0] * 30,
+            "helix_evaluation_mm": [40.0, 40.0, 1.0],
+            "gear_profile_crowning_um": [1.0] * 3,
+        }
     )
     with pytest.raises(InputError) as err:
         run_pipeline(bad, ["pitch"], cache=False)
     text = str(err.value)
     assert "pitch.pinion_helix_slope_um" in text and "pitch.helix_evaluation_mm" in text
+    assert "pitch.gear_profile_crowning_um" in text

@@ -135,14 +135,12 @@ class PitchApproach:
         )
 
     @classmethod
-    def from_table(
-        cls, table: MeshTable, pinion, gear, torque: float, slopes=None
-    ) -> PitchApproach:
+    def from_table(cls, table: MeshTable, pinion, gear, torque: float, form=None) -> PitchApproach:
         """From a mesh table with pair weights and torque arm (a loaded TCA's) and the
         cumulative pitch deviations of the drive flanks (m, one per tooth, docs/ltca.md
         "Pitch deviations"), at ``torque``: samples over lcm(N_1, N_2) mesh cycles.
-        ``slopes``: the teeth's profile and helix slope deviations
-        (:class:`~gearbox.ltca.pitch.SlopeDeviations`, docs/ltca.md "Form deviations"),
+        ``form``: the teeth's profile and helix slopes and crownings
+        (:class:`~gearbox.ltca.pitch.FormDeviations`, docs/ltca.md "Form deviations"),
         which need the table's form weights."""
         from ..meshtable import TORQUE_ARM, form_weight_fields, pair_weight_fields
 
@@ -155,13 +153,13 @@ class PitchApproach:
             "pitch deviations need a loaded-TCA mesh table with the drive flank's pair "
             "weights and torque arm (the analytical tables have none)",
         )
-        form = form_weight_fields(table) if slopes is not None else {}
-        if slopes is not None:
+        weights = form_weight_fields(table) if form is not None else {}
+        if form is not None:
             p.check(
-                bool(form) and set(form) == set(fields_),
+                bool(weights) and set(weights) == set(fields_),
                 "mesh table",
                 table.attrs.get("method", ""),
-                "slope deviations need a loaded-TCA mesh table with the drive flank's form "
+                "form deviations need a loaded-TCA mesh table with the drive flank's form "
                 "weights (run the loaded TCA again)",
             )
         radii = [table.attrs.get(f"{m}_reference_pitch_radius_m") for m in ("pinion", "gear")]
@@ -176,11 +174,11 @@ class PitchApproach:
         gea = np.asarray(gear, dtype=float).reshape(-1)
         p.check(pin.size == z1, "pinion deviations", pin.size, f"must be {z1} values")
         p.check(gea.size == z2, "gear deviations", gea.size, f"must be {z2} values")
-        if slopes is not None:
+        if form is not None:
             p.check(
-                tuple(slopes.teeth) == (z1, z2),
-                "slope deviations",
-                slopes.teeth,
+                tuple(form.teeth) == (z1, z2),
+                "form deviations",
+                form.teeth,
                 f"must be {z1} / {z2} values",
             )
         p.raise_if_any("invalid pitch deviations")
@@ -191,11 +189,11 @@ class PitchApproach:
         c = np.arange(H)[:, None] - ks[None, :]
         alpha = pin[c % z1] / float(radii[0]) + gea[c % z2] / float(radii[1]) * (z2 / z1)
         turn = alpha @ w.T  # (H, P): sum_k w_k alpha_k
-        if slopes is not None:
+        if form is not None:
             W = np.stack(
-                [[table.values_at(n, "drive", torque) for n in form[k]] for k in ks], axis=1
+                [[table.values_at(n, "drive", torque) for n in weights[k]] for k in ks], axis=1
             )  # (J, K, P)
-            turn = turn + np.einsum("hkj,jkp->hp", slopes.slopes(c % z1, c % z2), W)
+            turn = turn + np.einsum("hkj,jkp->hp", form.coefficients(c % z1, c % z2), W)
         values = (arm[None, :] * turn).reshape(-1)
         step = float(table.angle[1] - table.angle[0])
         return cls(values, float(table.angle[0]), step)
@@ -221,15 +219,17 @@ def _pitch_of(scene, table: MeshTable, torque: float) -> PitchApproach | None:
     ``drivetrain.pitch_deviations`` is on (docs §3c), else None."""
     if not scene["drivetrain"]["pitch_deviations"]:
         return None
-    from ..ltca.pitch import deviations_from_section, slopes_from_section
-    from ..meshtable import CONTACT_LENGTHS
+    from ..ltca.pitch import deviations_from_section, form_from_section
+    from ..meshtable import CONTACT_CENTRES, CONTACT_LENGTHS
 
     teeth = (table.pinion_teeth, table.gear_teeth)
     pin, gear = deviations_from_section(scene["pitch"], teeth)
-    covered = [table.attrs.get(k) for k in CONTACT_LENGTHS]
-    lengths = None if None in covered else ((covered[0], covered[1]), (covered[2], covered[3]))
-    slopes = slopes_from_section(scene["pitch"], teeth, lengths)
-    return PitchApproach.from_table(table, pin, gear, torque, slopes)
+    covered = []
+    for names in (CONTACT_LENGTHS, CONTACT_CENTRES):
+        v = [table.attrs.get(k) for k in names]
+        covered.append(None if None in v else ((v[0], v[1]), (v[2], v[3])))
+    form = form_from_section(scene["pitch"], teeth, *covered)
+    return PitchApproach.from_table(table, pin, gear, torque, form)
 
 
 @dataclass(frozen=True)

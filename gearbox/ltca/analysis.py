@@ -106,9 +106,10 @@ class CycleResult:
     :mod:`gearbox.ltca.pitch`); pair_load_sensitivity (T, P, K, K): d(normal load of
     pair j) / d(alpha_k) (N/rad) for an offset -m_i alpha_k of pair k's points
     (:func:`~gearbox.ltca.solver.pair_sensitivities`); both ``None`` in results stored
-    before they existed. pair_form_weight (T, P, K, 4) and pair_form_load_sensitivity
-    (T, P, K, K, 4): the same for unit slope deviations of pair k's flanks
-    (:meth:`ContactGrid.form_bases`, in the order of ``ContactGrid.FORM_BASES``; the
+    before they existed. pair_form_weight (T, P, K, 8) and pair_form_load_sensitivity
+    (T, P, K, K, 8): the same for unit coefficients of the offset shapes of pair k's
+    flanks (slopes and crownings, :meth:`ContactGrid.form_bases`, in the order of
+    ``ContactGrid.FORM_BASES``; the
     rotation changes by -sum w c, docs/ltca.md "Form deviations"); flank_range (4, 2):
     the range of the loaded points' flank coordinates (``ContactGrid.flank_coordinates``:
     roll lengths and axial positions of pinion and gear, m) over the cycle and torques,
@@ -330,8 +331,8 @@ def ltca_cycle(
     nb = len(ContactGrid.FORM_BASES)
     form_weight = np.zeros((T, P, pair_index.size, nb)) if form else None
     form_sens = np.zeros((T, P, pair_index.size, pair_index.size, nb)) if form else None
-    flank_lo = np.full(nb, np.inf)
-    flank_hi = np.full(nb, -np.inf)
+    flank_lo = np.full(4, np.inf)  # the four flank coordinates
+    flank_hi = np.full(4, -np.inf)
     pair_rs = np.zeros((T, P, pair_index.size, 2))
     mesh_point = np.zeros((T, P, 3))
     loa = np.zeros((T, P, 3))
@@ -408,7 +409,7 @@ def ltca_cycle(
                 form_weight[t, j], form_sens[t, j] = w_all[:, 1:], s_all[..., 1:]
                 # the loaded points, the face positions widened by half their slices
                 on = F > 0
-                half = np.zeros((int(on.sum()), nb))
+                half = np.zeros((int(on.sum()), 4))
                 half[:, 1] = 0.5 * grid.width[on]
                 half[:, 3] = 0.5 * grid.width2[on]
                 c = grid.flank_coordinates[on]

@@ -321,21 +321,24 @@ class ContactGrid:
     FORM_BASES = FORM_BASES
 
     def form_bases(self) -> np.ndarray | None:
-        """Normal offsets of the flanks per unit slope deviation, shape (n, 4), m per
-        (m/m), in the order of :attr:`FORM_BASES`: a profile slope f_H_alpha over an
-        evaluation length L_alpha puts f_H_alpha / L_alpha times the roll length from
-        the reference circle on the flank, a helix slope f_H_beta over L_beta puts
-        f_H_beta / L_beta times the axial position from the face middle, both measured
-        in the transverse plane along the base tangent (as a gear checker measures
-        them), so normal to the flank times the cosine to the transverse plane (cos
-        beta_b on involute helicoids). Plus material closes the gap: a point's
-        separation changes by ``-bases @ slopes``. ``None`` without
-        ``flank_coordinates``."""
+        """Normal offsets of the flanks per unit form coefficient, shape (n, 8), in the
+        order of :attr:`FORM_BASES`. The first four are the slopes (m per m/m): a
+        profile slope f_H_alpha over an evaluation length L_alpha puts f_H_alpha /
+        L_alpha times the roll length from the reference circle on the flank, a helix
+        slope f_H_beta over L_beta puts f_H_beta / L_beta times the axial position from
+        the face middle. The last four are the same coordinates squared (m per 1/m), the
+        quadratic part of a crowning (:class:`~gearbox.ltca.pitch.FormDeviations`).
+        All are measured in the transverse plane along the base tangent (as a gear
+        checker measures them), so normal to the flank times the cosine to the
+        transverse plane (cos beta_b on involute helicoids). Plus material closes the
+        gap: a point's separation changes by ``-bases @ coefficients``. ``None``
+        without ``flank_coordinates``."""
         if self.flank_coordinates is None:
             return None
         c = self.flank_coordinates
         t1, t2 = self.transverse_projection, self.transverse_projection2
-        return np.column_stack([t1 * c[:, 0], t1 * c[:, 1], t2 * c[:, 2], t2 * c[:, 3]])
+        t = np.column_stack([t1, t1, t2, t2])
+        return np.column_stack([t * c, t * c * c])
 
     def _relative_velocity(self):
         kin = self._kinematics()

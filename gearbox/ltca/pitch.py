@@ -33,11 +33,12 @@ phi under these offsets:
 The transmission error is the loaded TCA's ``lte``: the loaded rotation times the
 torque arm T / sum F (m along the line of action), so a proud tooth lowers it.
 
-Form deviations (:class:`SlopeDeviations`): each tooth's profile and helix slope
+Form deviations (:class:`FormDeviations`): each tooth's profile and helix slope
 deviations f_H_alpha, f_H_beta tilt its flank about the point where its pitch is
-measured (the reference circle in the face middle). They offset pair k's points by
-ds_i = -B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`, c the slopes
-f / L of pair k's two teeth), which the loaded TCA's form weights
+measured (the reference circle in the face middle), and its crownings C_alpha, C_beta
+(less the design's) bend it about the middle of the evaluation range. They offset pair
+k's points by ds_i = -B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`: the
+flank coordinates and their squares; c the coefficients of pair k's two teeth), which the loaded TCA's form weights
 (``CycleResult.pair_form_weight``) carry through the same two methods: linear,
 phi = phi_0 - sum_k (w_k alpha_k + sum_j W_kj c_kj), and exact.
 """
@@ -50,6 +51,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import InputError, Problem, Problems
+from ..meshtable import FORM_BASES
 from .analysis import CycleResult
 from .solver import ContactSolver, solve_contact
 
@@ -57,10 +59,11 @@ __all__ = [
     "HuntingRecord",
     "PitchDeviations",
     "PitchResult",
-    "SlopeDeviations",
+    "FormDeviations",
+    "covered_centres",
     "covered_lengths",
+    "form_from_section",
     "pair_coefficients",
-    "slopes_from_section",
     "deviations_from_scene",
     "deviations_from_section",
     "exact_rotation",
@@ -91,20 +94,35 @@ def _per_tooth(name: str, values, p: Problems, size: int | None = None) -> np.nd
     return a
 
 
-@dataclass(frozen=True)
-class SlopeDeviations:
-    """Profile and helix slope deviations of each tooth's loaded flank (m), as a gear
-    checker reports them (ISO 1328-1 f_H_alpha, f_H_beta): the departure of the mean
-    trace from the design trace over the evaluation length, measured in the transverse
-    plane along the base tangent. Positive: plus material growing towards the tip
-    (profile) or towards the heel, +z on parallel axes (helix; each member's own axis).
-    The flank turns about the reference circle in the face middle, where the pitch is
-    measured, so the slopes add no offset there.
+#: The form deviations' shapes on the flanks, in the order of ``ContactGrid.FORM_BASES``'s
+#: first four: (member, kind).
+_SHAPES = (("pinion", "profile"), ("pinion", "helix"), ("gear", "profile"), ("gear", "helix"))
 
-    pinion_profile, pinion_helix (z1,), gear_profile, gear_helix (z2,), tooth i as the
-    module doc numbers them; profile_length (L_alpha of pinion, gear: roll length, m)
-    and helix_length (L_beta of pinion, gear: axial, m), the evaluation lengths the
-    slopes are given over.
+
+@dataclass(frozen=True)
+class FormDeviations:
+    """Profile and helix form deviations of each tooth's loaded flank (m), as a gear
+    checker reports them, measured in the transverse plane along the base tangent:
+
+    - slopes f_H_alpha, f_H_beta (ISO 1328-1): the departure of the mean trace from the
+      design trace over the evaluation length. Positive: plus material growing towards
+      the tip (profile) or towards the heel, +z on parallel axes (helix; each member's
+      own axis). The flank turns about the reference circle in the face middle, where
+      the pitch is measured, so the slopes add no offset there.
+    - crownings C_alpha, C_beta less the design's (None: none): the height of the
+      trace's arc over its chord across the evaluation length, a parabola with its
+      vertex in the middle of the evaluation range. Positive: more crowned than
+      designed, the range's ends lower than its middle by C. The parabola has no slope
+      over its range (it leaves f_H as it is) and is shifted to add no offset at the
+      reference point either: a tooth's offset at roll length or axial position x is
+      -C ((2 (x - m) / L)^2 - (2 m / L)^2), m the middle of the range.
+
+    pinion_profile, pinion_helix (z1,), gear_profile, gear_helix (z2,) the slopes and
+    the four ``*_crowning`` arrays likewise, tooth i as the module doc numbers them;
+    profile_length (L_alpha of pinion, gear: roll length, m) and helix_length (L_beta
+    of pinion, gear: axial, m), the evaluation lengths; profile_centre, helix_centre
+    (pinion, gear; m from the reference circle and the face middle) the middles of the
+    evaluation ranges.
     """
 
     pinion_profile: np.ndarray
@@ -113,48 +131,79 @@ class SlopeDeviations:
     gear_helix: np.ndarray
     profile_length: tuple[float, float]
     helix_length: tuple[float, float]
+    pinion_profile_crowning: np.ndarray | None = None
+    pinion_helix_crowning: np.ndarray | None = None
+    gear_profile_crowning: np.ndarray | None = None
+    gear_helix_crowning: np.ndarray | None = None
+    profile_centre: tuple[float, float] = (0.0, 0.0)
+    helix_centre: tuple[float, float] = (0.0, 0.0)
 
     def __post_init__(self):
         p = Problems()
         z1 = np.size(self.pinion_profile)
         z2 = np.size(self.gear_profile)
-        for name in ("pinion_profile", "pinion_helix", "gear_profile", "gear_helix"):
-            z = z1 if name.startswith("pinion") else z2
+        for member, kind in _SHAPES:
+            z = z1 if member == "pinion" else z2
+            name = f"{member}_{kind}"
             object.__setattr__(self, name, _per_tooth(name, getattr(self, name), p, z))
-        for name in ("profile_length", "helix_length"):
+            name += "_crowning"
+            given = getattr(self, name)
+            object.__setattr__(
+                self, name, _per_tooth(name, np.zeros(z) if given is None else given, p, z)
+            )
+        for name in ("profile_length", "helix_length", "profile_centre", "helix_centre"):
             v = tuple(float(x) for x in getattr(self, name))
             p.check(len(v) == 2, name, v, "must give (pinion, gear)")
             for i, x in enumerate(v[:2]):
-                p.in_range(f"{name}[{i}]", x, 0.0, None, lo_open=True)
+                if name.endswith("length"):
+                    p.in_range(f"{name}[{i}]", x, 0.0, None, lo_open=True)
+                else:
+                    p.check(math.isfinite(x), f"{name}[{i}]", x, "must be finite")
             object.__setattr__(self, name, v)
-        p.raise_if_any("invalid slope deviations")
+        p.raise_if_any("invalid form deviations")
 
     @property
     def teeth(self) -> tuple[int, int]:
         return int(self.pinion_profile.size), int(self.gear_profile.size)
 
-    def slopes(self, pinion_teeth, gear_teeth) -> np.ndarray:
-        """The slopes f / L (m/m) of the given pinion and gear teeth (index arrays of one
-        shape), stacked last in the order of ``ContactGrid.FORM_BASES``."""
-        return np.stack(
-            [
-                self.pinion_profile[pinion_teeth] / self.profile_length[0],
-                self.pinion_helix[pinion_teeth] / self.helix_length[0],
-                self.gear_profile[gear_teeth] / self.profile_length[1],
-                self.gear_helix[gear_teeth] / self.helix_length[1],
-            ],
-            axis=-1,
-        )
+    @property
+    def crowned(self) -> bool:
+        """Whether any tooth's crowning differs from the design's."""
+        return any(np.any(getattr(self, f"{m}_{k}_crowning")) for m, k in _SHAPES)
+
+    def _range(self, member: str, kind: str) -> tuple[float, float]:
+        i = 0 if member == "pinion" else 1
+        return getattr(self, f"{kind}_length")[i], getattr(self, f"{kind}_centre")[i]
+
+    def coefficients(self, pinion_teeth, gear_teeth) -> np.ndarray:
+        """The coefficients of the offset shapes (``ContactGrid.FORM_BASES``) of the
+        given pinion and gear teeth (index arrays of one shape), stacked last: per
+        flank coordinate x the slope f / L - 2 m q (m/m), then the crowning's q =
+        -4 C / L^2 (1/m), so that the offset q x^2 + (f / L - 2 m q) x is the class
+        doc's."""
+        lin, quad = [], []
+        for member, kind in _SHAPES:
+            teeth = pinion_teeth if member == "pinion" else gear_teeth
+            length, centre = self._range(member, kind)
+            q = -4.0 * getattr(self, f"{member}_{kind}_crowning")[teeth] / length**2
+            lin.append(getattr(self, f"{member}_{kind}")[teeth] / length - 2.0 * centre * q)
+            quad.append(q)
+        return np.stack(lin + quad, axis=-1)
 
     def to_dict(self) -> dict:
-        return {
-            "pinion_profile_slope_m": self.pinion_profile.tolist(),
-            "pinion_helix_slope_m": self.pinion_helix.tolist(),
-            "gear_profile_slope_m": self.gear_profile.tolist(),
-            "gear_helix_slope_m": self.gear_helix.tolist(),
-            "profile_evaluation_length_m": list(self.profile_length),
-            "helix_evaluation_length_m": list(self.helix_length),
-        }
+        out = {f"{m}_{k}_slope_m": getattr(self, f"{m}_{k}").tolist() for m, k in _SHAPES}
+        if self.crowned:
+            out.update(
+                {
+                    f"{m}_{k}_crowning_m": getattr(self, f"{m}_{k}_crowning").tolist()
+                    for m, k in _SHAPES
+                }
+            )
+        out["profile_evaluation_length_m"] = list(self.profile_length)
+        out["helix_evaluation_length_m"] = list(self.helix_length)
+        out["profile_evaluation_centre_m"] = list(self.profile_centre)
+        out["helix_evaluation_centre_m"] = list(self.helix_centre)
+        return out
 
 
 @dataclass(frozen=True)
@@ -162,14 +211,14 @@ class PitchDeviations:
     """Cumulative pitch deviations of the loaded flanks (m, arc on the reference pitch
     circle, + proud): ``pinion`` shape (z1,), ``gear`` shape (z2,), tooth i as the
     module doc numbers them; ``pinion_radius``, ``gear_radius`` the reference pitch
-    radii r_1, r_2 (m) the arcs are measured on; ``slopes`` the teeth's profile and
-    helix slope deviations (:class:`SlopeDeviations`), None for none."""
+    radii r_1, r_2 (m) the arcs are measured on; ``form`` the teeth's profile and
+    helix slopes and crownings (:class:`FormDeviations`), None for none."""
 
     pinion: np.ndarray
     gear: np.ndarray
     pinion_radius: float
     gear_radius: float
-    slopes: SlopeDeviations | None = None
+    form: FormDeviations | None = None
 
     def __post_init__(self):
         p = Problems()
@@ -177,11 +226,11 @@ class PitchDeviations:
             object.__setattr__(self, name, _per_tooth(name, getattr(self, name), p))
         p.in_range("pinion_radius", self.pinion_radius, 0.0, None, lo_open=True)
         p.in_range("gear_radius", self.gear_radius, 0.0, None, lo_open=True)
-        if self.slopes is not None:
+        if self.form is not None:
             p.check(
-                self.slopes.teeth == self.teeth,
-                "slopes",
-                f"{self.slopes.teeth[0]} / {self.slopes.teeth[1]} teeth",
+                self.form.teeth == self.teeth,
+                "form",
+                f"{self.form.teeth[0]} / {self.form.teeth[1]} teeth",
                 f"must match the pitch deviations' {self.teeth[0]} / {self.teeth[1]}",
             )
         p.raise_if_any("invalid pitch deviations")
@@ -197,7 +246,7 @@ class PitchDeviations:
         return z1 * z2 // math.gcd(z1, z2)
 
     @classmethod
-    def from_single(cls, pinion_single, gear_single, pinion_radius, gear_radius, slopes=None):
+    def from_single(cls, pinion_single, gear_single, pinion_radius, gear_radius, form=None):
         """From single pitch deviations f_pt,i = F_p,i - F_p,i-1 (m; tooth 0's F_p is
         the reference, 0): each list must close (sum 0 within 1e-9 m, the pitches of a
         whole turn add up to the circle)."""
@@ -214,7 +263,7 @@ class PitchDeviations:
             )
             out.append(_cumulative(f))
         p.raise_if_any("invalid pitch deviations")
-        return cls(out[0], out[1], pinion_radius, gear_radius, slopes)
+        return cls(out[0], out[1], pinion_radius, gear_radius, form)
 
 
 def _cumulative(single: np.ndarray) -> np.ndarray:
@@ -234,23 +283,23 @@ def pair_angles(dev: PitchDeviations, pair_index, cycles) -> np.ndarray:
 
 def pair_coefficients(dev: PitchDeviations, pair_index, cycles) -> np.ndarray:
     """Each pair's offset coefficients per mesh cycle, shape (len(cycles), K, J): alpha_k
-    (:func:`pair_angles`), then, with slope deviations, the slopes of its two teeth
-    (:meth:`SlopeDeviations.slopes`; J = 5, else 1)."""
+    (:func:`pair_angles`), then, with form deviations, the coefficients of its two
+    teeth's offset shapes (:meth:`FormDeviations.coefficients`; J = 9, else 1)."""
     alpha = pair_angles(dev, pair_index, cycles)[..., None]
-    if dev.slopes is None:
+    if dev.form is None:
         return alpha
     z1, z2 = dev.teeth
     c = np.asarray(cycles, dtype=int)[:, None] - np.asarray(pair_index, dtype=int)[None, :]
-    return np.concatenate([alpha, dev.slopes.slopes(np.mod(c, z1), np.mod(c, z2))], axis=-1)
+    return np.concatenate([alpha, dev.form.coefficients(np.mod(c, z1), np.mod(c, z2))], axis=-1)
 
 
-def _weights(res: CycleResult, torque: float, slopes: bool):
+def _weights(res: CycleResult, torque: float, form: bool):
     """Pair weights (P, K, J) and load sensitivities (P, K, K, J) (None where the result
-    has none) at ``torque``, the pitch offset first, then the slopes' (J = 5)."""
+    has none) at ``torque``, the pitch offset first, then the form shapes' (J = 9)."""
     w = _at_torque(res, torque, res.pair_weight)[..., None]
     S = res.pair_load_sensitivity
     S = None if S is None else _at_torque(res, torque, S)[..., None]
-    if slopes:
+    if form:
         w = np.concatenate([w, _at_torque(res, torque, res.pair_form_weight)], axis=-1)
         if S is not None:
             Sf = _at_torque(res, torque, res.pair_form_load_sensitivity)
@@ -374,13 +423,14 @@ def _check_result(res: CycleResult, dev: PitchDeviations, teeth, torque: float, 
         None,
         "the loaded TCA result predates the pair weights: run the loaded TCA again",
     )
-    if dev.slopes is not None:
+    if dev.form is not None:
+        nb = len(FORM_BASES)
         p.check(
-            res.pair_form_weight is not None,
+            res.pair_form_weight is not None and res.pair_form_weight.shape[-1] == nb,
             "result.pair_form_weight",
-            None,
-            "slope deviations need the loaded TCA's form weights: a result of grids with "
-            "flank coordinates (run the loaded TCA again)",
+            None if res.pair_form_weight is None else res.pair_form_weight.shape,
+            f"form deviations need the loaded TCA's form weights of the {nb} shapes: a "
+            "result of grids with flank coordinates (run the loaded TCA again)",
         )
     p.raise_if_any("invalid pitch-deviation analysis")
 
@@ -421,7 +471,7 @@ def hunting_lte(
     F0 = _at_torque(res, torque, res.pair_share) * _at_torque(res, torque, res.normal_load)[:, None]
     stress, stress0 = None, _at_torque(res, torque, res.pair_root_stress)
     if method == "linear":
-        w, S = _weights(res, torque, dev.slopes is not None)  # (P, K, J), (P, K, K, J)
+        w, S = _weights(res, torque, dev.form is not None)  # (P, K, J), (P, K, K, J)
         arm = torque / _at_torque(res, torque, res.normal_load)  # (P,)
         lte = nominal[None, :] - arm[None, :] * np.einsum("hkj,pkj->hp", coef, w)
         loads = None
@@ -502,7 +552,7 @@ def exact_rotation(grid, compliance, torque, alpha, pair_index, *, solver=None):
 def _offsets(grid, coef, pair_index) -> np.ndarray:
     """Each row's normal offsets of the grid's points, shape (R, n), for coefficients
     (R, K) (pair angles) or (R, K, J) (:func:`pair_coefficients`): m_i alpha_k, plus
-    B_ij c_kj with slopes; the separations are less them."""
+    B_ij c_kj with form deviations; the separations are less them."""
     coef = np.asarray(coef, dtype=float)
     coef = coef[None] if coef.ndim == 1 else coef
     coef = coef[..., None] if coef.ndim == 2 else coef  # (R, K, J)
@@ -514,7 +564,7 @@ def _offsets(grid, coef, pair_index) -> np.ndarray:
         if bases is None:
             raise InputError(
                 Problem(
-                    "grid.flank_coordinates", None, "slope deviations need the flank coordinates"
+                    "grid.flank_coordinates", None, "form deviations need the flank coordinates"
                 )
             )
         X = np.column_stack([grid.arm, bases])
@@ -525,8 +575,8 @@ def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None,
     """Loaded rotation (rad), torque arm T / sum F (m) and each pair's normal load (N,
     shape (R, K)) at one grid position for each row of pair angles ``alpha`` (shape
     (R, K), pinion radians, K = len(pair_index)): the contact problem with the
-    separations offset by -m_i alpha_k. ``alpha`` may also be (R, K, 5), the
-    coefficients of :func:`pair_coefficients` with slope deviations: the offsets are
+    separations offset by -m_i alpha_k. ``alpha`` may also be (R, K, 9), the
+    coefficients of :func:`pair_coefficients` with form deviations: the offsets are
     then -m_i alpha_k - B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`).
     Rows that repeat are solved once; each solve starts from the first-order loads of
     its offsets at the nominal solution (:func:`_predicted_loads`). ``stress=True``
@@ -641,35 +691,53 @@ def _listed_or(section, key: str, member: str, teeth: int, p: Problems, otherwis
 
 def covered_lengths(flank_range) -> tuple[tuple[float, float], tuple[float, float]]:
     """The roll lengths (pinion, gear) and axial lengths (pinion, gear) that the loaded
-    contact covers, m, from a loaded TCA's ``flank_range`` (4, 2): the slopes'
-    default evaluation lengths."""
+    contact covers, m, from a loaded TCA's ``flank_range`` (4, 2): the form
+    deviations' default evaluation lengths."""
     r = np.asarray(flank_range, dtype=float)
     width = r[:, 1] - r[:, 0]
     return (float(width[0]), float(width[2])), (float(width[1]), float(width[3]))
 
 
-def slopes_from_section(section, teeth: tuple[int, int], lengths=None) -> SlopeDeviations | None:
-    """The slope deviations of a scene's ``[pitch]`` section (m), None where it sets
+def covered_centres(flank_range) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The middles of those ranges (m from the reference circle and the face middle),
+    ordered as :func:`covered_lengths`: the crownings' default vertices."""
+    r = np.asarray(flank_range, dtype=float)
+    mid = 0.5 * (r[:, 0] + r[:, 1])
+    return (float(mid[0]), float(mid[2])), (float(mid[1]), float(mid[3]))
+
+
+def form_from_section(
+    section, teeth: tuple[int, int], lengths=None, centres=None
+) -> FormDeviations | None:
+    """The form deviations of a scene's ``[pitch]`` section (m), None where it sets
     none: each member's lists where given, else random within +-``random_*_slope_um``
-    (uniform, tooth by tooth, from a generator seeded with [seed, 1]: pinion profile,
-    pinion helix, gear profile, gear helix). The evaluation lengths are the section's
-    (mm), else ``lengths`` ((L_alpha pinion, gear), (L_beta pinion, gear), m:
-    :func:`covered_lengths` of the loaded TCA). Raises InputError naming each key
-    that is wrong."""
-    keys = [f"{m}_{k}_slope_um" for m in ("pinion", "gear") for k in ("profile", "helix")]
-    rand = {k: float(section[f"random_{k}_slope_um"]) * 1e-6 for k in ("profile", "helix")}
-    if not any(section[k] for k in keys) and not any(rand.values()):
+    and +-``random_*_crowning_um`` (uniform, tooth by tooth, from generators seeded
+    with [seed, 1] for the slopes and [seed, 2] for the crownings, each drawing
+    pinion profile, pinion helix, gear profile, gear helix). The evaluation lengths are
+    the section's (mm), else ``lengths`` ((L_alpha pinion, gear), (L_beta pinion,
+    gear), m: :func:`covered_lengths` of the loaded TCA); the ranges' middles are
+    ``centres`` (:func:`covered_centres`), needed where a crowning is set. Raises
+    InputError naming each key that is wrong."""
+    rand = {
+        (kind, what): float(section[f"random_{kind}_{what}_um"]) * 1e-6
+        for kind in ("profile", "helix")
+        for what in ("slope", "crowning")
+    }
+    listed = any(section[f"{m}_{k}_{w}_um"] for m, k in _SHAPES for w in ("slope", "crowning"))
+    if not listed and not any(rand.values()):
         return None
-    rng = np.random.default_rng([int(section["seed"]), 1])
     p = Problems()
     got = {}
-    for member, z in zip(("pinion", "gear"), teeth, strict=True):
-        for kind in ("profile", "helix"):
-            drawn = rng.uniform(-rand[kind], rand[kind], int(z))  # drawn alike: the sequence
-            got[(member, kind)] = _listed_or(
-                section, f"{member}_{kind}_slope_um", member, z, p, drawn
-            )
-    length = {}
+    for i, what in enumerate(("slope", "crowning")):
+        rng = np.random.default_rng([int(section["seed"]), i + 1])
+        for member, kind in _SHAPES:
+            z = teeth[0] if member == "pinion" else teeth[1]
+            a = rand[(kind, what)]
+            drawn = rng.uniform(-a, a, int(z))  # drawn alike: the generator's sequence
+            key = f"{member}_{kind}_{what}_um"
+            got[(member, kind, what)] = _listed_or(section, key, member, z, p, drawn)
+    crowned = any(np.any(got[(m, k, "crowning")]) for m, k in _SHAPES)
+    length, centre = {}, {}
     for i, kind in enumerate(("profile", "helix")):
         key = f"pitch.{kind}_evaluation_mm"
         given = section[f"{kind}_evaluation_mm"]
@@ -680,28 +748,46 @@ def slopes_from_section(section, teeth: tuple[int, int], lengths=None) -> SlopeD
             length[kind] = tuple(float(v) for v in lengths[i])
         else:
             p.add(key, given, "needed: no loaded TCA gives the covered lengths here")
-    p.raise_if_any("invalid slope deviations")
-    return SlopeDeviations(
-        got[("pinion", "profile")],
-        got[("pinion", "helix")],
-        got[("gear", "profile")],
-        got[("gear", "helix")],
+        if centres is not None:
+            centre[kind] = tuple(float(v) for v in centres[i])
+        else:
+            centre[kind] = (0.0, 0.0)
+            p.check(
+                not crowned,
+                f"pitch.*_{kind}_crowning_um",
+                "set",
+                "crownings need the middle of the contact's range on the flank: a loaded "
+                "TCA's (run it again)",
+            )
+    p.raise_if_any("invalid form deviations")
+    return FormDeviations(
+        *(got[(m, k, "slope")] for m, k in _SHAPES),
         length["profile"],
         length["helix"],
+        *(got[(m, k, "crowning")] for m, k in _SHAPES),
+        centre["profile"],
+        centre["helix"],
     )
 
 
 def deviations_from_scene(design, scene, flank_range=None) -> PitchDeviations:
     """The scene's ``[pitch]`` deviations (:func:`deviations_from_section`,
-    :func:`slopes_from_section`) on the design's reference pitch radii; ``flank_range``
-    the drive flank's loaded TCA's (``CycleResult.flank_range``) for the slopes'
-    default evaluation lengths."""
+    :func:`form_from_section`) on the design's reference pitch radii; ``flank_range``
+    the drive flank's loaded TCA's (``CycleResult.flank_range``) for the form
+    deviations' default evaluation lengths and the crownings' vertices."""
     teeth = (design.pinion.teeth, design.gear.teeth)
     pin, gear = deviations_from_section(scene["pitch"], teeth)
-    lengths = None if flank_range is None else covered_lengths(flank_range)
-    slopes = slopes_from_section(scene["pitch"], teeth, lengths)
+    covered = (
+        (None, None)
+        if flank_range is None
+        else (
+            covered_lengths(flank_range),
+            covered_centres(flank_range),
+        )
+    )
+    form = form_from_section(scene["pitch"], teeth, *covered)
     return PitchDeviations(
-        pin, gear, design.pinion.reference_pitch_radius, design.gear.reference_pitch_radius, slopes
+        pin, gear, design.pinion.reference_pitch_radius, design.gear.reference_pitch_radius, form
     )
 
 
@@ -760,7 +846,7 @@ class PitchResult:
             "pinion_cumulative_m": self.deviations.pinion.tolist(),
             "gear_cumulative_m": self.deviations.gear.tolist(),
             "reference_pitch_radii_m": [self.deviations.pinion_radius, self.deviations.gear_radius],
-            **({} if self.deviations.slopes is None else self.deviations.slopes.to_dict()),
+            **({} if self.deviations.form is None else self.deviations.form.to_dict()),
             "lte_peak_to_peak_m": float(np.ptp(rec.lte)),
             "lte_nominal_peak_to_peak_m": float(np.ptp(rec.lte_nominal)),
             **self.loads_summary(),

@@ -183,27 +183,35 @@ def plot_hunting_lte(record, ax=None, revolutions: float = 2.0):
 def plot_tooth_deviations(deviations, ax=None):
     """Each tooth's deviations (um) against its number, pinion and gear
     (:class:`gearbox.ltca.pitch.PitchDeviations`): cumulative pitch F_p, and the
-    profile and helix slopes f_H_alpha, f_H_beta where it has them."""
+    profile and helix slopes f_H_alpha, f_H_beta and crownings C_alpha, C_beta (less
+    the design's) where it has them."""
     ax = _axes(ax)
-    sl = deviations.slopes
+    form = deviations.form
+    shapes = (
+        ("profile", "^", "f_H profile"),
+        ("helix", "s", "f_H helix"),
+        ("profile_crowning", "v", "C profile"),
+        ("helix_crowning", "D", "C helix"),
+    )
     for member, color in (("pinion", "tab:blue"), ("gear", "tab:orange")):
         fp = getattr(deviations, member)
         i = np.arange(fp.size)
         ax.plot(i, fp * 1e6, "-o", ms=2.5, lw=0.8, color=color, label=f"{member} F_p")
-        if sl is not None:
-            for kind, marker in (("profile", "^"), ("helix", "s")):
-                f = getattr(sl, f"{member}_{kind}")
-                if np.any(f):
-                    ax.plot(
-                        i,
-                        f * 1e6,
-                        marker,
-                        ms=3,
-                        ls="none",
-                        color=color,
-                        alpha=0.6,
-                        label=f"{member} f_H {kind}",
-                    )
+        if form is None:
+            continue
+        for kind, marker, name in shapes:
+            f = getattr(form, f"{member}_{kind}")
+            if np.any(f):
+                ax.plot(
+                    i,
+                    f * 1e6,
+                    marker,
+                    ms=3,
+                    ls="none",
+                    color=color,
+                    alpha=0.6,
+                    label=f"{member} {name}",
+                )
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel("tooth (numbered from the reference pair at the start of the record)")
     ax.set_ylabel("deviation (um)")

@@ -15,6 +15,7 @@ import numpy as np
 from .. import __version__
 from ..errors import Problems
 from ..meshtable import (
+    CONTACT_CENTRES,
     CONTACT_LENGTHS,
     FORM_BASES,
     FRICTION_ARMS,
@@ -26,7 +27,7 @@ from ..meshtable import (
 from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle, root_stress_method
 from .compliance import compliance_for, describe_compliance
 from .parallel import ParallelPair, parallel_grid
-from .pitch import covered_lengths
+from .pitch import covered_centres, covered_lengths
 
 __all__ = [
     "LTCAResult",
@@ -113,8 +114,9 @@ def mesh_table(
             [flanks[f].torque[:, None] / flanks[f].normal_load for f in names]
         )
     if all(flanks[f].pair_form_weight is not None for f in names):
-        # each pair's weights for its teeth's slope deviations (docs/ltca.md "Form
-        # deviations"), and the lengths the drive flank's contact covers
+        # each pair's weights for its teeth's slopes and crownings (docs/ltca.md "Form
+        # deviations"), and the lengths and middles of what the drive flank's contact
+        # covers
         ks = sorted({int(k) for f in names for k in flanks[f].pair_index})
         for k in ks:
             for b, basis in enumerate(FORM_BASES):
@@ -125,8 +127,14 @@ def mesh_table(
                         w[i] = flanks[f].pair_form_weight[:, :, hit[0], b]
                 extra[form_weight_name(basis, k)] = w
         if "drive" in flanks:
-            (r1, r2), (f1, f2) = covered_lengths(flanks["drive"].flank_range)
-            attrs = {**attrs, **dict(zip(CONTACT_LENGTHS, (r1, r2, f1, f2), strict=True))}
+            rng = flanks["drive"].flank_range
+            (r1, r2), (f1, f2) = covered_lengths(rng)
+            (c1, c2), (d1, d2) = covered_centres(rng)
+            attrs = {
+                **attrs,
+                **dict(zip(CONTACT_LENGTHS, (r1, r2, f1, f2), strict=True)),
+                **dict(zip(CONTACT_CENTRES, (c1, c2, d1, d2), strict=True)),
+            }
     return MeshTable(
         pinion_teeth=pinion_teeth,
         gear_teeth=gear_teeth,
@@ -206,8 +214,9 @@ def _mirror(res: CycleResult) -> CycleResult:
     n[..., 2] *= -1
     form = {}
     if res.pair_form_weight is not None:
-        # the faces turn end for end: the helix slopes' offsets change sign
-        flip = np.array([1.0, -1.0, 1.0, -1.0])
+        # the faces turn end for end: the helix slopes' offsets change sign (their
+        # crownings', even in the axial position, do not)
+        flip = np.array([1.0, -1.0, 1.0, -1.0, 1.0, 1.0, 1.0, 1.0])
         rng = res.flank_range.copy()
         rng[[1, 3]] = -rng[[1, 3]][:, ::-1]
         form = dict(

@@ -1,5 +1,5 @@
-"""Report section of the pitch deviations (and the teeth's slope deviations, where the
-scene sets them): the loaded TE over a hunting period on the drive flank and its order
+"""Report section of the pitch deviations (and the teeth's slopes and crownings, where
+the scene sets them): the loaded TE over a hunting period on the drive flank and its order
 spectrum, with the largest lines named."""
 
 from __future__ import annotations
@@ -35,8 +35,8 @@ def render_pitch(pr, run) -> Section:
             fmt(dev.gear_radius * 1e3, 5),
         ),
     ]
-    if dev.slopes is not None:
-        sl = dev.slopes
+    if dev.form is not None:
+        sl = dev.form
         rows += [
             (
                 "profile slope f_H_alpha, largest |value| (um)",
@@ -52,6 +52,24 @@ def render_pitch(pr, run) -> Section:
             ),
             ("helix evaluation length L_beta (mm)", *(fmt(x * 1e3, 4) for x in sl.helix_length)),
         ]
+        if sl.crowned:
+            rows += [
+                (
+                    f"{kind} crowning less the design's, {sym}, largest |value| (um)",
+                    *(
+                        fmt(1e6 * np.abs(getattr(sl, f"{m}_{kind}_crowning")).max(), 4)
+                        for m in ("pinion", "gear")
+                    ),
+                )
+                for kind, sym in (("profile", "C_alpha"), ("helix", "C_beta"))
+            ]
+            rows += [
+                (
+                    f"{kind} evaluation range's middle, the crownings' vertex (mm)",
+                    *(fmt(x * 1e3, 4) for x in getattr(sl, f"{kind}_centre")),
+                )
+                for kind in ("profile", "helix")
+            ]
     summary = [
         ("flank", pr.flank),
         ("pinion torque (N m)", fmt(rec.torque)),
