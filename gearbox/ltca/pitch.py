@@ -59,6 +59,8 @@ __all__ = [
     "HuntingRecord",
     "PitchDeviations",
     "PitchResult",
+    "Trace",
+    "FlankTraces",
     "FormDeviations",
     "covered_centres",
     "covered_lengths",
@@ -207,18 +209,171 @@ class FormDeviations:
 
 
 @dataclass(frozen=True)
+class Trace:
+    """One member's measured profile or helix traces, one per tooth: ``deviation``
+    (z, n) m at ``position`` (n,) m, strictly increasing, in the flank coordinate of
+    :attr:`ContactGrid.flank_coordinates <gearbox.ltca.grid.ContactGrid>` (roll length
+    from the reference circle, or axial position from the face middle). Deviations are
+    a checker's: the measured trace less the design trace, in the transverse plane along
+    the base tangent, plus material positive; everything the trace holds counts (slope,
+    crowning, form, waviness). Between samples linear, beyond them held at the end
+    values."""
+
+    position: np.ndarray
+    deviation: np.ndarray
+
+    def __post_init__(self):
+        p = Problems()
+        x = np.array(self.position, dtype=float).reshape(-1)
+        f = np.array(self.deviation, dtype=float)
+        p.check(x.size >= 2, "position", x.size, "needs at least 2 samples")
+        p.check(
+            bool(np.all(np.isfinite(x))) and bool(np.all(np.diff(x) > 0)),
+            "position",
+            "values",
+            "must be finite and strictly increasing (m)",
+        )
+        p.check(
+            f.ndim == 2 and f.shape[1] == x.size,
+            "deviation",
+            f"shape {f.shape}",
+            f"must be (teeth, {x.size}): one trace per tooth at the positions",
+        )
+        if f.ndim == 2 and f.shape[1] == x.size:
+            _per_tooth("deviation", f.reshape(-1), p, f.size)
+            p.check(f.shape[0] >= 8, "deviation", f"{f.shape[0]} teeth", "needs >= 8 teeth")
+        p.raise_if_any("invalid trace")
+        for name, a in (("position", x), ("deviation", f)):
+            a.setflags(write=False)
+            object.__setattr__(self, name, a)
+
+    @property
+    def teeth(self) -> int:
+        return int(self.deviation.shape[0])
+
+    def at(self, x) -> np.ndarray:
+        """Each tooth's offset (m, (z, len(x))) at flank coordinates ``x`` (m), less its
+        value at 0 (the reference point, where the pitch is measured)."""
+        x = np.asarray(x, dtype=float).reshape(-1)
+        pts = np.concatenate([x, [0.0]])
+        v = np.array([np.interp(pts, self.position, d) for d in self.deviation])
+        return v[:, :-1] - v[:, -1:]
+
+
+@dataclass(frozen=True)
+class FlankTraces:
+    """Measured traces of each tooth's loaded flank (:class:`Trace`; None: none) for
+    pinion and gear, profile and helix. A point's offset is the sum of its tooth's
+    profile trace at its roll length and helix trace at its axial position (the usual
+    reading of a profile and a helix trace as the flank's topography), normal to the
+    flank through the transverse projection. Each trace is taken less its value at the
+    reference point, so the pitch deviations stay where they are measured."""
+
+    pinion_profile: Trace | None = None
+    pinion_helix: Trace | None = None
+    gear_profile: Trace | None = None
+    gear_helix: Trace | None = None
+
+    def __post_init__(self):
+        p = Problems()
+        for member, kind in _SHAPES:
+            t = getattr(self, f"{member}_{kind}")
+            p.check(
+                t is None or isinstance(t, Trace),
+                f"{member}_{kind}",
+                type(t).__name__,
+                "must be a Trace or None",
+            )
+        for member in ("pinion", "gear"):
+            z = {
+                getattr(self, f"{member}_{k}").teeth
+                for k in ("profile", "helix")
+                if getattr(self, f"{member}_{k}") is not None
+            }
+            p.check(
+                len(z) <= 1,
+                f"{member}_helix",
+                f"{sorted(z)} teeth",
+                "must match the profile traces' teeth",
+            )
+        p.check(
+            any(getattr(self, f"{m}_{k}") is not None for m, k in _SHAPES),
+            "traces",
+            None,
+            "needs at least one trace",
+        )
+        p.raise_if_any("invalid flank traces")
+
+    def teeth_of(self, member: str) -> int | None:
+        for kind in ("profile", "helix"):
+            t = getattr(self, f"{member}_{kind}")
+            if t is not None:
+                return t.teeth
+        return None
+
+    def point_offsets(self, grid) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """Every tooth's normal offset (m, plus material) at every point of ``grid``,
+        pinion (z1, n) and gear (z2, n); None for a member without traces."""
+        c = grid.flank_coordinates
+        if c is None:
+            raise InputError(
+                Problem("grid.flank_coordinates", None, "flank traces need the flank coordinates")
+            )
+        out = []
+        for m, (member, t) in enumerate(
+            (("pinion", grid.transverse_projection), ("gear", grid.transverse_projection2))
+        ):
+            total = None
+            for j, kind in enumerate(("profile", "helix")):
+                tr = getattr(self, f"{member}_{kind}")
+                if tr is not None:
+                    v = tr.at(c[:, 2 * m + j])
+                    total = v if total is None else total + v
+            out.append(None if total is None else total * np.asarray(t)[None, :])
+        return out[0], out[1]
+
+    def offsets(self, grid, cycles) -> np.ndarray:
+        """The grid's normal offsets (R, n) in each of the mesh ``cycles`` (R,): a point
+        of pair k takes the offsets of pinion tooth (c - k) mod z1 and gear tooth
+        (c - k) mod z2 (the module doc's numbering)."""
+        pin, gear = self.point_offsets(grid)
+        cyc = np.asarray(cycles, dtype=int)
+        k = np.asarray(grid.pair, dtype=int)
+        n = k.size
+        out = np.zeros((cyc.size, n))
+        cols = np.arange(n)[None, :]
+        for tab in (pin, gear):
+            if tab is not None:
+                out += tab[np.mod(cyc[:, None] - k[None, :], tab.shape[0]), cols]
+        return out
+
+    def to_dict(self) -> dict:
+        out = {}
+        for member, kind in _SHAPES:
+            t = getattr(self, f"{member}_{kind}")
+            if t is not None:
+                out[f"{member}_{kind}_trace"] = {
+                    "position_m": t.position.tolist(),
+                    "deviation_m": t.deviation.tolist(),
+                }
+        return out
+
+
+@dataclass(frozen=True)
 class PitchDeviations:
     """Cumulative pitch deviations of the loaded flanks (m, arc on the reference pitch
     circle, + proud): ``pinion`` shape (z1,), ``gear`` shape (z2,), tooth i as the
     module doc numbers them; ``pinion_radius``, ``gear_radius`` the reference pitch
     radii r_1, r_2 (m) the arcs are measured on; ``form`` the teeth's profile and
-    helix slopes and crownings (:class:`FormDeviations`), None for none."""
+    helix slopes and crownings (:class:`FormDeviations`), ``traces`` their measured
+    profile and helix traces (:class:`FlankTraces`), None for none."""
 
     pinion: np.ndarray
     gear: np.ndarray
     pinion_radius: float
     gear_radius: float
     form: FormDeviations | None = None
+    traces: FlankTraces | None = None
 
     def __post_init__(self):
         p = Problems()
@@ -233,6 +388,15 @@ class PitchDeviations:
                 f"{self.form.teeth[0]} / {self.form.teeth[1]} teeth",
                 f"must match the pitch deviations' {self.teeth[0]} / {self.teeth[1]}",
             )
+        if self.traces is not None:
+            for member, z in zip(("pinion", "gear"), self.teeth, strict=True):
+                zt = self.traces.teeth_of(member)
+                p.check(
+                    zt is None or zt == z,
+                    f"traces.{member}",
+                    f"{zt} teeth",
+                    f"must match the pitch deviations' {z}",
+                )
         p.raise_if_any("invalid pitch deviations")
 
     @property
@@ -470,6 +634,14 @@ def hunting_lte(
     coef = pair_coefficients(dev, res.pair_index, cycles)  # (H, K, J)
     F0 = _at_torque(res, torque, res.pair_share) * _at_torque(res, torque, res.normal_load)[:, None]
     stress, stress0 = None, _at_torque(res, torque, res.pair_root_stress)
+    traces = dev.traces
+    gridded = grids is not None and compliance is not None and len(grids) == P
+    if not gridded and (method == "exact" or traces is not None):
+        p = Problems()
+        n = None if grids is None else len(grids)
+        why = "the exact method" if method == "exact" else "flank traces"
+        p.add("grids", n, f"{why} needs the {P} grids and the compliance")
+        p.raise_if_any("invalid pitch-deviation analysis")
     if method == "linear":
         w, S = _weights(res, torque, dev.form is not None)  # (P, K, J), (P, K, K, J)
         arm = torque / _at_torque(res, torque, res.normal_load)  # (P,)
@@ -479,20 +651,28 @@ def hunting_lte(
             # first order; a pair it would unload below zero has lifted off
             loads = np.maximum(F0[None] + np.einsum("plkj,hkj->hpl", S, coef), 0.0)
         own = callable(getattr(compliance, "grid_root_stress", None))
-        if grids is not None and compliance is not None and len(grids) == P and not own:
-            # root stresses from first-order point loads: the load's shape changes too
-            jobs = [(g, compliance, float(torque), coef, res.pair_index, solver) for g in grids]
-            got = (mapper or _serial)(_linear_stress_column, jobs)
-            ps = np.stack(got, axis=1)  # (H + 1, P, K, 2)
-            stress, stress0 = ps[:-1].reshape(H * P, -1, 2), ps[-1]
+        if gridded and (traces is not None or not own):
+            # first-order point loads: root stresses from the load's shape (unless the
+            # level has its own stress model), and the traces' share of the rotation
+            # and of the pair loads
+            jobs = [
+                (g, compliance, float(torque), coef, res.pair_index, solver, traces, not own)
+                for g in grids
+            ]
+            got = (mapper or _serial)(_linear_column, jobs)
+            if not own:
+                ps = np.stack([g[0] for g in got], axis=1)  # (H + 1, P, K, 2)
+                stress, stress0 = ps[:-1].reshape(H * P, -1, 2), ps[-1]
+            if traces is not None:
+                # the whole first-order change from the tangent at the torque itself (the
+                # weights are interpolated between the torque levels: the two would not
+                # add up exactly between them)
+                dphi = np.stack([g[1] for g in got], axis=1)  # (H, P)
+                lte = nominal[None, :] + arm[None, :] * dphi
+                loads = np.stack([g[2] for g in got], axis=1)[:-1]  # (H, P, K)
     else:
-        if grids is None or compliance is None or len(grids) != P:
-            p = Problems()
-            n = None if grids is None else len(grids)
-            p.add("grids", n, f"the exact method needs the {P} grids and the compliance")
-            p.raise_if_any("invalid pitch-deviation analysis")
         rows = np.concatenate([coef, np.zeros((1,) + coef.shape[1:])])  # last: the nominal
-        jobs = [(g, compliance, float(torque), rows, res.pair_index, solver) for g in grids]
+        jobs = [(g, compliance, float(torque), rows, res.pair_index, solver, traces) for g in grids]
         got = (mapper or _serial)(_exact_column, jobs)
         cols = np.column_stack([g[0] for g in got])  # (H + 1, P)
         lte, nominal = cols[:-1], cols[-1]
@@ -520,24 +700,48 @@ def _serial(fn, jobs):
     return [fn(j) for j in jobs]
 
 
-def _linear_stress_column(job):
-    """One position's pair root stresses (Pa, (H + 1, K, 2), the nominal teeth's last)
-    under the first-order point loads of each row of coefficients
-    (:func:`_predicted_loads`; module level: runs in worker processes)."""
-    grid, compliance, torque, coef, pair_index, solver = job
+def _linear_column(job):
+    """One position's first-order answers for each mesh cycle of the hunting period
+    (rows of coefficients ``coef`` (H, K, J), flank ``traces`` or None), and the nominal
+    teeth last (module level: runs in worker processes; :func:`_predicted_loads`):
+    pair root stresses (Pa, (H + 1, K, 2); None unless ``stress``), the rotation
+    dphi = -d^T a of all offsets (rad, (H,); None without traces) and the pair loads
+    (N, (H + 1, K), from the point loads floored at 0)."""
+    grid, compliance, torque, coef, pair_index, solver, traces, stress = job
     solver = solver or ContactSolver()
     C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
     rows = np.concatenate([coef, np.zeros((1,) + coef.shape[1:])])  # last: the nominal
-    F = _predicted_loads(grid, compliance, torque, _offsets(grid, rows, pair_index), solver, C0)
-    return pair_root_stresses(grid, compliance, F, pair_index)
+    cycles = np.arange(coef.shape[0])
+    extra = None if traces is None else traces.offsets(grid, cycles)
+    a = _offsets(grid, rows, pair_index)
+    if extra is not None:
+        a[: cycles.size] += extra
+    F, d = _predicted_loads(grid, compliance, torque, a, solver, C0, rotation=True)
+    ks = np.asarray(pair_index)
+    member = (np.asarray(grid.pair)[:, None] == ks[None, :]).astype(float)  # (n, K)
+    return (
+        pair_root_stresses(grid, compliance, F, pair_index) if stress else None,
+        None if extra is None else -(a[: cycles.size] @ d),
+        F @ member,
+    )
 
 
 def _exact_column(job):
     """One position's loaded TE (m), pair loads (N) and pair root stresses (Pa) for each
-    row of coefficients (module level: runs in worker processes)."""
-    grid, compliance, torque, alpha, pair_index, solver = job
+    row of coefficients, the mesh cycles' flank traces added to all rows but the last,
+    the nominal (module level: runs in worker processes)."""
+    grid, compliance, torque, alpha, pair_index, solver, traces = job
+    cycles = None if traces is None else np.arange(len(alpha) - 1)
     rot, arm, loads, stress = exact_solutions(
-        grid, compliance, torque, alpha, pair_index, solver=solver, stress=True
+        grid,
+        compliance,
+        torque,
+        alpha,
+        pair_index,
+        solver=solver,
+        stress=True,
+        traces=traces,
+        cycles=cycles,
     )
     return rot * arm, loads, stress
 
@@ -571,7 +775,18 @@ def _offsets(grid, coef, pair_index) -> np.ndarray:
     return np.einsum("rnj,nj->rn", coef[:, idx, :], X)
 
 
-def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None, stress=False):
+def exact_solutions(
+    grid,
+    compliance,
+    torque,
+    alpha,
+    pair_index,
+    *,
+    solver=None,
+    stress=False,
+    traces=None,
+    cycles=None,
+):
     """Loaded rotation (rad), torque arm T / sum F (m) and each pair's normal load (N,
     shape (R, K)) at one grid position for each row of pair angles ``alpha`` (shape
     (R, K), pinion radians, K = len(pair_index)): the contact problem with the
@@ -581,9 +796,14 @@ def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None,
     Rows that repeat are solved once; each solve starts from the first-order loads of
     its offsets at the nominal solution (:func:`_predicted_loads`). ``stress=True``
     adds each pair's largest root stress of pinion and gear under the row's own loads
-    (Pa, (R, K, 2); :func:`pair_root_stresses`)."""
+    (Pa, (R, K, 2); :func:`pair_root_stresses`). ``traces`` (:class:`FlankTraces`)
+    with ``cycles`` (the first len(cycles) rows' mesh cycles) add the teeth's measured
+    traces to those rows (:meth:`FlankTraces.offsets`)."""
     solver = solver or ContactSolver()
     offsets = _offsets(grid, alpha, pair_index)  # (R, n): ds = -offsets
+    if traces is not None:
+        cyc = np.asarray(cycles, dtype=int)
+        offsets[: cyc.size] += traces.offsets(grid, cyc)
     ks = np.asarray(pair_index)
     member = (np.asarray(grid.pair)[:, None] == ks[None, :]).astype(float)  # (n, K)
     C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
@@ -609,12 +829,13 @@ def exact_solutions(grid, compliance, torque, alpha, pair_index, *, solver=None,
     return rot[inverse], arm[inverse], loads[inverse], rs[inverse]
 
 
-def _predicted_loads(grid, compliance, torque, offsets, solver, tooth_matrix) -> np.ndarray:
+def _predicted_loads(grid, compliance, torque, offsets, solver, tooth_matrix, *, rotation=False):
     """First-order point loads (N, (R, n), floored at 0) for rows of normal offsets
     (R, n; the separations less them) at the nominal solution, its loaded set held:
     dphi = -d^T a_A, dF_A = K^-1 (m_A dphi + a_A) (:func:`~gearbox.ltca.solver.
     rotation_sensitivity`). A start for the full solve: measured 2.1 times fewer
-    seconds than starting from the previous row's loads on the default scene."""
+    seconds than starting from the previous row's loads on the default scene.
+    ``rotation=True`` also returns d (n,), zero off the loaded set."""
     from .solver import _tangent
 
     sol = solve_contact(grid, compliance, torque, solver=solver, tooth_matrix=tooth_matrix)
@@ -627,7 +848,11 @@ def _predicted_loads(grid, compliance, torque, offsets, solver, tooth_matrix) ->
     dF = np.linalg.solve(K, np.outer(m, dphi) + a.T)  # (n_A, R)
     out = np.zeros((a.shape[0], grid.size))
     out[:, on] = np.maximum(sol.load[on][:, None] + dF, 0.0).T
-    return out
+    if not rotation:
+        return out
+    full = np.zeros(grid.size)
+    full[on] = d
+    return out, full
 
 
 def pair_root_stresses(grid, compliance, loads, pair_index) -> np.ndarray:
