@@ -34,7 +34,7 @@ class Field:
     """One scene key: its kind, default, valid range and meaning.
 
     ``kind`` is one of ``float``, ``int``, ``bool``, ``str``, ``floats`` (list of
-    float), ``strs`` (list of str). ``lo``/``hi`` bound numbers (and every element of
+    float), ``strs`` (list of str), ``rows`` (list of lists of float: a table). ``lo``/``hi`` bound numbers (and every element of
     a list); ``lo_open``/``hi_open`` make the bound strict. ``choices`` restricts
     strings. ``default`` of ``None`` means optional with no value; the module-level
     ``_REQUIRED`` makes the key mandatory.
@@ -69,6 +69,10 @@ def _s(default=None, doc="", choices=None):
 
 def _fl(default=None, doc="", lo=None, hi=None, lo_open=False, min_len=1):
     return Field("floats", default, doc, lo, hi, lo_open, min_len=min_len)
+
+
+def _rows(default=None, doc="", lo=None, hi=None):
+    return Field("rows", default, doc, lo, hi)
 
 
 R = _REQUIRED
@@ -323,6 +327,42 @@ SCHEMA: dict[str, dict[str, Field]] = {
                 0,
                 100,
             )
+            for kind in ("profile", "helix")
+        },
+        **{
+            f"{member}_{kind}_trace_mm": _fl(
+                [],
+                f"Positions of the {member}'s measured {kind} traces (mm, strictly "
+                "increasing): "
+                + (
+                    "roll length along the base tangent from the reference circle "
+                    "(a checker's roll length less sqrt(r^2 - r_b^2) at the reference radius)"
+                    if kind == "profile"
+                    else "axial position from the face middle, + towards the heel (+z on "
+                    "parallel axes)"
+                )
+                + f". Empty: no {kind} traces.",
+                -1000,
+                1000,
+                min_len=0,
+            )
+            for member in ("pinion", "gear")
+            for kind in ("profile", "helix")
+        },
+        **{
+            f"{member}_{kind}_trace_um": _rows(
+                [],
+                f"The {member}'s measured {kind} traces (um): one row per tooth, numbered "
+                f"as {member}_cumulative_um, one value per position of {member}_{kind}_trace_mm; "
+                "the measured trace less the design trace in the transverse plane along the "
+                "base tangent, + plus material. Everything in it counts (slope, crowning, "
+                "form, waviness), taken less its value at the reference point; linear "
+                "between positions, held beyond them. Needs the grids: the pitch stage "
+                "makes them.",
+                -1000,
+                1000,
+            )
+            for member in ("pinion", "gear")
             for kind in ("profile", "helix")
         },
         "profile_evaluation_mm": _fl(
@@ -655,6 +695,12 @@ def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
         elif f.choices and v not in f.choices:
             probs.add(path, v, f"must be one of {', '.join(f.choices)}")
         return v
+    if kind == "rows":
+        if not isinstance(v, list):
+            probs.add(path, v, "must be a list of lists (one row each)")
+            return v
+        row = Field("floats", None, "", f.lo, f.hi, f.lo_open, f.hi_open)
+        return [_check_value(row, f"{path}[{i}]", x, probs) for i, x in enumerate(v)]
     if kind in ("floats", "strs"):
         if not isinstance(v, list):
             probs.add(path, v, "must be a list")
@@ -735,6 +781,17 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
                     length,
                     f"must be > 0 when ltca.{name}_{kind}_{unit} is > 0 ({amount:g})",
                 )
+
+    pitch = data.get("pitch", {})
+    traced = sorted(k for k, v in pitch.items() if k.endswith("_trace_um") and v)
+    if data.get("drivetrain", {}).get("pitch_deviations") is True and traced:
+        probs.add(
+            "drivetrain.pitch_deviations",
+            True,
+            "the dynamics take the pitch deviations, slopes and crownings; measured "
+            f"traces ({', '.join('pitch.' + k for k in traced)}) act in the pitch stage's "
+            "hunting record only",
+        )
 
 
 def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:

@@ -134,9 +134,8 @@ def test_a_waviness_around_the_gear_is_a_ghost_order(spur):
     the reference circle). Every point of every pair then meets the same phase at any
     moment, so the flanks turn rigidly: the TE change is minus the waviness at the
     contact, to 1e-12 m (measured 1.9e-14: the traces' interpolation), linear and exact
-    alike; its
-    spectrum is one line at gear order 7 (pinion order 3.5, not a mesh order) of 1 um
-    within 1e-4, every other bin below 1e-6 of it."""
+    alike; its spectrum is one line at gear order 7 (pinion order 3.5, not a mesh
+    order) of 1 um within 1e-4, every other bin below 1e-6 of it."""
     pair, grids, comp, res = spur
     z1, z2 = pair.teeth
     trace, fp = _waviness(pair, grids, 7, 1e-6)

@@ -195,3 +195,39 @@ def test_form_deviations_through_the_stage(marine, tmp_path):
     text = str(err.value)
     assert "pitch.pinion_helix_slope_um" in text and "pitch.helix_evaluation_mm" in text
     assert "pitch.gear_profile_crowning_um" in text
+
+
+def test_traces_through_the_stage(marine, tmp_path):
+    """Measured traces from the scene: pitch.json and the report carry them, the record
+    moves with them (linear; the stage makes the grids it needs), and every wrong key
+    is named before anything runs, the dynamics' refusal of traces included."""
+    from gearbox.report.pitch import render_pitch
+
+    x = [-15.0, -5.0, 5.0, 15.0]
+    rows = [[0.0, 0.5, -0.5, 0.0] if i % 2 else [0.3, 0.0, 0.0, -0.3] for i in range(29)]
+    traces = {"random_single_um": 0.0, "pinion_helix_trace_mm": x, "pinion_helix_trace_um": rows}
+    run = run_pipeline(marine.replaced(pitch=traces), ["pitch"], cache=tmp_path)
+    write_outputs(run, tmp_path / "out")
+    d = json.loads((tmp_path / "out" / "pitch.json").read_text())
+    assert d["pinion_helix_trace"]["position_m"] == pytest.approx([-0.015, -0.005, 0.005, 0.015])
+    assert d["pinion_helix_trace"]["deviation_m"][1] == pytest.approx([0.0, 5e-7, -5e-7, 0.0])
+    rec = run["pitch"].record
+    assert np.ptp(rec.lte - rec.lte_nominal) > 0.05e-6
+    assert "measured helix traces" in render_pitch(run["pitch"], run).body
+    bad = marine.replaced(
+        pitch={
+            "pinion_helix_trace_mm": [0.0, -1.0],
+            "pinion_helix_trace_um": [[0.0, 1.0]] * 28,
+            "gear_profile_trace_um": [[1.0]] * 45,
+        }
+    )
+    with pytest.raises(InputError) as err:
+        run_pipeline(bad, ["pitch"], cache=False)
+    keys = {p.path for p in err.value.problems}
+    assert {
+        "pitch.pinion_helix_trace_mm",
+        "pitch.pinion_helix_trace_um",
+        "pitch.gear_profile_trace_mm",
+    } <= keys
+    with pytest.raises(InputError, match="drivetrain.pitch_deviations"):
+        marine.replaced(pitch=traces, drivetrain={"pitch_deviations": True})

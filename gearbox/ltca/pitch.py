@@ -41,6 +41,11 @@ k's points by ds_i = -B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_base
 flank coordinates and their squares; c the coefficients of pair k's two teeth), which the loaded TCA's form weights
 (``CycleResult.pair_form_weight``) carry through the same two methods: linear,
 phi = phi_0 - sum_k (w_k alpha_k + sum_j W_kj c_kj), and exact.
+
+Measured traces (:class:`FlankTraces`): each tooth's whole profile and helix traces,
+offsets at every grid point (:meth:`FlankTraces.offsets`); the exact method solves with
+them, the linear one takes the first-order change of all offsets from the tangent at
+the torque (it needs the grids).
 """
 
 from __future__ import annotations
@@ -73,6 +78,7 @@ __all__ = [
     "hunting_lte",
     "order_kind",
     "pair_angles",
+    "traces_from_section",
 ]
 
 #: Largest cumulative pitch deviation accepted (m): 1 mm, far beyond the deviations
@@ -995,9 +1001,54 @@ def form_from_section(
     )
 
 
+def traces_from_section(section, teeth: tuple[int, int]) -> FlankTraces | None:
+    """The measured traces of a scene's ``[pitch]`` section (:class:`FlankTraces`, m),
+    None where it sets none. Raises InputError naming each key that is wrong: rows
+    without positions or the other way round, a row count other than the member's
+    teeth, a row length other than its positions', positions that do not increase."""
+    p = Problems()
+    got = {}
+    for member, kind in _SHAPES:
+        z = teeth[0] if member == "pinion" else teeth[1]
+        pos_key, dev_key = f"{member}_{kind}_trace_mm", f"{member}_{kind}_trace_um"
+        x, rows = section[pos_key], section[dev_key]
+        if not x and not rows:
+            continue
+        p.check(bool(rows), f"pitch.{dev_key}", rows, f"needs one row per tooth with {pos_key}")
+        p.check(bool(x), f"pitch.{pos_key}", x, f"needs the positions of {dev_key}")
+        if not (x and rows):
+            continue
+        ok = p.check(len(x) >= 2, f"pitch.{pos_key}", x, "needs at least 2 positions")
+        ok &= p.check(
+            all(b > a for a, b in zip(x, x[1:], strict=False)),
+            f"pitch.{pos_key}",
+            x,
+            "must increase strictly",
+        )
+        ok &= p.check(
+            len(rows) == z,
+            f"pitch.{dev_key}",
+            f"{len(rows)} rows",
+            f"must give one row per {member} tooth: {z}",
+        )
+        for i, r in enumerate(rows):
+            ok &= p.check(
+                len(r) == len(x),
+                f"pitch.{dev_key}[{i}]",
+                f"{len(r)} values",
+                f"must give one value per position of {pos_key}: {len(x)}",
+            )
+        if ok:
+            got[f"{member}_{kind}"] = Trace(
+                np.asarray(x, dtype=float) * 1e-3, np.asarray(rows, dtype=float) * 1e-6
+            )
+    p.raise_if_any("invalid flank traces")
+    return FlankTraces(**got) if got else None
+
+
 def deviations_from_scene(design, scene, flank_range=None) -> PitchDeviations:
     """The scene's ``[pitch]`` deviations (:func:`deviations_from_section`,
-    :func:`form_from_section`) on the design's reference pitch radii; ``flank_range``
+    :func:`form_from_section`, :func:`traces_from_section`) on the design's reference pitch radii; ``flank_range``
     the drive flank's loaded TCA's (``CycleResult.flank_range``) for the form
     deviations' default evaluation lengths and the crownings' vertices."""
     teeth = (design.pinion.teeth, design.gear.teeth)
@@ -1011,8 +1062,14 @@ def deviations_from_scene(design, scene, flank_range=None) -> PitchDeviations:
         )
     )
     form = form_from_section(scene["pitch"], teeth, *covered)
+    traces = traces_from_section(scene["pitch"], teeth)
     return PitchDeviations(
-        pin, gear, design.pinion.reference_pitch_radius, design.gear.reference_pitch_radius, form
+        pin,
+        gear,
+        design.pinion.reference_pitch_radius,
+        design.gear.reference_pitch_radius,
+        form,
+        traces,
     )
 
 
@@ -1072,6 +1129,7 @@ class PitchResult:
             "gear_cumulative_m": self.deviations.gear.tolist(),
             "reference_pitch_radii_m": [self.deviations.pinion_radius, self.deviations.gear_radius],
             **({} if self.deviations.form is None else self.deviations.form.to_dict()),
+            **({} if self.deviations.traces is None else self.deviations.traces.to_dict()),
             "lte_peak_to_peak_m": float(np.ptp(rec.lte)),
             "lte_nominal_peak_to_peak_m": float(np.ptp(rec.lte_nominal)),
             **self.loads_summary(),

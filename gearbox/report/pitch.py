@@ -1,5 +1,5 @@
-"""Report section of the pitch deviations (and the teeth's slopes and crownings, where
-the scene sets them): the loaded TE over a hunting period on the drive flank and its order
+"""Report section of the pitch deviations (and the teeth's slopes, crownings and
+measured traces, where the scene sets them): the loaded TE over a hunting period on the drive flank and its order
 spectrum, with the largest lines named."""
 
 from __future__ import annotations
@@ -69,6 +69,26 @@ def render_pitch(pr, run) -> Section:
                     *(fmt(x * 1e3, 4) for x in getattr(sl, f"{kind}_centre")),
                 )
                 for kind in ("profile", "helix")
+            ]
+    if dev.traces is not None:
+        for kind in ("profile", "helix"):
+            got = [getattr(dev.traces, f"{m}_{kind}") for m in ("pinion", "gear")]
+            if all(t is None for t in got):
+                continue
+            rows += [
+                (
+                    f"measured {kind} traces: positions (mm)",
+                    *(
+                        "-"
+                        if t is None
+                        else f"{fmt(t.position[0] * 1e3, 4)} .. {fmt(t.position[-1] * 1e3, 4)}"
+                        for t in got
+                    ),
+                ),
+                (
+                    f"measured {kind} traces: largest |deviation| (um)",
+                    *("-" if t is None else fmt(1e6 * np.abs(t.deviation).max(), 4) for t in got),
+                ),
             ]
     summary = [
         ("flank", pr.flank),
