@@ -109,8 +109,8 @@ class CycleResult:
     before they existed. pair_form_weight (T, P, K, 8) and pair_form_load_sensitivity
     (T, P, K, K, 8): the same for unit coefficients of the offset shapes of pair k's
     flanks (slopes and crownings, :meth:`ContactGrid.form_bases`, in the order of
-    ``ContactGrid.FORM_BASES``; the
-    rotation changes by -sum w c, docs/ltca.md "Form deviations"); flank_range (4, 2):
+    ``ContactGrid.FORM_BASES``; the rotation changes by -sum w c, docs/ltca.md "Form
+    deviations"); flank_range (4, 2):
     the range of the loaded points' flank coordinates (``ContactGrid.flank_coordinates``:
     roll lengths and axial positions of pinion and gear, m) over the cycle and torques,
     the flank the contact covers; all three ``None`` where the grids carry no flank

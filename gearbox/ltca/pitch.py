@@ -38,9 +38,9 @@ deviations f_H_alpha, f_H_beta tilt its flank about the point where its pitch is
 measured (the reference circle in the face middle), and its crownings C_alpha, C_beta
 (less the design's) bend it about the middle of the evaluation range. They offset pair
 k's points by ds_i = -B_ij c_kj (:meth:`~gearbox.ltca.grid.ContactGrid.form_bases`: the
-flank coordinates and their squares; c the coefficients of pair k's two teeth), which the loaded TCA's form weights
-(``CycleResult.pair_form_weight``) carry through the same two methods: linear,
-phi = phi_0 - sum_k (w_k alpha_k + sum_j W_kj c_kj), and exact.
+flank coordinates and their squares; c the coefficients of pair k's two teeth), which
+the loaded TCA's form weights (``CycleResult.pair_form_weight``) carry through the same
+two methods: linear, phi = phi_0 - sum_k (w_k alpha_k + sum_j W_kj c_kj), and exact.
 
 Measured traces (:class:`FlankTraces`): each tooth's whole profile and helix traces,
 offsets at every grid point (:meth:`FlankTraces.offsets`); the exact method solves with
