@@ -392,6 +392,16 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "seeded with [seed, 2].",
             0,
         ),
+        "flank": _s(
+            "drive",
+            "The flank the hunting record loads: 'drive' or 'coast' (astern behind a "
+            "reversing gear, or braking; the record runs in the drive's sense of rotation, "
+            "which leaves its spectrum's amplitudes as they are). The lists above are that "
+            "flank's deviations (a tooth's two flanks differ by its thickness deviation), "
+            "tooth 0 the tooth of that flank's reference pair. Needs the flank in "
+            "ltca.flanks; the dynamics carry the drive flank's only.",
+            ("drive", "coast"),
+        ),
         "method": _s(
             "linear",
             "'linear': the loaded TE's first-order change through the loaded TCA's pair "
@@ -784,7 +794,15 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
 
     pitch = data.get("pitch", {})
     traced = sorted(k for k, v in pitch.items() if k.endswith("_trace_um") and v)
-    if data.get("drivetrain", {}).get("pitch_deviations") is True and traced:
+    applied = data.get("drivetrain", {}).get("pitch_deviations") is True
+    if applied and pitch.get("flank") == "coast":
+        probs.add(
+            "drivetrain.pitch_deviations",
+            True,
+            "the dynamics carry the drive flank's deviations: set pitch.flank = 'drive' "
+            "(it is 'coast')",
+        )
+    if applied and traced:
         probs.add(
             "drivetrain.pitch_deviations",
             True,

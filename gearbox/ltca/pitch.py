@@ -75,6 +75,7 @@ __all__ = [
     "deviations_from_section",
     "exact_rotation",
     "exact_solutions",
+    "flank_grids",
     "hunting_lte",
     "order_kind",
     "pair_angles",
@@ -622,7 +623,7 @@ def hunting_lte(
     levels linearly, the exact one solves at ``torque``).
 
     ``method="exact"`` needs the loaded TCA's ``grids`` (one per position, as
-    :func:`~gearbox.ltca.analysis.ltca_cycle` made them, :func:`drive_grids`) and
+    :func:`~gearbox.ltca.analysis.ltca_cycle` made them, :func:`flank_grids`) and
     ``compliance``; ``mapper(fn, jobs) -> list`` may spread the positions over processes
     (a pipeline run's executor), else they run here one after the other. Given them,
     the linear method takes its root stresses from first-order point loads (one solve
@@ -1166,16 +1167,21 @@ def order_kind(order: float, z1: int, z2: int) -> str:
     return "combination"
 
 
-def drive_grids(design, scene, positions: int):
-    """The drive flank's contact grids at ``positions`` per mesh cycle and the
-    compliance, as the loaded TCA makes them (for ``method="exact"``): the closed-form
-    grids and ``compliance_for(fidelity)`` of :func:`~gearbox.ltca.table.parallel_ltca`
-    for a parallel pair, else :func:`~gearbox.ltca.beveloid.scene_grids` and
+def flank_grids(design, scene, positions: int, flank: str = "drive"):
+    """The contact grids of ``flank`` (``"drive"`` or ``"coast"``) at ``positions`` per
+    mesh cycle and the compliance, as the loaded TCA makes them (for the exact method
+    and the linear method's point loads): the closed-form grids and
+    ``compliance_for(fidelity)`` of :func:`~gearbox.ltca.table.parallel_ltca` for a
+    parallel pair (its coast flank is the drive flank turned end for end: the grids of
+    the modifications turned, their axial coordinates mirrored), else
+    :func:`~gearbox.ltca.beveloid.scene_grids` of that side and
     :func:`~gearbox.ltca.beveloid.scene_compliance`."""
     from .beveloid import modifications_from_scene, scene_compliance, scene_grids
     from .compliance import compliance_for
     from .table import is_parallel
 
+    if flank not in ("drive", "coast"):
+        raise InputError(Problem("flank", flank, "must be 'drive' or 'coast'"))
     lt = scene["ltca"]
     if is_parallel(design):
         from .modification import as_modification
@@ -1184,15 +1190,29 @@ def drive_grids(design, scene, positions: int):
 
         pair = parallel_pair_from_design(design, scene)
         relief = tuple(as_modification(r) for r in modifications_from_scene(design, scene))
+        if flank == "coast":
+            relief = tuple(replace(m, helix_slope=-m.helix_slope) for m in relief)
         grids = [
             parallel_grid(pair, j / positions, lt["grid_face"], relief=relief)
             for j in range(positions)
         ]
+        if flank == "coast":
+            grids = [_turned(g) for g in grids]
         compliance = compliance_for(lt["fidelity"])
     else:
-        grids = scene_grids(design, scene, "R", positions)[0]
+        side = "R" if flank == "drive" else "L"
+        grids = scene_grids(design, scene, side, positions)[0]
         compliance = scene_compliance(design, scene)
     reserve = getattr(compliance, "reserve", None)
     if callable(reserve):
         reserve(grids)
     return grids, compliance
+
+
+def _turned(grid):
+    """A parallel pair's drive grid as its coast flank's (the loaded TCA's ``_mirror``):
+    the contact is the same, the faces turned end for end, so the axial flank
+    coordinates change sign."""
+    c = grid.flank_coordinates.copy()
+    c[:, [1, 3]] *= -1.0
+    return replace(grid, flank_coordinates=c)

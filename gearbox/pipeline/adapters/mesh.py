@@ -112,9 +112,14 @@ def validate_pitch(scene) -> None:
     geometry = require("gearbox.geometry", "design_pair")
     pitch = require("gearbox.ltca.pitch", "deviations_from_scene")
     problems = []
-    if "drive" not in scene["ltca"]["flanks"]:
+    flank = scene["pitch"]["flank"]
+    if flank not in scene["ltca"]["flanks"]:
         problems.append(
-            Problem("ltca.flanks", list(scene["ltca"]["flanks"]), "must hold 'drive' for pitch")
+            Problem(
+                "ltca.flanks",
+                list(scene["ltca"]["flanks"]),
+                f"must hold {flank!r} for pitch (pitch.flank)",
+            )
         )
     tq = scene["load"]["torques_Nm"]
     t = _pitch_torque(scene)
@@ -136,22 +141,23 @@ def validate_pitch(scene) -> None:
 
 
 def compute_pitch(ctx: StageContext):
-    """Pitch deviations' loaded TE over a hunting period on the drive flank
+    """Pitch deviations' loaded TE over a hunting period on the flank ``pitch.flank``
     (gearbox.ltca.pitch): linear through the loaded TCA's pair weights (root stresses
     from first-order point loads), or exact (one contact solve per sample); the
     positions go through the run's executor."""
     pitch = require(
-        "gearbox.ltca.pitch", "hunting_lte", "PitchResult", "drive_grids", "deviations_from_scene"
+        "gearbox.ltca.pitch", "hunting_lte", "PitchResult", "flank_grids", "deviations_from_scene"
     )
     scene = ctx.scene
     design = ctx.inputs["design"]
-    res = ctx.inputs["ltca"].flanks["drive"]
+    flank = scene["pitch"]["flank"]
+    res = ctx.inputs["ltca"].flanks[flank]
     dev = pitch.deviations_from_scene(design, scene, res.flank_range)
     method = scene["pitch"]["method"]
     # the grids give the exact method its solves and the linear one its root stresses
     # from first-order point loads
-    grids, compliance = pitch.drive_grids(design, scene, res.fraction.size)
+    grids, compliance = pitch.flank_grids(design, scene, res.fraction.size, flank)
     kw = {"grids": grids, "compliance": compliance, "mapper": ctx.map}
     teeth = (design.pinion.teeth, design.gear.teeth)
     rec = pitch.hunting_lte(res, dev, _pitch_torque(scene), teeth=teeth, method=method, **kw)
-    return pitch.PitchResult(dev, rec)
+    return pitch.PitchResult(dev, rec, flank)
