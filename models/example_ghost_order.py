@@ -46,7 +46,6 @@ from pathlib import Path
 import numpy as np
 
 from gearbox import load_scene
-from gearbox.ltca.pitch import order_kind
 from gearbox.pipeline import run_pipeline
 
 HERE = Path(__file__).resolve().parent
@@ -99,20 +98,17 @@ def main(argv=None):
         f"gear order {args.waves} = pinion order {ghost:.3f}; {rec.cycles} mesh cycles at "
         f"{rec.torque:g} N m"
     )
-    orders, amp = rec.order_spectrum()
-    added = np.abs(amp - rec.order_spectrum("lte_nominal")[1])
     print("largest lines the waviness adds (pinion order, kind, amplitude um):")
-    top = np.argsort(added[1:])[::-1][:8] + 1
     lines = []
-    for i in top:
-        kind = order_kind(orders[i], z1, z2)
-        lines.append((float(orders[i]), kind, float(amp[i])))
+    for line in out["linear"]["pitch"].lines(8, added=True):
+        o, kind, a = line["order"], line["kind"], line["amplitude_m"]
+        lines.append((o, kind, a))
         extra = ""
         if "exact" in out:
-            ex = out["exact"]["pitch"].record.order_spectrum()[1][i]
-            extra = f"  (exact {ex * 1e6:.4f})"
-        mark = "  <- ghost" if abs(orders[i] - ghost) < 1e-9 else ""
-        print(f"  {orders[i]:8.3f}  {kind:24s} {amp[i] * 1e6:.4f}{extra}{mark}")
+            eo, ea = out["exact"]["pitch"].record.order_spectrum()
+            extra = f"  (exact {ea[int(np.argmin(np.abs(eo - o)))] * 1e6:.4f})"
+        mark = "  <- ghost" if abs(o - ghost) < 1e-9 else ""
+        print(f"  {o:8.3f}  {kind:24s} {a * 1e6:.4f}{extra}{mark}")
     if args.plot:
         import matplotlib
 

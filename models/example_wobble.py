@@ -38,7 +38,6 @@ from pathlib import Path
 import numpy as np
 
 from gearbox import load_scene
-from gearbox.ltca.pitch import order_kind
 from gearbox.pipeline import run_pipeline
 
 HERE = Path(__file__).resolve().parent
@@ -64,7 +63,7 @@ def main(argv=None):
     if args.positions:
         scene = scene.replaced(ltca={"positions": args.positions})
     run = run_pipeline(scene, ["design"])
-    z1, z2 = run["design"].pinion.teeth, run["design"].gear.teeth
+    z2 = run["design"].gear.teeth
     pitch = {
         "random_single_um": 0.0,
         "gear_helix_slope_um": wobble(z2, args.amplitude, args.phase),
@@ -79,19 +78,16 @@ def main(argv=None):
         f"{pr.deviations.form.helix_length[1] * 1e3:.2f} mm; {rec.cycles} mesh cycles at "
         f"{rec.torque:g} N m"
     )
-    orders, amp = rec.order_spectrum()
-    added = np.abs(amp - rec.order_spectrum("lte_nominal")[1])
     print("largest lines the wobble adds (pinion order, kind, amplitude um):")
-    top = np.argsort(added[1:])[::-1][:8] + 1
     lines = []
-    for i in top:
-        kind = order_kind(orders[i], z1, z2)
-        lines.append((float(orders[i]), kind, float(amp[i])))
+    for line in pr.lines(8, added=True):
+        o, kind, a = line["order"], line["kind"], line["amplitude_m"]
+        lines.append((o, kind, a))
         extra = ""
         if "exact" in out:
-            ex = out["exact"]["pitch"].record.order_spectrum()[1][i]
-            extra = f"  (exact {ex * 1e6:.4f})"
-        print(f"  {orders[i]:8.3f}  {kind:24s} {amp[i] * 1e6:.4f}{extra}")
+            eo, ea = out["exact"]["pitch"].record.order_spectrum()
+            extra = f"  (exact {ea[int(np.argmin(np.abs(eo - o)))] * 1e6:.4f})"
+        print(f"  {o:8.3f}  {kind:24s} {a * 1e6:.4f}{extra}")
     (s1, s2), (n1, n2) = rec.root_stress(), rec.root_stress_nominal()
     print(
         f"largest root stress: pinion {s1 / 1e6:.1f} MPa (nominal teeth {n1 / 1e6:.1f}), "

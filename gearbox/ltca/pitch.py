@@ -1083,13 +1083,19 @@ class PitchResult:
     record: HuntingRecord
     flank: str = "drive"
 
-    def lines(self, count: int = 12) -> list[dict]:
+    def lines(self, count: int = 12, *, added: bool = False) -> list[dict]:
         """The ``count`` largest lines of the loaded TE's order spectrum other than the
         mean, largest first: pinion order, amplitude (m), and what they are (mesh
-        harmonic h, else a pinion order, a gear order, or a combination)."""
+        harmonic h, a sideband, a pinion order, a gear order, or a combination:
+        :func:`order_kind`). ``added=True`` ranks them by how much the deviations change
+        them (|amplitude - the nominal teeth's|; the amplitude given is still the
+        line's)."""
         z1, z2 = self.record.teeth
         orders, amp = self.record.order_spectrum()
-        idx = np.argsort(amp[1:])[::-1][:count] + 1
+        rank = amp
+        if added:
+            rank = np.abs(amp - self.record.order_spectrum("lte_nominal")[1])
+        idx = np.argsort(rank[1:])[::-1][:count] + 1
         out = []
         for i in idx:
             o = float(orders[i])
