@@ -3,7 +3,7 @@ waviness ground in by the machine's table does: its line at gear order N, no mul
 of the tooth count, is the largest it adds, every added line lies at a gear order, and
 the exact re-solve reads the ghost within 1 %."""
 
-import importlib.util
+import runpy
 from pathlib import Path
 
 import numpy as np
@@ -11,19 +11,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _example():
-    spec = importlib.util.spec_from_file_location(
-        "example_ghost_order", ROOT / "models" / "example_ghost_order.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def test_example_ghost_order(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("GEARBOX_CACHE", str(tmp_path / "cache"))
-    ex = _example()
-    lines, out = ex.main(["--positions", "12", "--exact", "--plot", str(tmp_path / "g.png")])
+    script = runpy.run_path(str(ROOT / "models" / "example_ghost_order.py"))
+    lines, out = script["main"](["--positions", "12", "--exact", "--plot", str(tmp_path / "g.png")])
     assert (tmp_path / "g.png").stat().st_size > 10_000
     assert "<- ghost" in capsys.readouterr().out
     ghost = 52 * 29 / 45
