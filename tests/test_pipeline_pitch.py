@@ -197,7 +197,7 @@ def test_form_deviations_through_the_stage(marine, tmp_path):
     assert "pitch.gear_profile_crowning_um" in text
 
 
-def test_traces_through_the_stage(marine, tmp_path):
+def test_traces_through_the_stage(marine, tmp_path, monkeypatch):
     """Measured traces from the scene: pitch.json and the report carry them, the record
     moves with them (linear; the stage makes the grids it needs), and every wrong key
     is named before anything runs, the dynamics' refusal of traces included."""
@@ -213,7 +213,11 @@ def test_traces_through_the_stage(marine, tmp_path):
     assert d["pinion_helix_trace"]["deviation_m"][1] == pytest.approx([0.0, 5e-7, -5e-7, 0.0])
     rec = run["pitch"].record
     assert np.ptp(rec.lte - rec.lte_nominal) > 0.05e-6
-    assert "measured helix traces" in render_pitch(run["pitch"], run).body
+    from gearbox.report import html
+
+    monkeypatch.setattr(html, "CHECK_LAYOUT", True)  # no text off the canvas or overlapping
+    body = render_pitch(run["pitch"], run).body
+    assert "measured helix traces" in body and "Measured traces of every tooth" in body
     bad = marine.replaced(
         pitch={
             "pinion_helix_trace_mm": [0.0, -1.0],

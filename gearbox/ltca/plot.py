@@ -219,6 +219,38 @@ def plot_tooth_deviations(deviations, ax=None):
     return ax
 
 
+def plot_flank_traces(traces, axes=None):
+    """The measured traces (:class:`gearbox.ltca.pitch.FlankTraces`), one panel per
+    member and direction (``axes``: four axes, pinion profile, pinion helix, gear
+    profile, gear helix; a new 2 x 2 figure's if None): every tooth's deviation (um)
+    against its position (mm), thin, tooth 0 bold; empty panels say "no traces"."""
+    if axes is None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        _, grid = plt.subplots(2, 2, figsize=(10, 6))
+        axes = grid.ravel()
+    names = [("pinion", "profile"), ("pinion", "helix"), ("gear", "profile"), ("gear", "helix")]
+    for ax, (member, kind) in zip(axes, names, strict=True):
+        t = getattr(traces, f"{member}_{kind}")
+        ax.set_title(f"{member} {kind} traces", fontsize=9)
+        where = "roll length from the reference circle" if kind == "profile" else "axial position"
+        ax.set_xlabel(f"{where} (mm)", fontsize=8)
+        ax.set_ylabel("deviation (um)", fontsize=8)
+        if t is None:
+            ax.text(0.5, 0.5, "no traces", ha="center", va="center", transform=ax.transAxes)
+            ax.set_xticks([])
+            ax.set_yticks([])
+            continue
+        x = t.position * 1e3
+        for i, d in enumerate(t.deviation):
+            ax.plot(x, d * 1e6, lw=1.4 if i == 0 else 0.5, color="k" if i == 0 else "tab:blue")
+        ax.axhline(0.0, color="0.6", lw=0.6)
+    return axes
+
+
 def plot_hunting_spectrum(record, ax=None, max_order: float | None = None):
     """Order spectrum of the loaded TE over a hunting period (um, single-sided peak,
     log scale; grey: the nominal teeth's mesh lines), up to ``max_order`` pinion

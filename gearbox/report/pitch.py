@@ -136,4 +136,14 @@ def render_pitch(pr, run) -> Section:
         "record, in the order they enter the mesh (docs/ltca.md, sections Pitch deviations "
         "and Form deviations).</p>"
     )
+    if dev.traces is not None:
+        from ..ltca.plot import plot_flank_traces
+
+        fig, ax = new_figure(2, 2, size=(10, 6.0))
+        plot_flank_traces(dev.traces, ax.ravel())
+        body += figure(
+            fig,
+            "Measured traces of every tooth (tooth 0 bold), as given; the record takes "
+            "each less its value at the reference point (docs/ltca.md, Measured traces)",
+        )
     return Section("Pitch deviations", body, anchor="pitch")
