@@ -110,6 +110,12 @@ def test_slopes_and_crownings_as_traces_give_the_same_record(helical):
         assert np.abs(a.lte - b.lte).max() < 1e-12
         np.testing.assert_allclose(b.pair_load, a.pair_load, rtol=0, atol=1e-6 * a.pair_load.max())
         assert np.abs(a.pair_root_stress - b.pair_root_stress).max() < 1e-6 * a.root_stress()[0]
+        # the nominal teeth's pair loads: the loaded TCA's (the traces' from the same
+        # solves as their changes; the flattening's tolerance apart)
+        top = a.pair_load_nominal.max()
+        np.testing.assert_allclose(
+            b.pair_load_nominal, a.pair_load_nominal, rtol=0, atol=1e-5 * top
+        )
 
 
 def _waviness(pair, grids, n_waves, amplitude):

@@ -676,7 +676,8 @@ def hunting_lte(
                 # add up exactly between them)
                 dphi = np.stack([g[1] for g in got], axis=1)  # (H, P)
                 lte = nominal[None, :] + arm[None, :] * dphi
-                loads = np.stack([g[2] for g in got], axis=1)[:-1]  # (H, P, K)
+                pl = np.stack([g[2] for g in got], axis=1)  # (H + 1, P, K)
+                loads, F0 = pl[:-1], pl[-1]  # the nominal's from the same solves
     else:
         rows = np.concatenate([coef, np.zeros((1,) + coef.shape[1:])])  # last: the nominal
         jobs = [(g, compliance, float(torque), rows, res.pair_index, solver, traces) for g in grids]
