@@ -223,6 +223,8 @@ def test_traces_through_the_stage(marine, tmp_path, monkeypatch):
             "pinion_helix_trace_mm": [0.0, -1.0],
             "pinion_helix_trace_um": [[0.0, 1.0]] * 28,
             "gear_profile_trace_um": [[1.0]] * 45,
+            "gear_helix_trace_mm": [0.0, 1.0, 2.0],
+            "gear_helix_trace_um": [[1.0, 2.0]] * 45,
         }
     )
     with pytest.raises(InputError) as err:
@@ -232,7 +234,9 @@ def test_traces_through_the_stage(marine, tmp_path, monkeypatch):
         "pitch.pinion_helix_trace_mm",
         "pitch.pinion_helix_trace_um",
         "pitch.gear_profile_trace_mm",
+        "pitch.gear_helix_trace_um[0]",
     } <= keys
+    assert "(45 rows are wrong)" in str(err.value)  # one problem for them all
     with pytest.raises(InputError, match="drivetrain.pitch_deviations"):
         marine.replaced(pitch=traces, drivetrain={"pitch_deviations": True})
 

@@ -1033,13 +1033,16 @@ def traces_from_section(section, teeth: tuple[int, int]) -> FlankTraces | None:
             f"{len(rows)} rows",
             f"must give one row per {member} tooth: {z}",
         )
-        for i, r in enumerate(rows):
-            ok &= p.check(
-                len(r) == len(x),
+        wrong = [i for i, r in enumerate(rows) if len(r) != len(x)]
+        if wrong:  # one problem for all of them: the first named, the count given
+            i = wrong[0]
+            others = f" ({len(wrong)} rows are wrong)" if len(wrong) > 1 else ""
+            p.add(
                 f"pitch.{dev_key}[{i}]",
-                f"{len(r)} values",
-                f"must give one value per position of {pos_key}: {len(x)}",
+                f"{len(rows[i])} values",
+                f"must give one value per position of {pos_key}: {len(x)}{others}",
             )
+            ok = False
         if ok:
             got[f"{member}_{kind}"] = Trace(
                 np.asarray(x, dtype=float) * 1e-3, np.asarray(rows, dtype=float) * 1e-6
