@@ -34,7 +34,8 @@ class Field:
     """One scene key: its kind, default, valid range and meaning.
 
     ``kind`` is one of ``float``, ``int``, ``bool``, ``str``, ``floats`` (list of
-    float), ``strs`` (list of str), ``rows`` (list of lists of float: a table). ``lo``/``hi`` bound numbers (and every element of
+    float), ``strs`` (list of str), ``rows`` (list of lists of float: a table, or the
+    name of a CSV file that holds one, read when the scene is). ``lo``/``hi`` bound numbers (and every element of
     a list); ``lo_open``/``hi_open`` make the bound strict. ``choices`` restricts
     strings. ``default`` of ``None`` means optional with no value; the module-level
     ``_REQUIRED`` makes the key mandatory.
@@ -357,8 +358,9 @@ SCHEMA: dict[str, dict[str, Field]] = {
                 "the measured trace less the design trace in the transverse plane along the "
                 "base tangent, + plus material. Everything in it counts (slope, crowning, "
                 "form, waviness), taken less its value at the reference point; linear "
-                "between positions, held beyond them. Needs the grids: the pitch stage "
-                "makes them.",
+                "between positions, held beyond them. Or the name of a CSV file (relative "
+                "to the scene file): one line per tooth, values separated by commas, # "
+                "starts a comment.",
                 -1000,
                 1000,
             )
@@ -812,6 +814,27 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
         )
 
 
+def _read_rows(name: str, scene_path: Path | None, key: str, probs: Problems) -> list:
+    """A ``rows`` value given as a CSV file's name (relative to the scene file, else to
+    the working directory): one row per line, values separated by commas, ``#`` starts
+    a comment. The numbers take the name's place in the scene (its key and provenance
+    hold them)."""
+    import numpy as np
+
+    file = Path(name)
+    if not file.is_absolute() and scene_path is not None:
+        file = Path(scene_path).parent / file
+    try:
+        rows = np.loadtxt(file, delimiter=",", comments="#", ndmin=2, dtype=float)
+    except OSError as exc:
+        probs.add(key, name, f"cannot read {file}: {exc.strerror or exc}")
+        return []
+    except ValueError as exc:
+        probs.add(key, name, f"{file} must hold rows of comma-separated numbers: {exc}")
+        return []
+    return rows.tolist()
+
+
 def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:
     """Validate a nested dict (TOML layout) and fill defaults; raise on any problem."""
     probs = Problems()
@@ -828,7 +851,10 @@ def scene_from_dict(raw: Mapping[str, Any], path: Path | None = None) -> Scene:
         for key, f in fields.items():
             path_ = f"{sec}.{key}" if sec else key
             if key in given:
-                out[key] = _check_value(f, path_, given[key], probs)
+                v = given[key]
+                if f.kind == "rows" and isinstance(v, str):
+                    v = _read_rows(v, path, path_, probs)
+                out[key] = _check_value(f, path_, v, probs)
             elif f.required:
                 probs.add(path_, "<missing>", f"is required ({f.doc})")
             else:

@@ -297,3 +297,31 @@ def test_the_coast_flank_of_the_default_pair(marine, tmp_path):
         run_pipeline(scene.replaced(ltca={"flanks": ["drive"]}), ["pitch"], cache=False)
     with pytest.raises(InputError, match="drivetrain.pitch_deviations"):
         scene.replaced(drivetrain={"pitch_deviations": True})
+
+
+def test_trace_rows_from_a_csv_file(marine, tmp_path):
+    """A ``rows`` value may name a CSV file beside the scene: its numbers take the
+    name's place (the scene, its cache keys and its provenance hold them); a missing or
+    malformed file is named with its key."""
+    from gearbox.report.build import scene_toml
+    from gearbox.scene import scene_from_dict
+
+    rows = np.round(np.random.default_rng(1).uniform(-1, 1, (45, 5)), 3)
+    text = "# gear profile traces (um), one tooth per line\n"
+    text += "\n".join(",".join(f"{v:g}" for v in r) for r in rows) + "\n"
+    (tmp_path / "traces.csv").write_text(text)
+    raw = marine.to_dict()
+    raw["pitch"] = {
+        "gear_profile_trace_mm": [-10.0, -5.0, 0.0, 5.0, 10.0],
+        "gear_profile_trace_um": "traces.csv",
+    }
+    scene = scene_from_dict(raw, path=tmp_path / "scene.toml")
+    np.testing.assert_array_equal(scene["pitch"]["gear_profile_trace_um"], rows)
+    assert "gear_profile_trace_um = [[" in scene_toml(scene)
+    raw["pitch"]["gear_profile_trace_um"] = "missing.csv"
+    with pytest.raises(InputError, match=r"pitch.gear_profile_trace_um.*cannot read"):
+        scene_from_dict(raw, path=tmp_path / "scene.toml")
+    (tmp_path / "bad.csv").write_text("1, 2, x\n")
+    raw["pitch"]["gear_profile_trace_um"] = "bad.csv"
+    with pytest.raises(InputError, match=r"pitch.gear_profile_trace_um.*comma-separated numbers"):
+        scene_from_dict(raw, path=tmp_path / "scene.toml")
