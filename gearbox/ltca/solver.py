@@ -247,8 +247,7 @@ def solve_contact(
                 # approach c(q) F linearised at the current loads: tangent on the
                 # diagonal, the secant's excess in the separation
                 on = F > 0
-                h = _FLATTENING_STEP
-                tan = (compliance.contact_diagonal(grid, q * (1.0 + h)) * (1.0 + h) - sec) / h
+                tan = _flattening_tangent(compliance, grid, q, _FLATTENING_STEP, sec)
                 diag = np.where(on, tan, sec)
                 s_k = s + np.where(on, (sec - tan) * F, 0.0)
             C[np.diag_indices_from(C)] += diag
@@ -301,6 +300,23 @@ def solve_contact(
     )
 
 
+def _flattening_tangent(compliance, grid, q, rel_step, secant=None):
+    """d(c(q) q) / dq at line loads ``q``: each point's flattening compliance on the
+    tangent (a forward difference of ``rel_step`` in the line load; the flattening is
+    local). ``secant``: c(q) if made already."""
+    c = compliance.contact_diagonal(grid, q) if secant is None else secant
+    return (
+        compliance.contact_diagonal(grid, q * (1.0 + rel_step)) * (1.0 + rel_step) - c
+    ) / rel_step
+
+
+def _rotation_direction(K, m):
+    """dphi / ds on the loaded set (:func:`rotation_sensitivity`): K^-T m / (m^T K^-1 m)
+    for the tangent compliance K and the arms m of the loaded points."""
+    g = np.linalg.solve(K.T, m)
+    return g / float(m @ g)
+
+
 def _tangent(grid, compliance, solution, tooth_matrix, rel_step):
     """The loaded set (bool, (n,)) and the tangent compliance K on it: the tooth part
     plus, for a load-dependent level, the derivative of each point's flattening
@@ -311,10 +327,8 @@ def _tangent(grid, compliance, solution, tooth_matrix, rel_step):
     on = F > 0
     if compliance.load_dependent:
         C0 = compliance.tooth_matrix(grid) if tooth_matrix is None else tooth_matrix
-        c = compliance.contact_diagonal(grid, q)[on]
-        c_hi = compliance.contact_diagonal(grid, q * (1.0 + rel_step))[on]
         K = C0[np.ix_(on, on)].copy()
-        K[np.diag_indices_from(K)] += (c_hi * (1.0 + rel_step) - c) / rel_step
+        K[np.diag_indices_from(K)] += _flattening_tangent(compliance, grid, q, rel_step)[on]
     else:
         K = compliance.matrix(grid, q)[np.ix_(on, on)]
     return on, K
@@ -334,10 +348,8 @@ def rotation_sensitivity(grid, compliance, solution, *, tooth_matrix=None, rel_s
     weights sum to m^T dphi/ds = 1 over the pairs (:func:`pair_sensitivities`).
     """
     on, K = _tangent(grid, compliance, solution, tooth_matrix, rel_step)
-    m = np.asarray(grid.arm, dtype=float)
-    g = np.linalg.solve(K.T, m[on])
     d = np.zeros(on.size)
-    d[on] = g / float(m[on] @ g)
+    d[on] = _rotation_direction(K, np.asarray(grid.arm, dtype=float)[on])
     return d
 
 
@@ -389,8 +401,7 @@ def point_sensitivities(
     pair = np.asarray(grid.pair)[on]
     ks = np.asarray(pair_index)
     member = (pair[:, None] == ks[None, :]).astype(float)  # (n_A, K)
-    g = np.linalg.solve(K.T, m)
-    d = g / float(m @ g)  # dphi/ds on the loaded set
+    d = _rotation_direction(K, m)  # dphi/ds on the loaded set
     cols = member[:, :, None] * X[:, None, :]  # (n_A, K, J1): B_Aj o 1_k
     w = np.einsum("i,ikj->kj", d, cols)  # (K, J1)
     Kinv_m = np.linalg.solve(K, m)

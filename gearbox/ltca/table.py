@@ -216,7 +216,7 @@ def _mirror(res: CycleResult) -> CycleResult:
     if res.pair_form_weight is not None:
         # the faces turn end for end: the helix slopes' offsets change sign (their
         # crownings', even in the axial position, do not)
-        flip = np.array([1.0, -1.0, 1.0, -1.0, 1.0, 1.0, 1.0, 1.0])
+        flip = np.array([-1.0 if b.endswith("_helix") else 1.0 for b in FORM_BASES])
         rng = res.flank_range.copy()
         rng[[1, 3]] = -rng[[1, 3]][:, ::-1]
         form = dict(
