@@ -184,10 +184,11 @@ def test_crowning_alike_on_every_tooth_is_the_modifications_crowning(spur, kind)
 
 def test_form_weights_are_the_derivative_of_the_contact_solve(drive):
     """Each pair's weight and load sensitivity for a unit coefficient of each of its
-    eight flank shapes (four slopes, four crownings) against central differences of the full contact solve (loaded set
-    free, flattening iterated), offsets of +-1e-8 m at the shape's largest point:
-    weights within 5e-5 of the largest (measured 4e-6), loads within 1e-4 of the
-    largest entry (measured 3.4e-5, the pitch weights' step error)."""
+    eight flank shapes (four slopes, four crownings) against central differences of the
+    full contact solve (loaded set free, flattening iterated), offsets of +-1e-8 m at
+    the shape's largest point: weights within 1e-5 of each shape's largest weight (measured 1.1e-6; the slopes'
+    and the crownings' weights differ in units, so each is held to its own), loads
+    within 5e-5 of each shape's largest entry (measured 4.0e-6)."""
     _, _, grids, comp, res = drive
     ks = res.pair_index
     for j in (0, 4, 8):
@@ -214,9 +215,9 @@ def test_form_weights_are_the_derivative_of_the_contact_solve(drive):
                     rot.append(s2.rotation)
                     loads.append(np.array([s2.load[g.pair == q].sum() for q in ks]))
                 fd = -(rot[0] - rot[1]) / (2 * h)
-                assert abs(w[kk, 1 + b] - fd) < 5e-5 * np.abs(w[:, 1:]).max()
+                assert abs(w[kk, 1 + b] - fd) < 1e-5 * np.abs(w[:, 1 + b]).max()
                 fdS = (loads[0] - loads[1]) / (2 * h)
-                assert np.abs(fdS - S[:, kk, 1 + b]).max() < 1e-4 * np.abs(S[..., 1 + b]).max()
+                assert np.abs(fdS - S[:, kk, 1 + b]).max() < 5e-5 * np.abs(S[..., 1 + b]).max()
 
 
 @pytest.mark.parametrize("member", [0, 1])
