@@ -225,8 +225,9 @@ def test_flank_coordinates_follow_the_modifications_path(drive, member):
     """A helix slope modification f_H (removal f_H w / b, through the separation field of
     the generated flanks) changes each grid point's separation by f_H times the grid's
     axial coordinate over b, less one rigid turn (the grids' common reference
-    rotation): pinion to round-off (1e-16 m), gear within 2e-10 m of the 2.4 um (measured 9e-11:
-    the gear's contact point moves along the refined contact line)."""
+    rotation): pinion to round-off (test 1e-16 m, measured 8e-18), gear within 2e-10 m
+    of the 2.4 um (measured 7e-11: the gear's contact point moves along the refined
+    contact line)."""
     scene, design, _, _, _ = drive
     from gearbox.surface import blanks_from_design
 
