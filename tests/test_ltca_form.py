@@ -12,11 +12,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _drive import default_drive, parallel_drive
 
-from gearbox import load_scene
 from gearbox.errors import InputError
-from gearbox.geometry import PairSpec, design_pair
-from gearbox.ltca import LTCAOptions, ParallelPair, compliance_for, ltca_cycle
+from gearbox.ltca import LTCAOptions, ParallelPair, ltca_cycle
 from gearbox.ltca.beveloid import scene_grids
 from gearbox.ltca.grid import ContactGrid
 from gearbox.ltca.modification import FlankModification
@@ -38,14 +37,8 @@ P = 12
 
 @pytest.fixture(scope="module")
 def drive():
-    """The default scene's drive flank: design, grids, compliance, loaded TCA."""
-    scene = load_scene(ROOT / "models" / "marine_drive.toml")
-    design = design_pair(PairSpec.from_scene(scene))
-    grids, _, _ = scene_grids(design, scene, "R", P)
-    comp = compliance_for("fast")
-    opts = LTCAOptions(positions=P)
-    res = ltca_cycle(lambda f: grids[round(f * P)], [300.0, 802.0], options=opts, compliance=comp)
-    return scene, design, grids, comp, res
+    """The default scene's drive flank: scene, design, grids, compliance, loaded TCA."""
+    return default_drive(P)
 
 
 @pytest.fixture(scope="module")
@@ -58,16 +51,7 @@ def spur():
         teeth=(20, 40),
         face_width=0.016,
     )
-    n = 20
-    grids = [parallel_grid(pair, j / n, 20) for j in range(n)]
-    comp = compliance_for("fast")
-    res = ltca_cycle(
-        lambda f: grids[round(f * n) % n],
-        [200.0, 400.0],
-        options=LTCAOptions(positions=n),
-        compliance=comp,
-    )
-    return pair, grids, comp, res
+    return (pair, *parallel_drive(pair, 20, 20))
 
 
 def _slopes(z1, z2, scale, seed=3, lengths=((0.01, 0.012), (0.016, 0.016))):

@@ -8,12 +8,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _drive import default_drive
 
-from gearbox import load_scene
 from gearbox.errors import InputError
-from gearbox.geometry import PairSpec, design_pair
 from gearbox.ltca import LTCAOptions, ParallelPair, compliance_for, ltca_cycle
-from gearbox.ltca.beveloid import scene_grids
 from gearbox.ltca.parallel import parallel_grid
 from gearbox.ltca.pitch import (
     HuntingRecord,
@@ -31,13 +29,7 @@ P = 12  # positions per mesh cycle: enough to cross every pair's entry and exit
 @pytest.fixture(scope="module")
 def drive():
     """The default scene's drive flank: design, grids, compliance, loaded TCA."""
-    scene = load_scene(ROOT / "models" / "marine_drive.toml")
-    design = design_pair(PairSpec.from_scene(scene))
-    grids, _, _ = scene_grids(design, scene, "R", P)
-    comp = compliance_for("fast")
-    opts = LTCAOptions(positions=P)
-    res = ltca_cycle(lambda f: grids[round(f * P)], [300.0, 802.0], options=opts, compliance=comp)
-    return design, grids, comp, res
+    return default_drive(P)[1:]
 
 
 def _random_deviations(design, scale, seed=1):

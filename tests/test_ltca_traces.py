@@ -11,10 +11,10 @@ import math
 
 import numpy as np
 import pytest
+from _drive import parallel_drive
 
 from gearbox.errors import InputError
-from gearbox.ltca import LTCAOptions, ParallelPair, compliance_for, ltca_cycle
-from gearbox.ltca.parallel import parallel_grid
+from gearbox.ltca import ParallelPair
 from gearbox.ltca.pitch import (
     FlankTraces,
     FormDeviations,
@@ -39,28 +39,16 @@ def _pair(helix_deg: float) -> ParallelPair:
     )
 
 
-def _ltca(pair):
-    grids = [parallel_grid(pair, j / N, 16) for j in range(N)]
-    comp = compliance_for("fast")
-    res = ltca_cycle(
-        lambda f: grids[round(f * N) % N],
-        [200.0, 400.0],
-        options=LTCAOptions(positions=N),
-        compliance=comp,
-    )
-    return grids, comp, res
-
-
 @pytest.fixture(scope="module")
 def spur():
     pair = _pair(0.0)
-    return (pair, *_ltca(pair))
+    return (pair, *parallel_drive(pair, N, 16))
 
 
 @pytest.fixture(scope="module")
 def helical():
     pair = _pair(15.0)
-    return (pair, *_ltca(pair))
+    return (pair, *parallel_drive(pair, N, 16))
 
 
 def _span(grids, column, margin=1e-3):

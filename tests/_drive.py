@@ -1,0 +1,46 @@
+"""The default scene's drive flank at a few positions, for tests of the loaded TCA's
+hunting record (pitch and form deviations) that share its set-up."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from gearbox import load_scene
+from gearbox.geometry import PairSpec, design_pair
+from gearbox.ltca import LTCAOptions, compliance_for, ltca_cycle
+from gearbox.ltca.beveloid import scene_grids
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def default_drive(positions: int, torques=(300.0, 802.0)):
+    """(scene, design, grids, compliance, loaded TCA) of models/marine_drive.toml's
+    drive flank at ``positions`` per mesh cycle, the fast level, ``torques`` (N m)."""
+    scene = load_scene(ROOT / "models" / "marine_drive.toml")
+    design = design_pair(PairSpec.from_scene(scene))
+    grids, _, _ = scene_grids(design, scene, "R", positions)
+    comp = compliance_for("fast")
+    res = ltca_cycle(
+        lambda f: grids[round(f * positions)],
+        list(torques),
+        options=LTCAOptions(positions=positions),
+        compliance=comp,
+    )
+    return scene, design, grids, comp, res
+
+
+def parallel_drive(pair, positions: int, n_face: int, torques=(200.0, 400.0)):
+    """(grids, compliance, loaded TCA) of a parallel pair's drive flank
+    (:class:`gearbox.ltca.ParallelPair`) at ``positions`` per mesh cycle, the
+    closed-form grid of ``n_face`` slices, the fast level, ``torques`` (N m)."""
+    from gearbox.ltca.parallel import parallel_grid
+
+    grids = [parallel_grid(pair, j / positions, n_face) for j in range(positions)]
+    comp = compliance_for("fast")
+    res = ltca_cycle(
+        lambda f: grids[round(f * positions) % positions],
+        list(torques),
+        options=LTCAOptions(positions=positions),
+        compliance=comp,
+    )
+    return grids, comp, res
