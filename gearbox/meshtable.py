@@ -93,7 +93,7 @@ FORM_BASES = (
 )
 
 #: The attrs of the lengths the loaded contact covers on the drive flanks (m): roll
-#: length and axial length, pinion and gear; the slopes' default evaluation lengths.
+#: length and axial length, pinion and gear; the form deviations' default evaluation lengths.
 CONTACT_LENGTHS = (
     "pinion_contact_roll_length_m",
     "gear_contact_roll_length_m",

@@ -131,7 +131,8 @@ def validate_pitch(scene) -> None:
         )
         problems.append(Problem(key, t, f"must lie within load.torques_Nm [{min(tq)}, {max(tq)}]"))
     try:
-        # the evaluation lengths left empty come from the loaded TCA: stand-ins here
+        # the evaluation lengths left empty and the crownings' vertices come from the
+        # loaded TCA: stand-ins here
         design = geometry.design_pair(pair_spec(scene))
         pitch.deviations_from_scene(design, scene, flank_range=[[0.0, 1.0]] * 4)
     except InputError as exc:
