@@ -795,7 +795,6 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
                 )
 
     pitch = data.get("pitch", {})
-    traced = sorted(k for k, v in pitch.items() if k.endswith("_trace_um") and v)
     applied = data.get("drivetrain", {}).get("pitch_deviations") is True
     if applied and pitch.get("flank") == "coast":
         probs.add(
@@ -803,14 +802,6 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
             True,
             "the dynamics carry the drive flank's deviations: set pitch.flank = 'drive' "
             "(it is 'coast')",
-        )
-    if applied and traced:
-        probs.add(
-            "drivetrain.pitch_deviations",
-            True,
-            "the dynamics take the pitch deviations, slopes and crownings; measured "
-            f"traces ({', '.join('pitch.' + k for k in traced)}) act in the pitch stage's "
-            "hunting record only",
         )
 
 

@@ -200,7 +200,7 @@ def test_form_deviations_through_the_stage(marine, tmp_path):
 def test_traces_through_the_stage(marine, tmp_path, monkeypatch):
     """Measured traces from the scene: pitch.json and the report carry them, the record
     moves with them (linear; the stage makes the grids it needs), and every wrong key
-    is named before anything runs, the dynamics' refusal of traces included."""
+    is named before anything runs (the dynamics take them: tests/test_drivetrain_traces.py)."""
     from gearbox.report.pitch import render_pitch
 
     x = [-15.0, -5.0, 5.0, 15.0]
@@ -237,8 +237,6 @@ def test_traces_through_the_stage(marine, tmp_path, monkeypatch):
         "pitch.gear_helix_trace_um[0]",
     } <= keys
     assert "(45 rows are wrong)" in str(err.value)  # one problem for them all
-    with pytest.raises(InputError, match="drivetrain.pitch_deviations"):
-        marine.replaced(pitch=traces, drivetrain={"pitch_deviations": True})
 
 
 def test_the_coast_flank_of_a_parallel_pair_is_the_drive_turned(tmp_path):

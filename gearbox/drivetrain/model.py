@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import Problems
+from ..errors import InputError, Problem, Problems
 from ..meshtable import FRICTION_ARMS, MeshTable, fourier_eval, fourier_fit
 
 __all__ = [
@@ -135,13 +135,17 @@ class PitchApproach:
         )
 
     @classmethod
-    def from_table(cls, table: MeshTable, pinion, gear, torque: float, form=None) -> PitchApproach:
+    def from_table(
+        cls, table: MeshTable, pinion, gear, torque: float, form=None, turns=None
+    ) -> PitchApproach:
         """From a mesh table with pair weights and torque arm (a loaded TCA's) and the
         cumulative pitch deviations of the drive flanks (m, one per tooth, docs/ltca.md
         "Pitch deviations"), at ``torque``: samples over lcm(N_1, N_2) mesh cycles.
         ``form``: the teeth's profile and helix slopes and crownings
         (:class:`~gearbox.ltca.pitch.FormDeviations`, docs/ltca.md "Form deviations"),
-        which need the table's form weights."""
+        which need the table's form weights. ``turns``: measured traces as
+        :class:`~gearbox.ltca.pitch.TraceTurns` of the loaded TCA the table holds (same
+        torque levels, positions and tooth pairs; docs/ltca.md "Measured traces")."""
         from ..meshtable import TORQUE_ARM, form_weight_fields, pair_weight_fields
 
         p = Problems()
@@ -181,9 +185,11 @@ class PitchApproach:
                 form.teeth,
                 f"must be {z1} / {z2} values",
             )
+        ks = np.array(sorted(fields_))
+        if turns is not None:
+            _check_turns(p, turns, table, ks, (z1, z2))
         p.raise_if_any("invalid pitch deviations")
         H = z1 * z2 // math.gcd(z1, z2)
-        ks = np.array(sorted(fields_))
         w = np.stack([table.values_at(fields_[k], "drive", torque) for k in ks], axis=1)  # (P,K)
         arm = table.values_at(TORQUE_ARM, "drive", torque)  # (P,)
         c = np.arange(H)[:, None] - ks[None, :]
@@ -194,9 +200,47 @@ class PitchApproach:
                 [[table.values_at(n, "drive", torque) for n in weights[k]] for k in ks], axis=1
             )  # (J, K, P)
             turn = turn + np.einsum("hkj,jkp->hp", form.coefficients(c % z1, c % z2), W)
+        if turns is not None:
+            ct = np.arange(H)[:, None] - np.asarray(turns.pair_index)[None, :]
+            for t, z in zip(turns.at(torque), (z1, z2), strict=True):
+                if t is not None:  # t (P, K, z): pair k holds tooth (c - k) mod z
+                    turn = turn + sum(t[:, kk, ct[:, kk] % z].T for kk in range(ct.shape[1]))
         values = (arm[None, :] * turn).reshape(-1)
         step = float(table.angle[1] - table.angle[0])
         return cls(values, float(table.angle[0]), step)
+
+
+def _check_turns(p: Problems, turns, table: MeshTable, ks, teeth) -> None:
+    """Trace turns against the table: its torque levels, positions and tooth pairs,
+    and each member's teeth."""
+    p.check(
+        set(np.asarray(turns.pair_index).tolist()) <= set(ks.tolist()),
+        "trace turns",
+        np.asarray(turns.pair_index).tolist(),
+        f"must be made for tooth pairs among the table's {ks.tolist()}",
+    )
+    p.check(
+        turns.fraction.size == table.angle.size,
+        "trace turns",
+        f"{turns.fraction.size} positions",
+        f"must be made at the table's {table.angle.size} positions",
+    )
+    p.check(
+        np.allclose(turns.torque, table.torque, rtol=1e-12, atol=0.0)
+        if turns.torque.shape == table.torque.shape
+        else False,
+        "trace turns",
+        np.asarray(turns.torque).tolist(),
+        f"must be made at the table's torque levels {np.asarray(table.torque).tolist()} N m",
+    )
+    for t, z, name in zip((turns.pinion, turns.gear), teeth, ("pinion", "gear"), strict=True):
+        if t is not None:
+            p.check(
+                t.shape[-1] == z,
+                f"trace turns ({name})",
+                f"{t.shape[-1]} teeth",
+                f"must be {z} values",
+            )
 
 
 def _pitch_eval(theta1, coef, angle0, step, xp):
@@ -214,22 +258,38 @@ def _pitch_eval(theta1, coef, angle0, step, xp):
     return a, da
 
 
-def _pitch_of(scene, table: MeshTable, torque: float) -> PitchApproach | None:
+def _pitch_of(scene, table: MeshTable, torque: float, turns=None) -> PitchApproach | None:
     """The scene's ``[pitch]`` deviations as the drive flank's approach when
-    ``drivetrain.pitch_deviations`` is on (docs §3c), else None."""
+    ``drivetrain.pitch_deviations`` is on (docs §3c), else None. Measured traces
+    need their ``turns`` (:func:`~gearbox.ltca.pitch.trace_turns`, made of the same
+    traces)."""
     if not scene["drivetrain"]["pitch_deviations"]:
         return None
-    from ..ltca.pitch import deviations_from_section, form_from_section
+    from ..ltca.pitch import deviations_from_section, form_from_section, traces_from_section
     from ..meshtable import CONTACT_CENTRES, CONTACT_LENGTHS
 
     teeth = (table.pinion_teeth, table.gear_teeth)
     pin, gear = deviations_from_section(scene["pitch"], teeth)
+    traces = traces_from_section(scene["pitch"], teeth)
+    if traces is None:
+        turns = None  # none to carry
+    elif turns is None or not turns.matches(traces):
+        raise InputError(
+            Problem(
+                "drivetrain.pitch_deviations",
+                True,
+                "the scene's measured traces (pitch.*_trace_um) enter the dynamics through "
+                "their turns on the loaded TCA (gearbox.ltca.pitch.trace_turns, made by "
+                "`gearbox run`'s pitch stage): "
+                + ("none given" if turns is None else "those given were made of other traces"),
+            )
+        )
     covered = []
     for names in (CONTACT_LENGTHS, CONTACT_CENTRES):
         v = [table.attrs.get(k) for k in names]
         covered.append(None if None in v else ((v[0], v[1]), (v[2], v[3])))
     form = form_from_section(scene["pitch"], teeth, *covered)
-    return PitchApproach.from_table(table, pin, gear, torque, form)
+    return PitchApproach.from_table(table, pin, gear, torque, form, turns)
 
 
 @dataclass(frozen=True)
@@ -359,11 +419,19 @@ class DrivetrainModel:
     # ---------------------------------------------------------------- build
     @classmethod
     def from_scene(
-        cls, scene, table: MeshTable | None = None, *, speed_rpm: float | None = None
+        cls,
+        scene,
+        table: MeshTable | None = None,
+        *,
+        speed_rpm: float | None = None,
+        trace_turns=None,
     ) -> DrivetrainModel:
         """Model of a scene's ``[drivetrain]`` with a mesh table (analytical if None).
 
-        speed_rpm overrides ``drivetrain.engine_speed_rpm``.
+        speed_rpm overrides ``drivetrain.engine_speed_rpm``. ``trace_turns``: the
+        scene's measured traces on the table's loaded TCA
+        (:func:`gearbox.ltca.pitch.trace_turns`), needed when
+        ``drivetrain.pitch_deviations`` is on and ``[pitch]`` sets traces.
         """
         d = scene["drivetrain"]
         if table is None:
@@ -415,7 +483,7 @@ class DrivetrainModel:
             pinion_eccentricity_angle=math.radians(d["pinion_eccentricity_angle_deg"]),
             gear_eccentricity=d["gear_eccentricity_um"] * 1e-6,
             gear_eccentricity_angle=math.radians(d["gear_eccentricity_angle_deg"]),
-            pitch=_pitch_of(scene, table, torque),
+            pitch=_pitch_of(scene, table, torque, trace_turns),
             meta={"scene": scene.name, "table_method": table.attrs.get("method", "")},
         )
 

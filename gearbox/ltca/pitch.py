@@ -62,6 +62,7 @@ from .solver import ContactSolver, solve_contact
 
 __all__ = [
     "HuntingRecord",
+    "TraceTurns",
     "PitchDeviations",
     "PitchResult",
     "Trace",
@@ -79,6 +80,7 @@ __all__ = [
     "hunting_lte",
     "order_kind",
     "pair_angles",
+    "trace_turns",
     "traces_from_section",
 ]
 
@@ -735,6 +737,99 @@ def _linear_column(job):
     )
 
 
+@dataclass(frozen=True)
+class TraceTurns:
+    """Measured traces (:class:`FlankTraces`) as the dynamics take them: for each
+    torque level of a loaded TCA, each position of its cycle and each of its tooth
+    pairs k, the pinion rotation (rad) by which every pinion tooth's and every gear
+    tooth's trace offsets, sitting in pair k, turn the loaded flanks back, to first
+    order (``pinion`` (T, P, K, z1), ``gear`` (T, P, K, z2); None for a member without
+    traces): sum_i d_i s_i over pair k's points, d the tangent's rotation direction
+    at that torque (dphi = -d^T a, :func:`_predicted_loads`) and s_i the tooth's offset
+    (:meth:`FlankTraces.point_offsets`). In mesh cycle c at position p the loaded
+    rotation changes by -sum_k (pinion[., p, k, (c - k) mod z1] + gear[., p, k,
+    (c - k) mod z2]), the linear hunting record's change (:func:`hunting_lte`) at a
+    level; between levels linear in torque, as the mesh table's pair weights
+    (docs/drivetrain.md §3c). ``traces``: the traces they were made of."""
+
+    torque: np.ndarray
+    fraction: np.ndarray
+    pair_index: np.ndarray
+    pinion: np.ndarray | None
+    gear: np.ndarray | None
+    traces: FlankTraces
+
+    def at(self, torque: float) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """``(pinion (P, K, z1), gear (P, K, z2))`` at ``torque`` (N m), linear between
+        the levels (no extrapolation: held at the end levels)."""
+        res = _Levels(self.torque)
+        return tuple(
+            None if v is None else _at_torque(res, torque, v) for v in (self.pinion, self.gear)
+        )
+
+    def matches(self, traces: FlankTraces) -> bool:
+        """Whether these turns were made of ``traces`` (the same positions and rows)."""
+        mine, theirs = self.traces.to_dict(), traces.to_dict()
+        return mine.keys() == theirs.keys() and all(
+            np.array_equal(mine[k][f], theirs[k][f]) for k in mine for f in mine[k]
+        )
+
+
+@dataclass(frozen=True)
+class _Levels:
+    torque: np.ndarray
+
+
+def trace_turns(
+    res: CycleResult, grids, compliance, traces: FlankTraces, *, solver=None, mapper=None
+) -> TraceTurns:
+    """:class:`TraceTurns` of ``traces`` on the loaded TCA ``res`` (its torque levels and
+    pair index) with its ``grids`` (one per position, :func:`flank_grids`) and
+    ``compliance``: one contact solve and tangent per level and position.
+    ``mapper(fn, jobs) -> list`` may spread the positions over processes."""
+    p = Problems()
+    P = res.fraction.size
+    p.check(
+        grids is not None and len(grids) == P,
+        "grids",
+        None if grids is None else len(grids),
+        f"needs the {P} grids of the loaded TCA",
+    )
+    p.check(isinstance(traces, FlankTraces), "traces", type(traces).__name__, "must be FlankTraces")
+    p.raise_if_any("invalid trace turns")
+    torques = [float(t) for t in np.asarray(res.torque, dtype=float)]
+    jobs = [(g, compliance, torques, res.pair_index, solver, traces) for g in grids]
+    got = (mapper or _serial)(_turn_column, jobs)
+    member = [None if got[0][m] is None else np.stack([g[m] for g in got], axis=1) for m in (0, 1)]
+    return TraceTurns(
+        torque=np.asarray(res.torque, dtype=float).copy(),
+        fraction=np.asarray(res.fraction, dtype=float).copy(),
+        pair_index=np.asarray(res.pair_index).copy(),
+        pinion=member[0],
+        gear=member[1],
+        traces=traces,
+    )
+
+
+def _turn_column(job):
+    """One position's turns at each torque level: pinion (T, K, z1) and gear (T, K, z2)
+    rad, None for a member without traces (module level: runs in worker processes)."""
+    grid, compliance, torques, pair_index, solver, traces = job
+    solver = solver or ContactSolver()
+    C0 = compliance.tooth_matrix(grid) if compliance.load_dependent else None
+    offsets = traces.point_offsets(grid)  # (z1, n), (z2, n) or None
+    ks = np.asarray(pair_index)
+    member = (np.asarray(grid.pair)[:, None] == ks[None, :]).astype(float)  # (n, K)
+    none = np.zeros((0, grid.size))
+    out = [None if s is None else np.zeros((len(torques), ks.size, s.shape[0])) for s in offsets]
+    for t, torque in enumerate(torques):
+        _, d = _predicted_loads(grid, compliance, torque, none, solver, C0, rotation=True)
+        for m, s in enumerate(offsets):
+            if s is not None:
+                out[m][t] = (s @ (d[:, None] * member)).T
+    return out[0], out[1]
+
+
 def _exact_column(job):
     """One position's loaded TE (m), pair loads (N) and pair root stresses (Pa) for each
     row of coefficients, the mesh cycles' flank traces added to all rows but the last,
@@ -1082,11 +1177,13 @@ def deviations_from_scene(design, scene, flank_range=None) -> PitchDeviations:
 @dataclass(frozen=True)
 class PitchResult:
     """Pitch deviations' loaded TE on the drive flank (the pipeline's ``pitch`` stage):
-    the deviations and the hunting record."""
+    the deviations and the hunting record; ``turns``: the measured traces'
+    :class:`TraceTurns` when the dynamics carry them, else None."""
 
     deviations: PitchDeviations
     record: HuntingRecord
     flank: str = "drive"
+    turns: TraceTurns | None = None
 
     def lines(self, count: int = 12, *, added: bool = False) -> list[dict]:
         """The ``count`` largest lines of the loaded TE's order spectrum other than the

@@ -31,6 +31,14 @@ def _pitch_if_on(scene) -> tuple[str, ...]:
     return ("pitch",) if scene["drivetrain"]["pitch_deviations"] else ()
 
 
+def _turns_if_traced(scene) -> tuple[str, ...]:
+    """``drivetrain.pitch_deviations``, read by the ``pitch`` stage only when ``[pitch]``
+    sets measured traces: the stage then also makes their turns for the dynamics."""
+    if any(k.endswith("_trace_um") and v for k, v in scene["pitch"].items()):
+        return ("drivetrain.pitch_deviations",)
+    return ()
+
+
 def _check_torques(scene):
     dynamics.validate_torques(scene)
 
@@ -47,6 +55,7 @@ def _on_tables(name, compute, validate, doc, *code) -> Stage:
         reads=_DRIVE,
         reads_also=_pitch_if_on,
         depends=("tables",),
+        route=dynamics.drive_depends,
         code=("gearbox.drivetrain", "gearbox.meshtable", *code),
         validate=validate,
         doc=doc,
@@ -102,6 +111,7 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
                 "pitch",
             ),
             depends=("design", "ltca"),
+            reads_also=_turns_if_traced,
             validate=mesh.validate_pitch,
             code=("gearbox.ltca",),
             doc="Pitch deviations: loaded TE over a hunting period and its orders.",

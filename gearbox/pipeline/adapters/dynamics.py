@@ -113,12 +113,20 @@ def _at_speed(scene: Scene, speed_rpm: float) -> Scene:
     return Scene(MappingProxyType(data), scene.path)
 
 
-def model_at(scene: Scene, table, speed_rpm: float | None = None):
-    """:class:`gearbox.drivetrain.DrivetrainModel` at ``speed_rpm`` (default: operating)."""
+def model_at(scene: Scene, table, speed_rpm: float | None = None, turns=None):
+    """:class:`gearbox.drivetrain.DrivetrainModel` at ``speed_rpm`` (default: operating);
+    ``turns``: the measured traces' (:func:`trace_turns_of`)."""
     drivetrain = require("gearbox.drivetrain", "DrivetrainModel")
     if speed_rpm is not None:
         scene = _at_speed(scene, speed_rpm)
-    return drivetrain.DrivetrainModel.from_scene(scene, table)
+    return drivetrain.DrivetrainModel.from_scene(scene, table, trace_turns=turns)
+
+
+def trace_turns_of(ctx: StageContext):
+    """The measured traces' turns from the ``pitch`` stage, when the drivetrain stage
+    runs on it (``drivetrain.pitch_deviations`` with traces set), else None."""
+    pitch = ctx.inputs.get("pitch")
+    return None if pitch is None else pitch.turns
 
 
 def solver_of(scene: Scene):
@@ -181,7 +189,7 @@ def compute_dynamics(ctx: StageContext) -> OperatingPoint:
     """Settled response at the operating point (gearbox.drivetrain.simulate)."""
     linear = require("gearbox.drivetrain.linear", "modes")
     scene = ctx.scene
-    model = model_at(scene, ctx.inputs["tables"])
+    model = model_at(scene, ctx.inputs["tables"], turns=trace_turns_of(ctx))
     ts, metrics = _simulate(model, solver_of(scene), scene["simulation"])
     t0, n0 = operating_torque(scene)
     return OperatingPoint(n0, t0, model, ts, dict(metrics), linear.modes(model))
@@ -336,13 +344,28 @@ class SpeedSweep:
     excitations: tuple = ()
 
 
+def traced(scene: Scene) -> bool:
+    """Whether the dynamics carry measured traces: ``drivetrain.pitch_deviations`` on
+    and ``[pitch]`` setting any ``*_trace_um`` rows."""
+    if not scene["drivetrain"]["pitch_deviations"]:
+        return False
+    return any(k.endswith("_trace_um") and v for k, v in scene["pitch"].items())
+
+
+def drive_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Upstream of a drivetrain stage: the mesh tables, and the ``pitch`` stage when
+    the dynamics carry measured traces (their turns, :func:`trace_turns_of`)."""
+    return (("tables", "pitch") if traced(scene) else ("tables",)), ()
+
+
 def waterfall_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """Upstream of the waterfall: the mesh tables, and the operating point when its
-    speed is one of the sweep's (its settled run is then one point of the sweep)."""
+    """Upstream of the waterfall: as :func:`drive_depends`, and the operating point when
+    its speed is one of the sweep's (its settled run is then one point of the sweep)."""
+    req = drive_depends(scene)[0]
     n_op = float(scene["drivetrain"]["engine_speed_rpm"])
     if np.any(np.isclose(sweep_speeds(scene), n_op, rtol=1e-12, atol=0.0)):
-        return ("tables",), ("dynamics",)
-    return ("tables",), ()
+        return req, ("dynamics",)
+    return req, ()
 
 
 def _reused_point(op, model, speed_rpm: float, torque: float) -> SweepPoint | None:
@@ -364,9 +387,11 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
     table = ctx.inputs["tables"]
     speeds = sweep_speeds(scene)
     solver = solver_of(scene)
+    turns = trace_turns_of(ctx)
     sim = dict(scene["simulation"])
     jobs = [
-        (model_at(scene, table, n), solver, sim, n, propeller_law_torque(scene, n)) for n in speeds
+        (model_at(scene, table, n, turns), solver, sim, n, propeller_law_torque(scene, n))
+        for n in speeds
     ]
     op = ctx.inputs.get("dynamics")
     reused = {i: _reused_point(op, j[0], j[3], j[4]) for i, j in enumerate(jobs)}
@@ -401,9 +426,10 @@ def compute_campbell(ctx: StageContext):
     table = ctx.inputs["tables"]
     lo, hi = scene["simulation"]["speed_sweep_rpm"][:2]
     grid = np.linspace(lo, hi, CAMPBELL_SPEEDS)
-    models = {float(n): model_at(scene, table, n) for n in grid}
+    turns = trace_turns_of(ctx)
+    models = {float(n): model_at(scene, table, n, turns) for n in grid}
     freqs = np.array([linear.modes(m).frequencies for m in models.values()])
-    op_model = model_at(scene, table)
+    op_model = model_at(scene, table, turns=turns)
     op_modes = linear.modes(op_model)
     kinds = [d.split(" mode")[0] for d in op_modes.descriptions()]
     curves = {}
@@ -414,7 +440,7 @@ def compute_campbell(ctx: StageContext):
     excitations = _orders(op_model)
     diagram = spectrum.campbell(curves, excitations, (lo, hi), operating_range_rpm=(lo, hi))
     for c in diagram.crossings:
-        models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm))
+        models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm, turns))
     speeds = np.array(sorted(models))
     # the excitation orders' own lines: no sidebands needed
     responses = [linear.order_responses(models[float(n)], sideband_harmonics=0) for n in speeds]

@@ -147,7 +147,12 @@ def compute_pitch(ctx: StageContext):
     from first-order point loads), or exact (one contact solve per sample); the
     positions go through the run's executor."""
     pitch = require(
-        "gearbox.ltca.pitch", "hunting_lte", "PitchResult", "flank_grids", "deviations_from_scene"
+        "gearbox.ltca.pitch",
+        "hunting_lte",
+        "PitchResult",
+        "flank_grids",
+        "deviations_from_scene",
+        "trace_turns",
     )
     scene = ctx.scene
     design = ctx.inputs["design"]
@@ -161,4 +166,8 @@ def compute_pitch(ctx: StageContext):
     kw = {"grids": grids, "compliance": compliance, "mapper": ctx.map}
     teeth = (design.pinion.teeth, design.gear.teeth)
     rec = pitch.hunting_lte(res, dev, _pitch_torque(scene), teeth=teeth, method=method, **kw)
-    return pitch.PitchResult(dev, rec, flank)
+    turns = None
+    if dev.traces is not None and scene["drivetrain"]["pitch_deviations"]:
+        # the dynamics carry the traces: their turns at the loaded TCA's torque levels
+        turns = pitch.trace_turns(res, grids, compliance, dev.traces, mapper=ctx.map)
+    return pitch.PitchResult(dev, rec, flank, turns)
