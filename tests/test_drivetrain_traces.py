@@ -251,3 +251,15 @@ def test_harmonic_balance_reads_the_traced_run(traced_run):
     for o in (ghost, 1.0, 2.0, Z1 - ghost, Z1 + ghost):
         line = abs(f[0, np.argmin(np.abs(orders - o))])
         assert line == pytest.approx(amp[int(round(o * 45))], rel=0.01), o
+
+
+def test_the_report_says_what_the_approach_carries(traced):
+    """The report's drivetrain parameters name what the approach holds."""
+    from gearbox.report.dynamics import _parameters
+
+    table, pr = traced
+    m = DrivetrainModel.from_scene(scene(**QUIET), table, trace_turns=pr.turns)
+    assert m.pitch.carries == ("pitch deviations", "measured traces")
+    rows = dict(_parameters(m))
+    text = rows["pitch deviations: the drive flank's approach, peak-to-peak (um)"]
+    assert text.endswith("(pitch deviations, measured traces)")

@@ -86,12 +86,15 @@ class PitchApproach:
     (docs/drivetrain.md §3c): samples a_j (m) at the pinion angles angle0 + j step,
     j = 0..n-1, periodic with n step, through which a periodic cubic spline passes.
     a = -(the loaded TE's change), arm(theta) sum_k w_k(theta) alpha_k of
-    docs/ltca.md "Pitch deviations", at the model's torque.
+    docs/ltca.md "Pitch deviations", at the model's torque. ``carries``: what the
+    samples hold, for reports (:meth:`from_table` names "pitch deviations", "slopes
+    and crownings", "measured traces").
     """
 
     values: np.ndarray
     angle0: float
     step: float
+    carries: tuple[str, ...] = ()
 
     def __post_init__(self):
         v = np.array(self.values, dtype=float).reshape(-1)
@@ -207,7 +210,16 @@ class PitchApproach:
                     turn = turn + sum(t[:, kk, ct[:, kk] % z].T for kk in range(ct.shape[1]))
         values = (arm[None, :] * turn).reshape(-1)
         step = float(table.angle[1] - table.angle[0])
-        return cls(values, float(table.angle[0]), step)
+        carries = tuple(
+            name
+            for name, on in (
+                ("pitch deviations", bool(np.any(pin) or np.any(gea))),
+                ("slopes and crownings", form is not None),
+                ("measured traces", turns is not None),
+            )
+            if on
+        )
+        return cls(values, float(table.angle[0]), step, carries)
 
 
 def _check_turns(p: Problems, turns, table: MeshTable, ks, teeth) -> None:

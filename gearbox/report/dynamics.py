@@ -80,9 +80,7 @@ def _parameters(m) -> list[tuple]:
         ),
         (
             "pitch deviations: the drive flank's approach, peak-to-peak (um)",
-            fmt(float(np.ptp(m.pitch.values)) * 1e6, 4)
-            if getattr(m, "pitch", None) is not None
-            else "none (nominal teeth)",
+            _approach(m.pitch) if getattr(m, "pitch", None) is not None else "none (nominal teeth)",
         ),
         (
             "backlash along the line of action (mm)",
@@ -599,3 +597,10 @@ def render_fmu(art, run) -> Section:
         + table(["item", "value"], rows)
     )
     return Section("FMU", body, anchor="fmu")
+
+
+def _approach(pitch) -> str:
+    """The approach's peak-to-peak and what it carries."""
+    text = fmt(float(np.ptp(pitch.values)) * 1e6, 4)
+    carries = getattr(pitch, "carries", ())
+    return f"{text} ({', '.join(carries)})" if carries else text
