@@ -1,9 +1,13 @@
 """The default scene's drive flank at a few positions, for tests of the loaded TCA's
-hunting record (pitch and form deviations) that share its set-up."""
+hunting record (pitch and form deviations) that share its set-up; and the order
+spectrum of a drive's run against the pinion's own angle."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
+
+import numpy as np
 
 from gearbox import load_scene
 from gearbox.geometry import PairSpec, design_pair
@@ -44,3 +48,14 @@ def parallel_drive(pair, positions: int, n_face: int, torques=(200.0, 400.0)):
         compliance=comp,
     )
     return grids, comp, res
+
+
+def angle_spectrum(ts, channel: str, revs: int = 45):
+    """Order spectrum (single-sided peak amplitudes, bins of 1 / revs pinion order) of a
+    run's ``channel`` against the pinion's own angle: uniform resampling over the
+    record's whole hunting period of ``revs`` pinion revolutions."""
+    th = ts.channels["pinion_angle_rad"]
+    n = ts.time.size
+    grid = th[0] + np.arange(n) * (2 * math.pi * revs / n)
+    x = np.interp(grid, th, ts.channels[channel])
+    return np.abs(np.fft.rfft(x)) / n * 2

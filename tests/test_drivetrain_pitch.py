@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _drive import angle_spectrum
 
 from gearbox import load_scene
 from gearbox.drivetrain.linear import order_responses, pitch_harmonic_balance
@@ -220,23 +221,13 @@ def pitch_run(ltca):
     return m, ts, pr
 
 
-def _angle_spectrum(ts, channel, revs=45):
-    """Order spectrum against the pinion's own angle (uniform resampling over the
-    record's whole hunting period)."""
-    th = ts.channels["pinion_angle_rad"]
-    n = ts.time.size
-    grid = th[0] + np.arange(n) * (2 * math.pi * revs / n)
-    x = np.interp(grid, th, ts.channels[channel])
-    return np.abs(np.fft.rfft(x)) / n * 2
-
-
 def test_quasi_static_te_is_the_loaded_tcas(pitch_run):
     """Against the pinion's angle, the transmission error's pitch lines at low orders
     are the loaded TCA's (which solves the contact, not the drivetrain): pinion orders
     1 and 2 and gear orders 1 and 2 within 1 % (measured 0.01-0.31 % on 24 positions);
     at pinion order 5 (290 Hz) the drive begins to respond dynamically (+2.4 %)."""
     m, ts, pr = pitch_run
-    dte = _angle_spectrum(ts, "dynamic_transmission_error_m")
+    dte = angle_spectrum(ts, "dynamic_transmission_error_m")
     _, want = pr.record.order_spectrum()
     for order in (1.0, 2.0, 29 / 45, 58 / 45):
         i = int(round(order * 45))

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _drive import angle_spectrum
 
 from gearbox import load_scene
 from gearbox.drivetrain.linear import pitch_harmonic_balance
@@ -217,14 +218,6 @@ def traced_run(traced):
     return m, ts, pr
 
 
-def _angle_spectrum(ts, channel, revs=45):
-    th = ts.channels["pinion_angle_rad"]
-    n = ts.time.size
-    grid = th[0] + np.arange(n) * (2 * math.pi * revs / n)
-    x = np.interp(grid, th, ts.channels[channel])
-    return np.abs(np.fft.rfft(x)) / n * 2
-
-
 def test_quasi_static_te_follows_the_record(traced_run):
     """Against the pinion's angle, the transmission error's low lines are the loaded
     TCA's record's (the contact problem, not the drivetrain): the waviness's ghost at
@@ -232,7 +225,7 @@ def test_quasi_static_te_follows_the_record(traced_run):
     %: the record takes the tangent at 802 N m, the dynamics interpolate between 600
     and 900 N m, and at pinion order 2, 117 Hz, the drive responds a little)."""
     m, ts, pr = traced_run
-    dte = _angle_spectrum(ts, "dynamic_transmission_error_m")
+    dte = angle_spectrum(ts, "dynamic_transmission_error_m")
     _, want = pr.record.order_spectrum()
     for order in (3 * Z1 / Z2, Z1 / Z2, 1.0, 2.0):
         i = int(round(order * Z2))
