@@ -256,3 +256,17 @@ def test_the_report_says_what_the_approach_carries(traced):
     rows = dict(_parameters(m))
     text = rows["pitch deviations: the drive flank's approach, peak-to-peak (um)"]
     assert text.endswith("(pitch deviations, measured traces)")
+
+
+def test_turns_interpolate_as_the_table_does(traced):
+    """The turns at a torque are the levels' linear interpolation with the mesh table's
+    own weights; outside the levels they are refused by name."""
+    table, pr = traced
+    turns = pr.turns
+    j0, j1, w = table._torque_weights(802.0)
+    pin, gear = turns.at(802.0)
+    np.testing.assert_array_equal(pin, (1 - w) * turns.pinion[j0] + w * turns.pinion[j1])
+    np.testing.assert_array_equal(gear, (1 - w) * turns.gear[j0] + w * turns.gear[j1])
+    np.testing.assert_array_equal(turns.at(600.0)[0], turns.pinion[2])
+    with pytest.raises(InputError, match="torque_Nm"):
+        turns.at(1000.0)

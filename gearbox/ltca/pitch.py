@@ -761,10 +761,25 @@ class TraceTurns:
 
     def at(self, torque: float) -> tuple[np.ndarray | None, np.ndarray | None]:
         """``(pinion (P, K, z1), gear (P, K, z2))`` at ``torque`` (N m), linear between
-        the levels (no extrapolation: held at the end levels)."""
-        res = _Levels(self.torque)
+        the levels as :meth:`MeshTable.values_at <gearbox.meshtable.MeshTable.values_at>`
+        interpolates the pair weights; a torque outside the levels is refused."""
+        tq = np.asarray(self.torque, dtype=float)
+        lo, hi = float(tq[0]), float(tq[-1])
+        tol = 1e-9 * max(1.0, hi)
+        if not lo - tol <= torque <= hi + tol:
+            raise InputError(
+                Problem(
+                    "torque_Nm", torque, f"must be within the turns' levels [{lo:g}, {hi:g}] N m"
+                )
+            )
+        if tq.size == 1:
+            j, w = 0, 0.0
+        else:
+            j = int(np.clip(np.searchsorted(tq, torque) - 1, 0, tq.size - 2))
+            w = float(np.clip((torque - tq[j]) / (tq[j + 1] - tq[j]), 0.0, 1.0))
+        k = min(j + 1, tq.size - 1)
         return tuple(
-            None if v is None else _at_torque(res, torque, v) for v in (self.pinion, self.gear)
+            None if v is None else (1.0 - w) * v[j] + w * v[k] for v in (self.pinion, self.gear)
         )
 
     def matches(self, traces: FlankTraces) -> bool:
@@ -773,11 +788,6 @@ class TraceTurns:
         return mine.keys() == theirs.keys() and all(
             np.array_equal(mine[k][f], theirs[k][f]) for k in mine for f in mine[k]
         )
-
-
-@dataclass(frozen=True)
-class _Levels:
-    torque: np.ndarray
 
 
 def trace_turns(
