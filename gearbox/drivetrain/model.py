@@ -87,8 +87,8 @@ class PitchApproach:
     j = 0..n-1, periodic with n step, through which a periodic cubic spline passes.
     a = -(the loaded TE's change), arm(theta) sum_k w_k(theta) alpha_k of
     docs/ltca.md "Pitch deviations", at the model's torque. ``carries``: what the
-    samples hold, for reports (:meth:`from_table` names "pitch deviations", "slopes
-    and crownings", "measured traces").
+    samples hold, for reports ("pitch deviations", "slopes and crownings", "measured
+    traces", and "exact re-solves" from :meth:`from_levels`).
     """
 
     values: np.ndarray
@@ -210,16 +210,59 @@ class PitchApproach:
                     turn = turn + sum(t[:, kk, ct[:, kk] % z].T for kk in range(ct.shape[1]))
         values = (arm[None, :] * turn).reshape(-1)
         step = float(table.angle[1] - table.angle[0])
-        carries = tuple(
-            name
-            for name, on in (
-                ("pitch deviations", bool(np.any(pin) or np.any(gea))),
-                ("slopes and crownings", form is not None),
-                ("measured traces", turns is not None),
-            )
-            if on
-        )
+        carries = _carries(pin, gea, form is not None, turns is not None)
         return cls(values, float(table.angle[0]), step, carries)
+
+    @classmethod
+    def from_levels(cls, table: MeshTable, levels, torque: float) -> PitchApproach:
+        """From the exact hunting records at the torque levels of the loaded TCA the
+        table holds (:class:`~gearbox.ltca.pitch.LevelRecords`): minus their TE change,
+        interpolated at ``torque`` (N m) as the table interpolates, sampled at the
+        table's positions over the hunting period."""
+        p = Problems()
+        _check_levels(p, "level records", levels, table)
+        z1, z2 = table.pinion_teeth, table.gear_teeth
+        p.check(
+            tuple(levels.deviations.teeth) == (z1, z2),
+            "level records",
+            levels.deviations.teeth,
+            f"must be made for {z1} / {z2} teeth",
+        )
+        p.raise_if_any("invalid pitch deviations")
+        values = -levels.at(torque).reshape(-1)
+        dev = levels.deviations
+        carries = _carries(dev.pinion, dev.gear, dev.form is not None, dev.traces is not None)
+        step = float(table.angle[1] - table.angle[0])
+        return cls(values, float(table.angle[0]), step, (*carries, "exact re-solves"))
+
+
+def _carries(pinion, gear, form: bool, traces: bool) -> tuple[str, ...]:
+    """What an approach holds, by name (:attr:`PitchApproach.carries`)."""
+    named = (
+        ("pitch deviations", bool(np.any(pinion) or np.any(gear))),
+        ("slopes and crownings", form),
+        ("measured traces", traces),
+    )
+    return tuple(name for name, on in named if on)
+
+
+def _check_levels(p: Problems, name: str, made, table: MeshTable) -> None:
+    """Turns or records made on a loaded TCA (``made.torque``, ``made.fraction``)
+    against the table: its torque levels and positions."""
+    p.check(
+        made.fraction.size == table.angle.size,
+        name,
+        f"{made.fraction.size} positions",
+        f"must be made at the table's {table.angle.size} positions",
+    )
+    p.check(
+        np.allclose(made.torque, table.torque, rtol=1e-12, atol=0.0)
+        if made.torque.shape == table.torque.shape
+        else False,
+        name,
+        np.asarray(made.torque).tolist(),
+        f"must be made at the table's torque levels {np.asarray(table.torque).tolist()} N m",
+    )
 
 
 def _check_turns(p: Problems, turns, table: MeshTable, ks, teeth) -> None:
@@ -231,20 +274,7 @@ def _check_turns(p: Problems, turns, table: MeshTable, ks, teeth) -> None:
         np.asarray(turns.pair_index).tolist(),
         f"must be made for tooth pairs among the table's {ks.tolist()}",
     )
-    p.check(
-        turns.fraction.size == table.angle.size,
-        "trace turns",
-        f"{turns.fraction.size} positions",
-        f"must be made at the table's {table.angle.size} positions",
-    )
-    p.check(
-        np.allclose(turns.torque, table.torque, rtol=1e-12, atol=0.0)
-        if turns.torque.shape == table.torque.shape
-        else False,
-        "trace turns",
-        np.asarray(turns.torque).tolist(),
-        f"must be made at the table's torque levels {np.asarray(table.torque).tolist()} N m",
-    )
+    _check_levels(p, "trace turns", turns, table)
     for t, z, name in zip((turns.pinion, turns.gear), teeth, ("pinion", "gear"), strict=True):
         if t is not None:
             p.check(
@@ -270,19 +300,50 @@ def _pitch_eval(theta1, coef, angle0, step, xp):
     return a, da
 
 
-def _pitch_of(scene, table: MeshTable, torque: float, turns=None) -> PitchApproach | None:
+def _pitch_of(
+    scene, table: MeshTable, torque: float, turns=None, levels=None
+) -> PitchApproach | None:
     """The scene's ``[pitch]`` deviations as the drive flank's approach when
     ``drivetrain.pitch_deviations`` is on (docs §3c), else None. Measured traces
     need their ``turns`` (:func:`~gearbox.ltca.pitch.trace_turns`, made of the same
-    traces)."""
+    traces); ``pitch.method = "exact"`` needs the exact records at the torque levels,
+    ``levels`` (:func:`~gearbox.ltca.pitch.level_records`, made of the same
+    deviations)."""
     if not scene["drivetrain"]["pitch_deviations"]:
         return None
-    from ..ltca.pitch import deviations_from_section, form_from_section, traces_from_section
+    from ..ltca.pitch import (
+        PitchDeviations,
+        deviations_from_section,
+        form_from_section,
+        same_deviations,
+        traces_from_section,
+    )
     from ..meshtable import CONTACT_CENTRES, CONTACT_LENGTHS
 
     teeth = (table.pinion_teeth, table.gear_teeth)
     pin, gear = deviations_from_section(scene["pitch"], teeth)
     traces = traces_from_section(scene["pitch"], teeth)
+    covered = []
+    for names in (CONTACT_LENGTHS, CONTACT_CENTRES):
+        v = [table.attrs.get(k) for k in names]
+        covered.append(None if None in v else ((v[0], v[1]), (v[2], v[3])))
+    form = form_from_section(scene["pitch"], teeth, *covered)
+    if scene["pitch"]["method"] == "exact":
+        why = "none given"
+        if levels is not None:
+            dev = PitchDeviations(pin, gear, 1.0, 1.0, form, traces)  # radii not compared
+            why = None if same_deviations(levels.deviations, dev) else "other deviations'"
+        if why is not None:
+            raise InputError(
+                Problem(
+                    "pitch.method",
+                    "exact",
+                    "the dynamics take the exact method's approach from its records at the "
+                    "loaded TCA's torque levels (gearbox.ltca.pitch.level_records, made by "
+                    f"`gearbox run`'s pitch stage with drivetrain.pitch_deviations): {why}",
+                )
+            )
+        return PitchApproach.from_levels(table, levels, torque)
     if traces is None:
         turns = None  # none to carry
     elif turns is None or not turns.matches(traces):
@@ -296,11 +357,6 @@ def _pitch_of(scene, table: MeshTable, torque: float, turns=None) -> PitchApproa
                 + ("none given" if turns is None else "those given were made of other traces"),
             )
         )
-    covered = []
-    for names in (CONTACT_LENGTHS, CONTACT_CENTRES):
-        v = [table.attrs.get(k) for k in names]
-        covered.append(None if None in v else ((v[0], v[1]), (v[2], v[3])))
-    form = form_from_section(scene["pitch"], teeth, *covered)
     return PitchApproach.from_table(table, pin, gear, torque, form, turns)
 
 
@@ -437,13 +493,17 @@ class DrivetrainModel:
         *,
         speed_rpm: float | None = None,
         trace_turns=None,
+        level_records=None,
     ) -> DrivetrainModel:
         """Model of a scene's ``[drivetrain]`` with a mesh table (analytical if None).
 
         speed_rpm overrides ``drivetrain.engine_speed_rpm``. ``trace_turns``: the
         scene's measured traces on the table's loaded TCA
         (:func:`gearbox.ltca.pitch.trace_turns`), needed when
-        ``drivetrain.pitch_deviations`` is on and ``[pitch]`` sets traces.
+        ``drivetrain.pitch_deviations`` is on and ``[pitch]`` sets traces;
+        ``level_records``: the exact records at the table's torque levels
+        (:func:`gearbox.ltca.pitch.level_records`), needed instead with
+        ``pitch.method = "exact"``.
         """
         d = scene["drivetrain"]
         if table is None:
@@ -495,7 +555,7 @@ class DrivetrainModel:
             pinion_eccentricity_angle=math.radians(d["pinion_eccentricity_angle_deg"]),
             gear_eccentricity=d["gear_eccentricity_um"] * 1e-6,
             gear_eccentricity_angle=math.radians(d["gear_eccentricity_angle_deg"]),
-            pitch=_pitch_of(scene, table, torque, trace_turns),
+            pitch=_pitch_of(scene, table, torque, trace_turns, level_records),
             meta={"scene": scene.name, "table_method": table.attrs.get("method", "")},
         )
 

@@ -62,6 +62,7 @@ from .solver import ContactSolver, solve_contact
 
 __all__ = [
     "HuntingRecord",
+    "LevelRecords",
     "TraceTurns",
     "PitchDeviations",
     "PitchResult",
@@ -78,8 +79,10 @@ __all__ = [
     "exact_solutions",
     "flank_grids",
     "hunting_lte",
+    "level_records",
     "order_kind",
     "pair_angles",
+    "same_deviations",
     "trace_turns",
     "traces_from_section",
 ]
@@ -763,23 +766,9 @@ class TraceTurns:
         """``(pinion (P, K, z1), gear (P, K, z2))`` at ``torque`` (N m), linear between
         the levels as :meth:`MeshTable.values_at <gearbox.meshtable.MeshTable.values_at>`
         interpolates the pair weights; a torque outside the levels is refused."""
-        tq = np.asarray(self.torque, dtype=float)
-        lo, hi = float(tq[0]), float(tq[-1])
-        tol = 1e-9 * max(1.0, hi)
-        if not lo - tol <= torque <= hi + tol:
-            raise InputError(
-                Problem(
-                    "torque_Nm", torque, f"must be within the turns' levels [{lo:g}, {hi:g}] N m"
-                )
-            )
-        if tq.size == 1:
-            j, w = 0, 0.0
-        else:
-            j = int(np.clip(np.searchsorted(tq, torque) - 1, 0, tq.size - 2))
-            w = float(np.clip((torque - tq[j]) / (tq[j + 1] - tq[j]), 0.0, 1.0))
-        k = min(j + 1, tq.size - 1)
         return tuple(
-            None if v is None else (1.0 - w) * v[j] + w * v[k] for v in (self.pinion, self.gear)
+            None if v is None else _between_levels(self.torque, v, torque)
+            for v in (self.pinion, self.gear)
         )
 
     def matches(self, traces: FlankTraces) -> bool:
@@ -788,6 +777,96 @@ class TraceTurns:
         return mine.keys() == theirs.keys() and all(
             np.array_equal(mine[k][f], theirs[k][f]) for k in mine for f in mine[k]
         )
+
+
+def _between_levels(levels, values, torque: float) -> np.ndarray:
+    """``values`` (T, ...) at ``torque`` (N m), linear between the torque ``levels`` as
+    :meth:`MeshTable.values_at <gearbox.meshtable.MeshTable.values_at>` interpolates
+    (its weights clipped); a torque outside the levels is refused by name."""
+    tq = np.asarray(levels, dtype=float)
+    lo, hi = float(tq[0]), float(tq[-1])
+    tol = 1e-9 * max(1.0, hi)
+    if not lo - tol <= torque <= hi + tol:
+        raise InputError(
+            Problem("torque_Nm", torque, f"must be within the levels [{lo:g}, {hi:g}] N m")
+        )
+    if tq.size == 1:
+        return values[0]
+    j = int(np.clip(np.searchsorted(tq, torque) - 1, 0, tq.size - 2))
+    w = float(np.clip((torque - tq[j]) / (tq[j + 1] - tq[j]), 0.0, 1.0))
+    return (1.0 - w) * values[j] + w * values[j + 1]
+
+
+def same_deviations(a: PitchDeviations, b: PitchDeviations) -> bool:
+    """Whether two sets of deviations are the same numbers: pitch, form (slopes,
+    crownings, their ranges and vertices) and traces."""
+
+    def flat(d):
+        out = {"pinion": d.pinion, "gear": d.gear}
+        for name, part in (("form", d.form), ("traces", d.traces)):
+            for k, v in ({} if part is None else part.to_dict()).items():
+                if isinstance(v, dict):
+                    out |= {f"{name}.{k}.{f}": np.asarray(x) for f, x in v.items()}
+                else:
+                    out[f"{name}.{k}"] = np.asarray(v)
+        return out
+
+    fa, fb = flat(a), flat(b)
+    return fa.keys() == fb.keys() and all(np.array_equal(fa[k], fb[k]) for k in fa)
+
+
+@dataclass(frozen=True)
+class LevelRecords:
+    """The exact hunting records' TE changes at every torque level of a loaded TCA, the
+    dynamics' approach when ``pitch.method = "exact"`` (docs/drivetrain.md §3c):
+    ``change`` (T, H, P) m, each level's exact record (:func:`hunting_lte`) less its
+    nominal, mesh cycle by position; between levels linear in torque, as the mesh
+    table's pair weights. ``deviations``: what they were made of."""
+
+    torque: np.ndarray
+    fraction: np.ndarray
+    change: np.ndarray
+    deviations: PitchDeviations
+
+    def at(self, torque: float) -> np.ndarray:
+        """The TE change (H, P) m at ``torque`` (N m) (:func:`_between_levels`)."""
+        return _between_levels(self.torque, self.change, torque)
+
+
+def level_records(
+    res: CycleResult,
+    dev: PitchDeviations,
+    *,
+    teeth: tuple[int, int],
+    grids,
+    compliance,
+    solver: ContactSolver | None = None,
+    mapper=None,
+) -> LevelRecords:
+    """:class:`LevelRecords`: the exact method's hunting record (:func:`hunting_lte`)
+    at each torque level of the loaded TCA ``res``, with its ``grids`` and
+    ``compliance``; ``mapper`` may spread the positions over processes."""
+    H, P = dev.hunting_cycles, res.fraction.size
+    change = np.empty((res.torque.size, H, P))
+    for t, torque in enumerate(np.asarray(res.torque, dtype=float)):
+        rec = hunting_lte(
+            res,
+            dev,
+            float(torque),
+            teeth=teeth,
+            method="exact",
+            grids=grids,
+            compliance=compliance,
+            solver=solver,
+            mapper=mapper,
+        )
+        change[t] = (rec.lte - rec.lte_nominal).reshape(H, P)
+    return LevelRecords(
+        np.asarray(res.torque, dtype=float).copy(),
+        np.asarray(res.fraction, dtype=float).copy(),
+        change,
+        dev,
+    )
 
 
 def trace_turns(
@@ -1187,13 +1266,15 @@ def deviations_from_scene(design, scene, flank_range=None) -> PitchDeviations:
 @dataclass(frozen=True)
 class PitchResult:
     """Pitch deviations' loaded TE on the drive flank (the pipeline's ``pitch`` stage):
-    the deviations and the hunting record; ``turns``: the measured traces'
-    :class:`TraceTurns` when the dynamics carry them, else None."""
+    the deviations and the hunting record; when the dynamics carry the deviations,
+    ``turns`` (the measured traces' :class:`TraceTurns`, linear method) or ``levels``
+    (:class:`LevelRecords`, exact method), else None."""
 
     deviations: PitchDeviations
     record: HuntingRecord
     flank: str = "drive"
     turns: TraceTurns | None = None
+    levels: LevelRecords | None = None
 
     def lines(self, count: int = 12, *, added: bool = False) -> list[dict]:
         """The ``count`` largest lines of the loaded TE's order spectrum other than the

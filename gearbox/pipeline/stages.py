@@ -31,10 +31,11 @@ def _pitch_if_on(scene) -> tuple[str, ...]:
     return ("pitch",) if scene["drivetrain"]["pitch_deviations"] else ()
 
 
-def _turns_if_traced(scene) -> tuple[str, ...]:
+def _drive_if_levels(scene) -> tuple[str, ...]:
     """``drivetrain.pitch_deviations``, read by the ``pitch`` stage only when ``[pitch]``
-    sets measured traces: the stage then also makes their turns for the dynamics."""
-    if any(k.endswith("_trace_um") and v for k, v in scene["pitch"].items()):
+    sets measured traces or the exact method: the stage then also makes, for the
+    dynamics, the traces' turns or the exact records at the torque levels."""
+    if dynamics.pitch_needs_levels(scene["pitch"]):
         return ("drivetrain.pitch_deviations",)
     return ()
 
@@ -111,7 +112,7 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
                 "pitch",
             ),
             depends=("design", "ltca"),
-            reads_also=_turns_if_traced,
+            reads_also=_drive_if_levels,
             validate=mesh.validate_pitch,
             code=("gearbox.ltca",),
             doc="Pitch deviations: loaded TE over a hunting period and its orders.",

@@ -113,20 +113,15 @@ def _at_speed(scene: Scene, speed_rpm: float) -> Scene:
     return Scene(MappingProxyType(data), scene.path)
 
 
-def model_at(scene: Scene, table, speed_rpm: float | None = None, turns=None):
+def model_at(scene: Scene, table, speed_rpm: float | None = None, pitch=None):
     """:class:`gearbox.drivetrain.DrivetrainModel` at ``speed_rpm`` (default: operating);
-    ``turns``: the measured traces' (:func:`trace_turns_of`)."""
+    ``pitch``: the ``pitch`` stage's result when the stage runs on it (its trace turns
+    or exact level records, :func:`drive_depends`)."""
     drivetrain = require("gearbox.drivetrain", "DrivetrainModel")
     if speed_rpm is not None:
         scene = _at_speed(scene, speed_rpm)
-    return drivetrain.DrivetrainModel.from_scene(scene, table, trace_turns=turns)
-
-
-def trace_turns_of(ctx: StageContext):
-    """The measured traces' turns from the ``pitch`` stage, when the drivetrain stage
-    runs on it (``drivetrain.pitch_deviations`` with traces set), else None."""
-    pitch = ctx.inputs.get("pitch")
-    return None if pitch is None else pitch.turns
+    kw = {} if pitch is None else {"trace_turns": pitch.turns, "level_records": pitch.levels}
+    return drivetrain.DrivetrainModel.from_scene(scene, table, **kw)
 
 
 def solver_of(scene: Scene):
@@ -189,7 +184,7 @@ def compute_dynamics(ctx: StageContext) -> OperatingPoint:
     """Settled response at the operating point (gearbox.drivetrain.simulate)."""
     linear = require("gearbox.drivetrain.linear", "modes")
     scene = ctx.scene
-    model = model_at(scene, ctx.inputs["tables"], turns=trace_turns_of(ctx))
+    model = model_at(scene, ctx.inputs["tables"], pitch=ctx.inputs.get("pitch"))
     ts, metrics = _simulate(model, solver_of(scene), scene["simulation"])
     t0, n0 = operating_torque(scene)
     return OperatingPoint(n0, t0, model, ts, dict(metrics), linear.modes(model))
@@ -344,18 +339,27 @@ class SpeedSweep:
     excitations: tuple = ()
 
 
-def traced(scene: Scene) -> bool:
-    """Whether the dynamics carry measured traces: ``drivetrain.pitch_deviations`` on
-    and ``[pitch]`` setting any ``*_trace_um`` rows."""
+def on_pitch_stage(scene: Scene) -> bool:
+    """Whether the drivetrain stages need the ``pitch`` stage's result: the dynamics
+    carry the deviations (``drivetrain.pitch_deviations``) and either ``[pitch]`` sets
+    measured traces (their turns) or ``pitch.method = "exact"`` (the exact records at
+    the torque levels)."""
     if not scene["drivetrain"]["pitch_deviations"]:
         return False
-    return any(k.endswith("_trace_um") and v for k, v in scene["pitch"].items())
+    return pitch_needs_levels(scene["pitch"])
+
+
+def pitch_needs_levels(section) -> bool:
+    """Whether a ``[pitch]`` section, carried into the dynamics, needs the pitch stage to
+    work at the loaded TCA's torque levels: traces set, or the exact method."""
+    traces = any(k.endswith("_trace_um") and v for k, v in section.items())
+    return traces or section["method"] == "exact"
 
 
 def drive_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Upstream of a drivetrain stage: the mesh tables, and the ``pitch`` stage when
-    the dynamics carry measured traces (their turns, :func:`trace_turns_of`)."""
-    return (("tables", "pitch") if traced(scene) else ("tables",)), ()
+    :func:`on_pitch_stage`."""
+    return (("tables", "pitch") if on_pitch_stage(scene) else ("tables",)), ()
 
 
 def waterfall_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -387,10 +391,10 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
     table = ctx.inputs["tables"]
     speeds = sweep_speeds(scene)
     solver = solver_of(scene)
-    turns = trace_turns_of(ctx)
+    pitch = ctx.inputs.get("pitch")
     sim = dict(scene["simulation"])
     jobs = [
-        (model_at(scene, table, n, turns), solver, sim, n, propeller_law_torque(scene, n))
+        (model_at(scene, table, n, pitch), solver, sim, n, propeller_law_torque(scene, n))
         for n in speeds
     ]
     op = ctx.inputs.get("dynamics")
@@ -426,10 +430,10 @@ def compute_campbell(ctx: StageContext):
     table = ctx.inputs["tables"]
     lo, hi = scene["simulation"]["speed_sweep_rpm"][:2]
     grid = np.linspace(lo, hi, CAMPBELL_SPEEDS)
-    turns = trace_turns_of(ctx)
-    models = {float(n): model_at(scene, table, n, turns) for n in grid}
+    pitch = ctx.inputs.get("pitch")
+    models = {float(n): model_at(scene, table, n, pitch) for n in grid}
     freqs = np.array([linear.modes(m).frequencies for m in models.values()])
-    op_model = model_at(scene, table, turns=turns)
+    op_model = model_at(scene, table, pitch=pitch)
     op_modes = linear.modes(op_model)
     kinds = [d.split(" mode")[0] for d in op_modes.descriptions()]
     curves = {}
@@ -440,7 +444,7 @@ def compute_campbell(ctx: StageContext):
     excitations = _orders(op_model)
     diagram = spectrum.campbell(curves, excitations, (lo, hi), operating_range_rpm=(lo, hi))
     for c in diagram.crossings:
-        models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm, turns))
+        models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm, pitch))
     speeds = np.array(sorted(models))
     # the excitation orders' own lines: no sidebands needed
     responses = [linear.order_responses(models[float(n)], sideband_harmonics=0) for n in speeds]

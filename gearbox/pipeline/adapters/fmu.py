@@ -12,7 +12,7 @@ from typing import Any
 from ...commands._common import write_atomic
 from ..stage import StageContext
 from ._require import require
-from .dynamics import model_at, trace_turns_of
+from .dynamics import model_at
 
 __all__ = ["FmuArtifact", "compute_fmu"]
 
@@ -36,7 +36,7 @@ def compute_fmu(ctx: StageContext) -> FmuArtifact:
     """Generate, compile (gcc, warnings as errors) and zip the drivetrain FMU."""
     fmu = require("gearbox.fmu", "build_fmu", "drivetrain_fmu")
     table = ctx.inputs["tables"]
-    model = model_at(ctx.scene, table, turns=trace_turns_of(ctx))
+    model = model_at(ctx.scene, table, pitch=ctx.inputs.get("pitch"))
     with tempfile.TemporaryDirectory(prefix="gearbox-fmu-") as tmp:
         b = fmu.build_fmu(fmu.drivetrain_fmu(model, table), tmp)
         data = Path(b.fmu).read_bytes()

@@ -153,6 +153,7 @@ def compute_pitch(ctx: StageContext):
         "flank_grids",
         "deviations_from_scene",
         "trace_turns",
+        "level_records",
     )
     scene = ctx.scene
     design = ctx.inputs["design"]
@@ -166,8 +167,15 @@ def compute_pitch(ctx: StageContext):
     kw = {"grids": grids, "compliance": compliance, "mapper": ctx.map}
     teeth = (design.pinion.teeth, design.gear.teeth)
     rec = pitch.hunting_lte(res, dev, _pitch_torque(scene), teeth=teeth, method=method, **kw)
-    turns = None
-    if dev.traces is not None and scene["drivetrain"]["pitch_deviations"]:
-        # the dynamics carry the traces: their turns at the loaded TCA's torque levels
-        turns = pitch.trace_turns(res, grids, compliance, dev.traces, mapper=ctx.map)
-    return pitch.PitchResult(dev, rec, flank, turns)
+    turns = levels = None
+    # the stage reads drivetrain.pitch_deviations only then (pipeline.stages)
+    if (method == "exact" or dev.traces is not None) and scene["drivetrain"]["pitch_deviations"]:
+        # the dynamics carry the deviations: the exact records, or the traces' turns, at
+        # the loaded TCA's torque levels
+        if method == "exact":
+            levels = pitch.level_records(
+                res, dev, teeth=teeth, grids=grids, compliance=compliance, mapper=ctx.map
+            )
+        elif dev.traces is not None:
+            turns = pitch.trace_turns(res, grids, compliance, dev.traces, mapper=ctx.map)
+    return pitch.PitchResult(dev, rec, flank, turns, levels)
