@@ -408,7 +408,11 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "linear",
             "'linear': the loaded TE's first-order change through the loaded TCA's pair "
             "weights (milliseconds); 'exact': the contact problem solved again at every "
-            "position of the hunting period (one solve each: 30 s on the default scene, 2 cores).",
+            "position of the hunting period (one solve each: 30 s on the default scene, 2 cores). "
+            "With drivetrain.pitch_deviations the dynamics take the same method: 'linear' "
+            "through the mesh table's weights (and the traces' turns), 'exact' from exact "
+            "records at every torque level of the loaded TCA as well (five records in all; "
+            "docs/drivetrain.md section 3c).",
             ("linear", "exact"),
         ),
         "torque_Nm": _f(
