@@ -161,12 +161,12 @@ def ghost_along_the_propeller_law(scene, run, ghost: float, count: int) -> list[
     from gearbox.drivetrain.linear import modes, pitch_harmonic_balance
     from gearbox.pipeline.adapters.dynamics import model_at
 
-    table, turns = run["tables"], run["pitch"].turns
+    table, pitch = run["tables"], run["pitch"]
     lo, hi = scene["simulation"]["speed_sweep_rpm"][:2]
     rows = []
     print("the ghost in the drive's mesh force (harmonic balance, propeller law):")
     for rpm in np.linspace(lo, hi, count):
-        m = model_at(scene, table, float(rpm), turns)
+        m = model_at(scene, table, float(rpm), pitch)
         orders, _, f = pitch_harmonic_balance(m)
         i = int(np.argmin(np.abs(orders - ghost)))
         hz = ghost * rpm / 60.0
@@ -188,7 +188,7 @@ def simulated_ghost(scene, run, ghost: float) -> tuple[float, float]:
 
     quiet = {"firing_torque_ripple": 0.0, "half_order_ripple": 0.0, "blade_pass_ripple": 0.0}
     rpm = float(scene["simulation"]["speed_sweep_rpm"][1])
-    m = model_at(scene.replaced(drivetrain=quiet), run["tables"], rpm, run["pitch"].turns)
+    m = model_at(scene.replaced(drivetrain=quiet), run["tables"], rpm, run["pitch"])
     cycles = m.common_period_mesh_cycles()  # the hunting period
     ts = simulate(m, default_solver(), settle_time=1.0, mesh_cycles=cycles, samples_per_cycle=24)
     force = ts.channels["mesh_force_N"]
