@@ -46,6 +46,15 @@ def test_marine_excitation_orders_by_hand():
     # order 1.5 comes once.
     six = excitation_orders(pinion_teeth=31, cylinders=6, firing_harmonics=1)
     assert [e.order for e in six if e.source != "mesh"] == [0.5, 1.0, 1.5, 2.0, 2.5, 3.0]
+    # further lines of the tooth deviations join the pitch family, in order; one that
+    # an earlier family names already is dropped
+    dev = excitation_orders(
+        pinion_teeth=29, deviation_orders=(("deviations, gear 52", 52 * 29 / 45), ("x", 29.0))
+    )
+    assert [(e.label, e.source) for e in dev if e.source == "pitch"] == [
+        ("deviations, gear 52", "pitch")
+    ]
+    assert [e.order for e in dev] == sorted(e.order for e in dev)
 
 
 def test_excitation_orders_from_scene():
@@ -201,9 +210,11 @@ def test_bad_input_lists_every_problem():
         campbell({"neg": -3.0, "bad": "x"}, [ExcitationOrder("m", 29.0, "mesh")], (100.0, 1000.0))
     assert {p.path for p in err.value.problems} == {"modes['neg']", "modes['bad']"}
     with pytest.raises(InputError) as err:
-        excitation_orders(pinion_teeth=0, blades=3, cylinders=-1, strokes=3)
+        excitation_orders(
+            pinion_teeth=0, blades=3, cylinders=-1, strokes=3, deviation_orders=(("g", -1.0),)
+        )
     paths = {p.path for p in err.value.problems}
-    assert paths == {"pinion_teeth", "gear_teeth", "cylinders", "strokes"}
+    assert paths == {"pinion_teeth", "gear_teeth", "cylinders", "strokes", "deviation_orders"}
 
 
 def test_cubic_table_interpolation_of_a_coarse_table():

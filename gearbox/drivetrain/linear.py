@@ -731,6 +731,27 @@ def pitch_lines(model: DrivetrainModel, max_order: float, rel_floor: float = 1e-
     return orders[keep], A[keep]
 
 
+def deviation_lines(
+    model: DrivetrainModel, listed=(), *, count: int = 3, share: float = 0.1, max_order=None
+) -> list[tuple[float, float]]:
+    """The tooth deviations' approach's ``count`` largest lines (pinion order, amplitude
+    m) up to ``max_order`` (default three mesh orders) that reach ``share`` of its
+    largest, leaving out the orders in ``listed`` (the excitation orders already named):
+    a ghost order, a wobble's sidebands. [] without an approach."""
+    if model.pitch is None:
+        return []
+    top = 3.0 * model.pinion_teeth if max_order is None else float(max_order)
+    orders, A = pitch_lines(model, top)
+    amp = np.abs(A)
+    if amp.size == 0:
+        return []
+    known = np.asarray(list(listed), dtype=float)
+    fresh = ~np.any(np.isclose(orders[:, None], known[None, :], rtol=0, atol=1e-9), axis=1)
+    keep = np.flatnonzero(fresh & (amp >= share * amp.max()))
+    pick = keep[np.argsort(amp[keep])[::-1][:count]]
+    return [(float(orders[i]), float(amp[i])) for i in pick]
+
+
 def pitch_harmonic_balance(
     model: DrivetrainModel,
     speeds=None,

@@ -284,6 +284,7 @@ def excitation_orders(
     pinion_eccentricity: bool = False,
     gear_eccentricity: bool = False,
     pitch_orders: int = 0,
+    deviation_orders: tuple[tuple[str, float], ...] = (),
 ) -> tuple[ExcitationOrder, ...]:
     """Excitation orders relative to the pinion (cycles per pinion revolution).
 
@@ -312,6 +313,10 @@ def excitation_orders(
         orders 1..k (k N_1/N_2; needs ``gear_teeth``), family ``pitch``. Their lines
         lie at every multiple of 1 / (the hunting period in pinion revolutions); these
         are the long-wave ones.
+    deviation_orders : tuple of (label, order)
+        Further lines of the tooth deviations' approach (its largest beyond those
+        listed, :func:`gearbox.drivetrain.linear.deviation_lines`: a ghost order, a
+        wobble's sidebands), family ``pitch``.
 
     Returns
     -------
@@ -357,6 +362,8 @@ def excitation_orders(
         ("pitch_orders", pitch_orders),
     ):
         p.check(isinstance(v, int) and v >= 0, nm, v, "must be an integer >= 0")
+    for _, order in deviation_orders:
+        p.check(math.isfinite(order) and order > 0, "deviation_orders", order, "must be > 0")
     p.raise_if_any("excitation orders")
 
     out: list[ExcitationOrder] = []
@@ -379,6 +386,7 @@ def excitation_orders(
     for h in range(1, pitch_orders + 1):
         out.append(ExcitationOrder(f"pitch, pinion {h}", float(h), "pitch"))
         out.append(ExcitationOrder(f"pitch, gear {h}", h * pinion_teeth / gear_teeth, "pitch"))
+    out.extend(ExcitationOrder(label, float(o), "pitch") for label, o in deviation_orders)
     if cylinders is not None and half_orders:
         firing = cylinders * (2.0 / strokes)
         top = firing if max_half_order is None else min(firing, max_half_order + 0.25)

@@ -214,9 +214,10 @@ def _orders(model) -> tuple:
     """The model's excitation orders: mesh (3 harmonics), firing and blade-pass orders
     with the harmonics the model applies, half orders when it has cylinder imbalance,
     the eccentric members' once per revolution, the pitch deviations' first pinion and
-    gear orders."""
+    gear orders and the approach's three largest lines beyond them that reach a tenth
+    of its largest (a ghost order, a wobble's sidebands: "deviations, <kind>")."""
     spectrum = require("gearbox.spectrum.campbell", "excitation_orders", "PITCH_ORDERS")
-    return spectrum.excitation_orders(
+    kw = dict(
         pinion_teeth=model.pinion_teeth,
         gear_teeth=model.gear_teeth,
         cylinders=model.engine_cylinders,
@@ -229,6 +230,15 @@ def _orders(model) -> tuple:
         gear_eccentricity=model.gear_eccentricity > 0,
         pitch_orders=spectrum.PITCH_ORDERS if getattr(model, "pitch", None) is not None else 0,
     )
+    named = spectrum.excitation_orders(**kw)
+    if getattr(model, "pitch", None) is None:
+        return named
+    linear = require("gearbox.drivetrain.linear", "deviation_lines")
+    kind = require("gearbox.ltca.pitch", "order_kind").order_kind
+    z1, z2 = model.pinion_teeth, model.gear_teeth
+    lines = linear.deviation_lines(model, [e.order for e in named])
+    extra = tuple((f"deviations, {kind(o, z1, z2)}", o) for o, _ in lines)
+    return spectrum.excitation_orders(**kw, deviation_orders=extra)
 
 
 def spectra_of(series, excitations) -> dict[str, Any]:
