@@ -32,7 +32,8 @@ def test_example_ghost_order(tmp_path, capsys, monkeypatch):
 
 def test_example_ghost_order_in_the_drive(tmp_path, capsys, monkeypatch):
     """``--dynamics --simulate`` (12 positions): the ghost's mesh force grows along the
-    propeller law towards the mesh mode, and at the top speed the simulated line over
+    propeller law towards the mesh mode (which it meets only above the speed range: no
+    Campbell crossing of its own), and at the top speed the simulated line over
     the hunting period reads the harmonic balance's within 1 % (measured +0.007 % on
     24 positions)."""
     monkeypatch.setenv("GEARBOX_CACHE", str(tmp_path / "cache"))
@@ -43,6 +44,8 @@ def test_example_ghost_order_in_the_drive(tmp_path, capsys, monkeypatch):
     force = [r[2] for r in rows]
     assert force[0] < force[1] < force[2]
     assert all(r[1] < r[3] for r in rows)  # under the mesh mode all along
+    ghost = 52 * 29 / 45  # it meets the mesh mode above the speed range
+    assert all(abs(c.order - ghost) > 1e-9 for c in out["crossings"])
     sim, lin = out["simulated"]
     assert abs(lin - sim) < 0.01 * sim
     assert "harmonic balance" in capsys.readouterr().out
