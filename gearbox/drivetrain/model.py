@@ -216,11 +216,23 @@ class PitchApproach:
     @classmethod
     def from_levels(cls, table: MeshTable, levels, torque: float) -> PitchApproach:
         """From the exact hunting records at the torque levels of the loaded TCA the
-        table holds (:class:`~gearbox.ltca.pitch.LevelRecords`): minus their TE change,
-        interpolated at ``torque`` (N m) as the table interpolates, sampled at the
-        table's positions over the hunting period."""
+        table holds, and any further torques (:class:`~gearbox.ltca.pitch.LevelRecords`):
+        minus their TE change, linear in torque between them, sampled at the table's
+        positions over the hunting period."""
         p = Problems()
-        _check_levels(p, "level records", levels, table)
+        p.check(
+            levels.fraction.size == table.angle.size,
+            "level records",
+            f"{levels.fraction.size} positions",
+            f"must be made at the table's {table.angle.size} positions",
+        )
+        made = np.asarray(levels.torque, dtype=float)
+        p.check(
+            all(np.any(np.isclose(made, t, rtol=1e-12, atol=0.0)) for t in table.torque),
+            "level records",
+            made.tolist(),
+            f"must hold the table's torque levels {np.asarray(table.torque).tolist()} N m",
+        )
         z1, z2 = table.pinion_teeth, table.gear_teeth
         p.check(
             tuple(levels.deviations.teeth) == (z1, z2),

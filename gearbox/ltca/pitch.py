@@ -821,7 +821,8 @@ class LevelRecords:
     dynamics' approach when ``pitch.method = "exact"`` (docs/drivetrain.md §3c):
     ``change`` (T, H, P) m, each level's exact record (:func:`hunting_lte`) less its
     nominal, mesh cycle by position; between levels linear in torque, as the mesh
-    table's pair weights. ``deviations``: what they were made of."""
+    table's pair weights. The levels are the loaded TCA's and the torques of records
+    solved already (:func:`level_records`). ``deviations``: what they were made of."""
 
     torque: np.ndarray
     fraction: np.ndarray
@@ -842,27 +843,35 @@ def level_records(
     compliance,
     solver: ContactSolver | None = None,
     mapper=None,
+    known: tuple[HuntingRecord, ...] = (),
 ) -> LevelRecords:
     """:class:`LevelRecords`: the exact method's hunting record (:func:`hunting_lte`)
     at each torque level of the loaded TCA ``res``, with its ``grids`` and
-    ``compliance``; ``mapper`` may spread the positions over processes."""
+    ``compliance``; ``mapper`` may spread the positions over processes. ``known``:
+    exact records of these deviations already solved (the pitch stage's, at the
+    operating torque): their torques join the levels, solved no second time, so the
+    dynamics at that torque take the record itself."""
     H, P = dev.hunting_cycles, res.fraction.size
-    change = np.empty((res.torque.size, H, P))
-    for t, torque in enumerate(np.asarray(res.torque, dtype=float)):
-        rec = hunting_lte(
-            res,
-            dev,
-            float(torque),
-            teeth=teeth,
-            method="exact",
-            grids=grids,
-            compliance=compliance,
-            solver=solver,
-            mapper=mapper,
-        )
+    have = {float(r.torque): r for r in known if r.method == "exact" and r.cycles == H}
+    levels = sorted({float(t) for t in np.asarray(res.torque, dtype=float)} | set(have))
+    change = np.empty((len(levels), H, P))
+    for t, torque in enumerate(levels):
+        rec = have.get(torque)
+        if rec is None:
+            rec = hunting_lte(
+                res,
+                dev,
+                torque,
+                teeth=teeth,
+                method="exact",
+                grids=grids,
+                compliance=compliance,
+                solver=solver,
+                mapper=mapper,
+            )
         change[t] = (rec.lte - rec.lte_nominal).reshape(H, P)
     return LevelRecords(
-        np.asarray(res.torque, dtype=float).copy(),
+        np.asarray(levels, dtype=float),
         np.asarray(res.fraction, dtype=float).copy(),
         change,
         dev,

@@ -174,7 +174,13 @@ def compute_pitch(ctx: StageContext):
         # the loaded TCA's torque levels
         if method == "exact":
             levels = pitch.level_records(
-                res, dev, teeth=teeth, grids=grids, compliance=compliance, mapper=ctx.map
+                res,
+                dev,
+                teeth=teeth,
+                grids=grids,
+                compliance=compliance,
+                mapper=ctx.map,
+                known=(rec,),  # the operating torque's, a level of its own
             )
         elif dev.traces is not None:
             turns = pitch.trace_turns(res, grids, compliance, dev.traces, mapper=ctx.map)
