@@ -1,8 +1,9 @@
 """The dynamics' approach of the tooth deviations (docs/drivetrain.md §3c) on the
 default scene: the linear method's (the mesh table's weights, or the traces' turns)
-against the exact method's (exact hunting records at the loaded TCA's torque levels,
-interpolated in torque), both measured against the exact hunting record solved at the
-operating torque itself, with the time of the ``pitch`` stage that makes each.
+against the exact method's (exact hunting records at the loaded TCA's torque levels and
+the operating torque, interpolated in torque), both measured against exact hunting
+records solved at the model's operating torque and at a torque between the levels
+(``--between-Nm``, 700 N m), with the time of the ``pitch`` stage that makes each.
 
     python3 benchmarks/dynamics_pitch_approach.py                 # 24 positions, 3 cases
     python3 benchmarks/dynamics_pitch_approach.py --positions 12 --cases crownings
@@ -12,9 +13,10 @@ Cases (``[pitch]`` of the default scene, ``drivetrain.pitch_deviations = true``)
 ``crownings`` random profile and helix crownings within +-4 um on both members, no
 pitch deviations; ``all`` the pitch deviations with random slopes and crownings within
 +-4 um. Printed per case and method: the pitch stage's time (the exact one solves the
-record at the operating torque and at each of the four levels), the approach's largest
-and RMS gap to minus the exact record's TE change (share of the change's range), and
-the largest gap among the change's ten largest order lines (share of the line).
+record at the operating torque and at each of the four levels), and at each of the two
+torques the approach's largest and RMS gap to minus the exact record's TE change (share
+of the change's range) and the largest gap among the change's ten largest order lines
+(share of the line).
 """
 
 from __future__ import annotations
@@ -44,11 +46,11 @@ CASES = {
 }
 
 
-def _gaps(model, table, rec) -> tuple[float, float, float]:
-    """Largest and RMS gap of the approach to minus the record's TE change (share of
+def _gaps(approach, table, rec) -> tuple[float, float, float]:
+    """Largest and RMS gap of an approach to minus the record's TE change (share of
     its range), and the largest gap among its ten largest lines (share of the line)."""
     change = rec.lte - rec.lte_nominal
-    a, _ = model.pitch(rec.angle + float(table.angle[0]))
+    a, _ = approach(rec.angle + float(table.angle[0]))
     gap = a + change
     span = float(np.ptp(change))
     want = np.abs(np.fft.rfft(change))
@@ -60,12 +62,13 @@ def _gaps(model, table, rec) -> tuple[float, float, float]:
 
 def main(argv=None) -> None:
     from gearbox import load_scene
-    from gearbox.drivetrain.model import DrivetrainModel
+    from gearbox.drivetrain.model import DrivetrainModel, PitchApproach
     from gearbox.pipeline import run_pipeline
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--positions", type=int, default=24)
     ap.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
+    ap.add_argument("--between-Nm", type=float, default=700.0, help="a torque between levels")
     args = ap.parse_args(argv)
 
     base = load_scene(ROOT / "models" / "marine_drive.toml").replaced(
@@ -73,12 +76,15 @@ def main(argv=None) -> None:
     )
     cache = Path(tempfile.mkdtemp(prefix="gearbox-approach-"))
     run_pipeline(base, ["tables"], cache=cache)  # the loaded TCA once
+    between = args.between_Nm
     print(
-        f"default scene, {args.positions} positions; gaps against the exact record at the operating torque"
+        f"default scene, {args.positions} positions; gaps against the exact record at the "
+        f"model's torque (operating) and at {between:g} N m (between levels)"
     )
-    print(
-        f"{'case':10s} {'method':7s} {'pitch stage (s)':>16s} {'largest gap':>12s} {'RMS gap':>9s} {'ten lines':>10s}"
-    )
+    head = f"{'case':10s} {'method':7s} {'pitch stage (s)':>16s}"
+    for where in ("operating", "between"):
+        head += f" | {where + ': largest':>18s} {'RMS':>7s} {'lines':>7s}"
+    print(head)
     for case in args.cases:
         runs = {}
         for method in ("exact", "linear"):
@@ -91,13 +97,28 @@ def main(argv=None) -> None:
                 s, run["tables"], trace_turns=pr.turns, level_records=pr.levels
             )
             runs[method] = (model, run, wall)
-        rec = runs["exact"][1]["pitch"].record
+        table = runs["exact"][1]["tables"]
+        op = runs["exact"][1]["pitch"]
+        mid = run_pipeline(  # the exact record between the levels alone
+            base.replaced(
+                pitch={**CASES[case], "method": "exact", "torque_Nm": between},
+                drivetrain={"pitch_deviations": False},
+            ),
+            ["pitch"],
+            cache=cache,
+        )["pitch"].record
         for method, (model, run, wall) in runs.items():
-            big, rms, lines = _gaps(model, run["tables"], rec)
-            print(
-                f"{case:10s} {method:7s} {wall:16.1f} {100 * big:11.2f}% {100 * rms:8.2f}% "
-                f"{100 * lines:9.2f}%"
-            )
+            pr = run["pitch"]
+            if method == "exact":
+                at = PitchApproach.from_levels(table, pr.levels, between)
+            else:
+                dev = pr.deviations
+                at = PitchApproach.from_table(table, dev.pinion, dev.gear, between, dev.form)
+            row = f"{case:10s} {method:7s} {wall:16.1f}"
+            for approach, rec in ((model.pitch, op.record), (at, mid)):
+                big, rms, lines = _gaps(approach, table, rec)
+                row += f" | {100 * big:17.2f}% {100 * rms:6.2f}% {100 * lines:6.2f}%"
+            print(row)
 
 
 if __name__ == "__main__":
