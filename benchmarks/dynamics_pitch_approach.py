@@ -90,11 +90,11 @@ def main(argv=None) -> None:
         for method in ("exact", "linear"):
             s = base.replaced(pitch={**CASES[case], "method": method})
             t0 = time.perf_counter()
-            run = run_pipeline(s, ["tables", "pitch"], cache=cache)
+            run = run_pipeline(s, ["tables", "pitch", "approach"], cache=cache)
             wall = time.perf_counter() - t0
-            pr = run["pitch"]
+            ap = run["approach"]
             model = DrivetrainModel.from_scene(
-                s, run["tables"], trace_turns=pr.turns, level_records=pr.levels
+                s, run["tables"], trace_turns=ap.turns, level_records=ap.levels
             )
             runs[method] = (model, run, wall)
         table = runs["exact"][1]["tables"]
@@ -108,11 +108,10 @@ def main(argv=None) -> None:
             cache=cache,
         )["pitch"].record
         for method, (model, run, wall) in runs.items():
-            pr = run["pitch"]
             if method == "exact":
-                at = PitchApproach.from_levels(table, pr.levels, between)
+                at = PitchApproach.from_levels(table, run["approach"].levels, between)
             else:
-                dev = pr.deviations
+                dev = run["pitch"].deviations
                 at = PitchApproach.from_table(table, dev.pinion, dev.gear, between, dev.form)
             row = f"{case:10s} {method:7s} {wall:16.1f}"
             for approach, rec in ((model.pitch, op.record), (at, mid)):

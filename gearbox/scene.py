@@ -523,7 +523,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "drive flank over a hunting period at the model's torque (docs/drivetrain.md "
             "section 3c). Needs loaded-TCA mesh tables (their pair and form weights); "
             "measured traces (pitch.*_trace_um) also need their turns on the loaded TCA, "
-            "which the pitch stage of `gearbox run` makes. All three solvers and the FMU "
+            "which the approach stage of `gearbox run` makes. All three solvers and the FMU "
             "carry it.",
         ),
         "propeller_inertia_kgm2": _f(5.0, "Propeller inertia in air (kg m^2).", 0, None, True),

@@ -22,7 +22,7 @@ What it does, step by step:
    the contact problem at every sample) and print the loaded TE's largest added lines,
    named;
 3. with ``--dynamics``, carry the traces into the drive (``drivetrain.pitch_deviations``:
-   the pitch stage then also makes the traces' turns, docs/drivetrain.md section 3c)
+   the ``approach`` stage makes the traces' turns, docs/drivetrain.md section 3c)
    and print the ghost's dynamic mesh force at ``--speeds`` speeds on the propeller law
    (harmonic balance about each speed's operating point), and the mesh mode it
    approaches;
@@ -112,11 +112,13 @@ def main(argv=None):
         "gear_profile_trace_mm": x_mm.tolist(),
         "gear_profile_trace_um": rows.tolist(),
     }
-    if args.dynamics:  # the linear record's stage also makes the turns
+    if args.dynamics:  # the dynamics carry the deviations
         scene = scene.replaced(drivetrain={"pitch_deviations": True})
     out = {}
     for method in ("linear", "exact") if args.exact else ("linear",):
-        wanted = ["pitch", "tables"] if method == "linear" and args.dynamics else ["pitch"]
+        wanted = ["pitch"]
+        if method == "linear" and args.dynamics:
+            wanted += ["tables", "approach"]  # the traces' turns for the dynamics
         out[method] = run_pipeline(scene.replaced(pitch={**pitch, "method": method}), wanted)
     rec = out["linear"]["pitch"].record
     ghost = args.waves * z1 / z2
@@ -167,12 +169,12 @@ def ghost_along_the_propeller_law(scene, run, ghost: float, count: int) -> list[
     from gearbox.drivetrain.linear import modes, pitch_harmonic_balance
     from gearbox.pipeline.adapters.dynamics import model_at
 
-    table, pitch = run["tables"], run["pitch"]
+    table, approach = run["tables"], run["approach"]
     lo, hi = scene["simulation"]["speed_sweep_rpm"][:2]
     rows = []
     print("the ghost in the drive's mesh force (harmonic balance, propeller law):")
     for rpm in np.linspace(lo, hi, count):
-        m = model_at(scene, table, float(rpm), pitch)
+        m = model_at(scene, table, float(rpm), approach)
         orders, _, f = pitch_harmonic_balance(m)
         i = int(np.argmin(np.abs(orders - ghost)))
         hz = ghost * rpm / 60.0
@@ -213,7 +215,7 @@ def simulated_ghost(scene, run, ghost: float) -> tuple[float, float]:
 
     quiet = {"firing_torque_ripple": 0.0, "half_order_ripple": 0.0, "blade_pass_ripple": 0.0}
     rpm = float(scene["simulation"]["speed_sweep_rpm"][1])
-    m = model_at(scene.replaced(drivetrain=quiet), run["tables"], rpm, run["pitch"])
+    m = model_at(scene.replaced(drivetrain=quiet), run["tables"], rpm, run["approach"])
     cycles = m.common_period_mesh_cycles()  # the hunting period
     ts = simulate(m, default_solver(), settle_time=1.0, mesh_cycles=cycles, samples_per_cycle=24)
     force = ts.channels["mesh_force_N"]

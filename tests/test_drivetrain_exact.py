@@ -1,5 +1,5 @@
 """The exact method's approach in the dynamics (``pitch.method = "exact"`` with
-``drivetrain.pitch_deviations``, docs/drivetrain.md §3c): the pitch stage's exact
+``drivetrain.pitch_deviations``, docs/drivetrain.md §3c): the approach stage's exact
 hunting records at the loaded TCA's torque levels (gearbox.ltca.pitch.level_records),
 interpolated in torque.
 
@@ -50,9 +50,10 @@ def cache(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def exact(cache):
-    """Tables and the exact pitch stage (record at 802 N m, records at the levels)."""
-    run = run_pipeline(scene(), ["tables", "pitch"], cache=cache)
-    return run["tables"], run["pitch"]
+    """Tables, the exact pitch stage (its record at 802 N m) and the approach stage (the
+    records at the levels, the pitch stage's among them)."""
+    run = run_pipeline(scene(), ["tables", "pitch", "approach"], cache=cache)
+    return run["tables"], run["pitch"], run["approach"]
 
 
 def _error(approach, table, rec) -> float:
@@ -66,12 +67,12 @@ def _error(approach, table, rec) -> float:
 def test_at_a_level_the_approach_is_the_exact_record(exact, cache):
     """At a torque level of the loaded TCA (600 N m) the approach is minus the exact
     record's TE change, to the last bit: the same solves."""
-    table, pr = exact
-    assert pr.levels is not None and pr.turns is None
-    assert pr.levels.change.shape == (5, 29 * 45, 12)
+    table, pr, ap = exact
+    assert ap.levels is not None and ap.turns is None
+    assert ap.levels.change.shape == (5, 29 * 45, 12)
     at600 = run_pipeline(scene(torque_Nm=600.0), ["pitch"], cache=cache)["pitch"]
-    m = DrivetrainModel.from_scene(scene(), table, level_records=pr.levels)
-    a = PitchApproach.from_levels(table, pr.levels, 600.0)
+    m = DrivetrainModel.from_scene(scene(), table, level_records=ap.levels)
+    a = PitchApproach.from_levels(table, ap.levels, 600.0)
     rec = at600.record
     np.testing.assert_array_equal(a.values, -(rec.lte - rec.lte_nominal))
     assert m.pitch.carries == ("slopes and crownings", "exact re-solves")
@@ -81,9 +82,9 @@ def test_at_the_operating_torque_the_approach_is_its_record(exact):
     """The pitch stage's own record (802 N m) joins the levels: the model at the
     operating torque (802.14 N m, the engine's power over its speed) reads it, within
     1e-3 of the change's range (measured 2.7e-5: the 0.14 N m towards 900 N m)."""
-    table, pr = exact
-    assert pr.levels.torque.tolist() == [50.0, 300.0, 600.0, 802.0, 900.0]
-    m = DrivetrainModel.from_scene(scene(), table, level_records=pr.levels)
+    table, pr, ap = exact
+    assert ap.levels.torque.tolist() == [50.0, 300.0, 600.0, 802.0, 900.0]
+    m = DrivetrainModel.from_scene(scene(), table, level_records=ap.levels)
     assert m.torque == pytest.approx(802.14, abs=0.01)
     rec = pr.record
     assert rec.method == "exact" and np.ptp(rec.lte - rec.lte_nominal) > 1e-6
@@ -95,10 +96,10 @@ def test_between_levels_the_exact_approach_beats_the_linear(exact, cache):
     700 N m: the exact records interpolated in torque within 3 % of the change's range
     (measured 0.53 %), the linear method's approach (the table's weights, interpolated
     between 600 and 900 N m) at least three times further off (measured 5.0 %)."""
-    table, pr = exact
+    table, pr, ap = exact
     at700 = run_pipeline(scene(torque_Nm=700.0), ["pitch"], cache=cache)["pitch"].record
     dev = pr.deviations
-    err_exact = _error(PitchApproach.from_levels(table, pr.levels, 700.0), table, at700)
+    err_exact = _error(PitchApproach.from_levels(table, ap.levels, 700.0), table, at700)
     linear = PitchApproach.from_table(table, dev.pinion, dev.gear, 700.0, dev.form)
     err_linear = _error(linear, table, at700)
     assert err_exact < 0.03, err_exact
@@ -108,12 +109,12 @@ def test_between_levels_the_exact_approach_beats_the_linear(exact, cache):
 def test_the_exact_approach_needs_its_records(exact):
     """Without the records, or with records of other deviations, the model is refused
     by name (pitch.method)."""
-    table, pr = exact
+    table, pr, ap = exact
     with pytest.raises(InputError, match="pitch.method.*none given"):
         DrivetrainModel.from_scene(scene(), table)
     other = scene(pinion_helix_slope_um=[1.0] * Z1)
     with pytest.raises(InputError, match="other deviations"):
-        DrivetrainModel.from_scene(other, table, level_records=pr.levels)
+        DrivetrainModel.from_scene(other, table, level_records=ap.levels)
 
 
 def test_the_drivetrain_stages_run_on_the_exact_records(exact, cache):
@@ -123,5 +124,5 @@ def test_the_drivetrain_stages_run_on_the_exact_records(exact, cache):
     run = run_pipeline(s, ["dynamics"], cache=cache)
     assert run.summary.ok, run.summary.table()
     status = {r.name: r.status for r in run.summary.records}
-    assert status["pitch"] == "cached"  # the fixture's
+    assert status["approach"] == "cached"  # the fixture's
     assert "exact re-solves" in run["dynamics"].model.pitch.carries

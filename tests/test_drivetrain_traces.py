@@ -1,5 +1,5 @@
 """Measured flank traces in the dynamics (docs/drivetrain.md §3c, docs/ltca.md
-"Measured traces"): the pitch stage's trace turns put every tooth's traces into the
+"Measured traces"): the approach stage's trace turns put every tooth's traces into the
 drive flank's approach.
 
 References: the loaded TCA's hunting record (the contact problem's own first-order
@@ -66,8 +66,8 @@ def cache(tmp_path_factory):
 def traced(cache):
     """The default scene (12 positions) with the traces and random single pitch
     deviations (+-4 um), the record at 802 N m: tables and pitch stage."""
-    run = run_pipeline(scene(), ["tables", "pitch"], cache=cache)
-    return run["tables"], run["pitch"]
+    run = run_pipeline(scene(), ["tables", "pitch", "approach"], cache=cache)
+    return run["tables"], run["pitch"], run["approach"].turns
 
 
 def _change(pr):
@@ -83,14 +83,14 @@ def test_approach_is_the_records_change_at_a_level(traced, cache):
     linearly in torque as it does the pair weights, while the record takes the
     tangent at the torque itself: at 802 N m (levels 600 and 900) within 1 % of the
     range (measured 0.24 %)."""
-    table, pr = traced
-    assert pr.turns is not None
-    assert pr.turns.pinion.shape == (4, 12, 3, Z1) and pr.turns.gear.shape == (4, 12, 3, Z2)
+    table, pr, turns = traced
+    assert turns is not None
+    assert turns.pinion.shape == (4, 12, 3, Z1) and turns.gear.shape == (4, 12, 3, Z2)
     at600 = run_pipeline(scene({"torque_Nm": 600.0}), ["pitch"], cache=cache)["pitch"]
     for p, tol in ((at600, 1e-11), (pr, 1e-2)):
         dev = p.deviations
         tq = p.record.torque
-        approach = PitchApproach.from_table(table, dev.pinion, dev.gear, tq, dev.form, p.turns)
+        approach = PitchApproach.from_table(table, dev.pinion, dev.gear, tq, dev.form, turns)
         angle, change = _change(p)
         assert np.ptp(change) > 10e-6
         a, _ = approach(angle + float(table.angle[0]))
@@ -100,10 +100,10 @@ def test_approach_is_the_records_change_at_a_level(traced, cache):
 def test_the_model_takes_the_turns_and_names_what_is_missing(traced):
     """The scene's model carries the approach through the turns; without them, or with
     turns of other traces, it is refused by name; turns of another table too."""
-    table, pr = traced
-    m = DrivetrainModel.from_scene(scene(**QUIET), table, trace_turns=pr.turns)
+    table, pr, turns = traced
+    m = DrivetrainModel.from_scene(scene(**QUIET), table, trace_turns=turns)
     dev = pr.deviations
-    direct = PitchApproach.from_table(table, dev.pinion, dev.gear, m.torque, None, pr.turns)
+    direct = PitchApproach.from_table(table, dev.pinion, dev.gear, m.torque, None, turns)
     np.testing.assert_array_equal(m.pitch.values, direct.values)
     without = PitchApproach.from_table(table, dev.pinion, dev.gear, m.torque)
     assert np.ptp(direct.values - without.values) > 1e-6  # the traces' part
@@ -113,11 +113,11 @@ def test_the_model_takes_the_turns_and_names_what_is_missing(traced):
         {"gear_profile_trace_um": (np.array(_traces()["gear_profile_trace_um"]) * 2).tolist()}
     )
     with pytest.raises(InputError, match="other traces"):
-        DrivetrainModel.from_scene(other, table, trace_turns=pr.turns)
-    shifted = dataclasses.replace(pr.turns, torque=pr.turns.torque + 1.0)
+        DrivetrainModel.from_scene(other, table, trace_turns=turns)
+    shifted = dataclasses.replace(turns, torque=turns.torque + 1.0)
     with pytest.raises(InputError, match="trace turns"):
         PitchApproach.from_table(table, dev.pinion, dev.gear, m.torque, None, shifted)
-    cut = dataclasses.replace(pr.turns, fraction=pr.turns.fraction[:6])
+    cut = dataclasses.replace(turns, fraction=turns.fraction[:6])
     with pytest.raises(InputError, match="12 positions"):
         PitchApproach.from_table(table, dev.pinion, dev.gear, m.torque, None, cut)
 
@@ -125,11 +125,11 @@ def test_the_model_takes_the_turns_and_names_what_is_missing(traced):
 def test_slopes_and_crownings_as_traces_give_the_form_approach(traced, cache):
     """Random profile and helix slopes and crownings on every tooth of both members,
     once as form deviations (the mesh table's form weights) and once sampled as traces
-    (the pitch stage's turns): the same approach at 802 N m, between the torque
+    (the approach stage's turns): the same approach at 802 N m, between the torque
     levels, where both interpolate linearly in torque. Tolerance 1e-6 of the range: the
     weights come from the loaded TCA's solves, the turns from solves of their own, each
     iterating the flattening to 1e-6 of the loads (measured 6.9e-7)."""
-    table, _ = traced
+    table, _, _ = traced
     rng = np.random.default_rng(8)
     given = {
         "random_single_um": 0.0,
@@ -162,7 +162,7 @@ def test_slopes_and_crownings_as_traces_give_the_form_approach(traced, cache):
             (k[:, j, None] * x + k[:, 4 + j, None] * x**2) * 1e6
         ).tolist()
     by_trace = scene({"random_single_um": 0.0, **rows}, **QUIET)
-    turns = run_pipeline(by_trace, ["pitch"], cache=cache)["pitch"].turns
+    turns = run_pipeline(by_trace, ["approach"], cache=cache)["approach"].turns
     a = DrivetrainModel.from_scene(by_form, table).pitch.values
     b = DrivetrainModel.from_scene(by_trace, table, trace_turns=turns).pitch.values
     assert np.ptp(a) > 1e-6
@@ -176,16 +176,16 @@ def _status(run) -> dict:
 
 def test_the_pipeline_routes_the_turns(cache):
     """``gearbox run``: with traces and ``drivetrain.pitch_deviations`` the dynamics
-    stage runs on the pitch stage (which then makes the turns) and its model carries
-    them; a change of the traces alone redoes pitch and dynamics, not the loaded TCA;
-    without ``pitch_deviations`` the pitch stage makes no turns and the dynamics do not
-    wait for it."""
+    stage runs on the ``approach`` stage (the traces' turns) and its model carries
+    them; a change of the traces alone redoes approach and dynamics, not the loaded
+    TCA; without ``pitch_deviations`` the dynamics neither wait for it nor plan it."""
     short = {"settle_time_s": 0.02, "settled_mesh_cycles": 30}
     s = scene(**QUIET).replaced(simulation=short)
     run = run_pipeline(s, ["dynamics"], cache=cache)
     assert run.summary.ok, run.summary.table()
-    assert "pitch" in _status(run)
-    turns = run["pitch"].turns
+    status = _status(run)
+    assert "approach" in status and "pitch" not in status  # the record is not needed
+    turns = run["approach"].turns
     want = DrivetrainModel.from_scene(s, run["tables"], trace_turns=turns).pitch.values
     np.testing.assert_array_equal(run["dynamics"].model.pitch.values, want)
     rows = (np.array(_traces()["gear_profile_trace_um"]) * 0.5).tolist()
@@ -193,14 +193,12 @@ def test_the_pipeline_routes_the_turns(cache):
         s.replaced(pitch={"gear_profile_trace_um": rows}), ["dynamics"], cache=cache
     )
     got = _status(moved)
-    assert got["ltca"] == "cached" and got["pitch"] == "computed" and got["dynamics"] == "computed"
+    assert got["ltca"] == "cached"
+    assert got["approach"] == "computed" and got["dynamics"] == "computed"
     off = run_pipeline(
-        s.replaced(drivetrain={"pitch_deviations": False}), ["dynamics", "pitch"], cache=cache
+        s.replaced(drivetrain={"pitch_deviations": False}), ["dynamics"], cache=cache
     )
-    assert off["pitch"].turns is None and off["dynamics"].model.pitch is None
-    assert "pitch" not in _status(
-        run_pipeline(s.replaced(drivetrain={"pitch_deviations": False}), ["dynamics"], cache=cache)
-    )
+    assert "approach" not in _status(off) and off["dynamics"].model.pitch is None
 
 
 @pytest.fixture(scope="module")
@@ -211,8 +209,8 @@ def traced_run(traced):
     pytest.importorskip("diffrax")
     from gearbox.drivetrain.simulate import default_solver, simulate
 
-    table, pr = traced
-    m = DrivetrainModel.from_scene(scene(**QUIET), table, trace_turns=pr.turns)
+    table, pr, turns = traced
+    m = DrivetrainModel.from_scene(scene(**QUIET), table, trace_turns=turns)
     ts = simulate(m, default_solver(), settle_time=0.5, mesh_cycles=1305, samples_per_cycle=24)
     assert ts.success
     return m, ts, pr
@@ -250,8 +248,8 @@ def test_the_report_says_what_the_approach_carries(traced):
     """The report's drivetrain parameters name what the approach holds."""
     from gearbox.report.dynamics import _parameters
 
-    table, pr = traced
-    m = DrivetrainModel.from_scene(scene(**QUIET), table, trace_turns=pr.turns)
+    table, pr, turns = traced
+    m = DrivetrainModel.from_scene(scene(**QUIET), table, trace_turns=turns)
     assert m.pitch.carries == ("pitch deviations", "measured traces")
     rows = dict(_parameters(m))
     text = rows["pitch deviations: the drive flank's approach, peak-to-peak (um)"]
@@ -261,8 +259,7 @@ def test_the_report_says_what_the_approach_carries(traced):
 def test_turns_interpolate_as_the_table_does(traced):
     """The turns at a torque are the levels' linear interpolation with the mesh table's
     own weights; outside the levels they are refused by name."""
-    table, pr = traced
-    turns = pr.turns
+    table, pr, turns = traced
     j0, j1, w = table._torque_weights(802.0)
     pin, gear = turns.at(802.0)
     np.testing.assert_array_equal(pin, (1 - w) * turns.pinion[j0] + w * turns.pinion[j1])
@@ -306,7 +303,7 @@ def test_the_campbell_diagram_flags_a_ghost_crossing(cache):
     hits = [c for c in diagram.crossings if c.excitation == "deviations, mesh 1 + gear 16"]
     assert len(hits) == 1 and hits[0].in_operating_range and hits[0].converged
     c = hits[0]
-    m = model_at(s, run["tables"], c.speed_rpm, run["pitch"])
+    m = model_at(s, run["tables"], c.speed_rpm, run["approach"])
     md = modes(m)
     kinds = zip(md.frequencies, md.descriptions(), strict=True)
     mesh = [f for f, d in kinds if d.startswith("mesh mode")][0]

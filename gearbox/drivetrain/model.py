@@ -352,7 +352,7 @@ def _pitch_of(
                     "exact",
                     "the dynamics take the exact method's approach from its records at the "
                     "loaded TCA's torque levels (gearbox.ltca.pitch.level_records, made by "
-                    f"`gearbox run`'s pitch stage with drivetrain.pitch_deviations): {why}",
+                    f"`gearbox run`'s approach stage): {why}",
                 )
             )
         return PitchApproach.from_levels(table, levels, torque)
@@ -365,7 +365,7 @@ def _pitch_of(
                 True,
                 "the scene's measured traces (pitch.*_trace_um) enter the dynamics through "
                 "their turns on the loaded TCA (gearbox.ltca.pitch.trace_turns, made by "
-                "`gearbox run`'s pitch stage): "
+                "`gearbox run`'s approach stage): "
                 + ("none given" if turns is None else "those given were made of other traces"),
             )
         )

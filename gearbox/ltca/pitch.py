@@ -61,6 +61,7 @@ from .analysis import CycleResult
 from .solver import ContactSolver, solve_contact
 
 __all__ = [
+    "DeviationLevels",
     "HuntingRecord",
     "LevelRecords",
     "TraceTurns",
@@ -878,6 +879,36 @@ def level_records(
     )
 
 
+@dataclass(frozen=True)
+class DeviationLevels:
+    """The tooth deviations at the loaded TCA's torque levels, as the dynamics take them
+    beyond the mesh table's weights (the pipeline's ``approach`` stage, docs/drivetrain.md
+    §3c): ``levels`` (:class:`LevelRecords`) with ``pitch.method = "exact"``, else the
+    measured traces' ``turns`` (:class:`TraceTurns`); the other None."""
+
+    turns: TraceTurns | None = None
+    levels: LevelRecords | None = None
+
+    def to_dict(self) -> dict:
+        if self.levels is not None:
+            ch = self.levels.change
+            return {
+                "method": "exact",
+                "torque_levels_Nm": self.levels.torque.tolist(),
+                "positions": int(self.levels.fraction.size),
+                "hunting_cycles": int(ch.shape[1]),
+                "te_change_peak_to_peak_m": np.ptp(ch.reshape(ch.shape[0], -1), axis=1).tolist(),
+            }
+        if self.turns is not None:
+            return {
+                "method": "linear, the measured traces' turns",
+                "torque_levels_Nm": self.turns.torque.tolist(),
+                "positions": int(self.turns.fraction.size),
+                "tooth_pairs": np.asarray(self.turns.pair_index).tolist(),
+            }
+        return {"method": "none"}
+
+
 def trace_turns(
     res: CycleResult, grids, compliance, traces: FlankTraces, *, solver=None, mapper=None
 ) -> TraceTurns:
@@ -1275,15 +1306,11 @@ def deviations_from_scene(design, scene, flank_range=None) -> PitchDeviations:
 @dataclass(frozen=True)
 class PitchResult:
     """Pitch deviations' loaded TE on the drive flank (the pipeline's ``pitch`` stage):
-    the deviations and the hunting record; when the dynamics carry the deviations,
-    ``turns`` (the measured traces' :class:`TraceTurns`, linear method) or ``levels``
-    (:class:`LevelRecords`, exact method), else None."""
+    the deviations and the hunting record."""
 
     deviations: PitchDeviations
     record: HuntingRecord
     flank: str = "drive"
-    turns: TraceTurns | None = None
-    levels: LevelRecords | None = None
 
     def lines(self, count: int = 12, *, added: bool = False) -> list[dict]:
         """The ``count`` largest lines of the loaded TE's order spectrum other than the

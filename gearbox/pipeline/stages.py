@@ -22,6 +22,16 @@ __all__ = ["STAGES", "require"]
 
 _PAIR = ("pair", "pinion", "gear", "tool")
 _DRIVE = ("drivetrain", "simulation", "load.torques_Nm", "load.operating_torque_Nm")
+_PITCH_READS = (
+    *_PAIR,
+    "assembly",
+    "tca",
+    "ltca",
+    "material",
+    "load.torques_Nm",
+    "load.operating_torque_Nm",
+    "pitch",
+)
 
 
 def _pitch_if_on(scene) -> tuple[str, ...]:
@@ -29,15 +39,6 @@ def _pitch_if_on(scene) -> tuple[str, ...]:
     carry the deviations (``drivetrain.pitch_deviations``): otherwise a change there
     redoes the ``pitch`` stage alone."""
     return ("pitch",) if scene["drivetrain"]["pitch_deviations"] else ()
-
-
-def _drive_if_levels(scene) -> tuple[str, ...]:
-    """``drivetrain.pitch_deviations``, read by the ``pitch`` stage only when ``[pitch]``
-    sets measured traces or the exact method: the stage then also makes, for the
-    dynamics, the traces' turns or the exact records at the torque levels."""
-    if dynamics.pitch_needs_levels(scene["pitch"]):
-        return ("drivetrain.pitch_deviations",)
-    return ()
 
 
 def _check_torques(scene):
@@ -101,21 +102,21 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
         "pitch": Stage(
             "pitch",
             mesh.compute_pitch,
-            reads=(
-                *_PAIR,
-                "assembly",
-                "tca",
-                "ltca",
-                "material",
-                "load.torques_Nm",
-                "load.operating_torque_Nm",
-                "pitch",
-            ),
+            reads=_PITCH_READS,
             depends=("design", "ltca"),
-            reads_also=_drive_if_levels,
             validate=mesh.validate_pitch,
             code=("gearbox.ltca",),
             doc="Pitch deviations: loaded TE over a hunting period and its orders.",
+        ),
+        "approach": Stage(
+            "approach",
+            mesh.compute_approach,
+            reads=_PITCH_READS,
+            route=mesh.approach_depends,
+            validate=mesh.validate_pitch,
+            code=("gearbox.ltca",),
+            doc="Tooth deviations at the torque levels for the dynamics: exact records or "
+            "the measured traces' turns.",
         ),
         "tables": Stage(
             "tables",

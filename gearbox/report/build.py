@@ -40,6 +40,7 @@ def _renderers() -> dict[str, Callable]:
         "tca": contact.render_tca,
         "ltca": loaded.render_ltca,
         "pitch": pitch.render_pitch,
+        "approach": pitch.render_approach,
         "tables": tables.render,
         "dynamics": dynamics.render_dynamics,
         "spectra": dynamics.render_spectra,

@@ -8,7 +8,7 @@ import numpy as np
 
 from .html import Section, figure, fmt, new_figure, table
 
-__all__ = ["render_pitch"]
+__all__ = ["render_approach", "render_pitch"]
 
 
 def render_pitch(pr, run) -> Section:
@@ -147,3 +147,26 @@ def render_pitch(pr, run) -> Section:
             "each less its value at the reference point (docs/ltca.md, Measured traces)",
         )
     return Section("Pitch deviations", body, anchor="pitch")
+
+
+def render_approach(result, run) -> Section:
+    """What the dynamics take of the tooth deviations beyond the mesh table's weights:
+    the exact records at the torque levels (their TE change per level), or the measured
+    traces' turns."""
+    d = result.to_dict()
+    rows = [("method", d["method"])]
+    if "torque_levels_Nm" in d:
+        rows.append(("torque levels (N m)", ", ".join(fmt(t, 4) for t in d["torque_levels_Nm"])))
+        rows.append(("positions per mesh cycle", d["positions"]))
+    for t, pp in zip(
+        d.get("torque_levels_Nm", ()), d.get("te_change_peak_to_peak_m", ()), strict=False
+    ):
+        rows.append((f"exact TE change at {fmt(t, 4)} N m, peak-to-peak (um)", fmt(pp * 1e6, 4)))
+    body = table(["quantity", "value"], rows) + (
+        "<p class=\"muted\">The drive flank's approach in the dynamics is minus these records' "
+        "TE change, linear in torque between the levels (docs/drivetrain.md section 3c).</p>"
+        if result.levels is not None
+        else '<p class="muted">The measured traces enter the drive flank\'s approach through '
+        "these turns, linear in torque between the levels (docs/drivetrain.md section 3c).</p>"
+    )
+    return Section("Tooth deviations in the dynamics", body, anchor="approach")

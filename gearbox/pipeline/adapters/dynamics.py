@@ -113,14 +113,16 @@ def _at_speed(scene: Scene, speed_rpm: float) -> Scene:
     return Scene(MappingProxyType(data), scene.path)
 
 
-def model_at(scene: Scene, table, speed_rpm: float | None = None, pitch=None):
+def model_at(scene: Scene, table, speed_rpm: float | None = None, approach=None):
     """:class:`gearbox.drivetrain.DrivetrainModel` at ``speed_rpm`` (default: operating);
-    ``pitch``: the ``pitch`` stage's result when the stage runs on it (its trace turns
-    or exact level records, :func:`drive_depends`)."""
+    ``approach``: the ``approach`` stage's result when the stage runs on it (the exact
+    level records or the traces' turns, :func:`drive_depends`)."""
     drivetrain = require("gearbox.drivetrain", "DrivetrainModel")
     if speed_rpm is not None:
         scene = _at_speed(scene, speed_rpm)
-    kw = {} if pitch is None else {"trace_turns": pitch.turns, "level_records": pitch.levels}
+    kw = {}
+    if approach is not None:
+        kw = {"trace_turns": approach.turns, "level_records": approach.levels}
     return drivetrain.DrivetrainModel.from_scene(scene, table, **kw)
 
 
@@ -184,7 +186,7 @@ def compute_dynamics(ctx: StageContext) -> OperatingPoint:
     """Settled response at the operating point (gearbox.drivetrain.simulate)."""
     linear = require("gearbox.drivetrain.linear", "modes")
     scene = ctx.scene
-    model = model_at(scene, ctx.inputs["tables"], pitch=ctx.inputs.get("pitch"))
+    model = model_at(scene, ctx.inputs["tables"], approach=ctx.inputs.get("approach"))
     ts, metrics = _simulate(model, solver_of(scene), scene["simulation"])
     t0, n0 = operating_torque(scene)
     return OperatingPoint(n0, t0, model, ts, dict(metrics), linear.modes(model))
@@ -349,27 +351,22 @@ class SpeedSweep:
     excitations: tuple = ()
 
 
-def on_pitch_stage(scene: Scene) -> bool:
-    """Whether the drivetrain stages need the ``pitch`` stage's result: the dynamics
-    carry the deviations (``drivetrain.pitch_deviations``) and either ``[pitch]`` sets
-    measured traces (their turns) or ``pitch.method = "exact"`` (the exact records at
-    the torque levels)."""
+def on_approach_stage(scene: Scene) -> bool:
+    """Whether the drivetrain stages need the ``approach`` stage: the dynamics carry the
+    deviations (``drivetrain.pitch_deviations``) and either ``[pitch]`` sets measured
+    traces (their turns) or ``pitch.method = "exact"`` (the exact records at the torque
+    levels)."""
     if not scene["drivetrain"]["pitch_deviations"]:
         return False
-    return pitch_needs_levels(scene["pitch"])
-
-
-def pitch_needs_levels(section) -> bool:
-    """Whether a ``[pitch]`` section, carried into the dynamics, needs the pitch stage to
-    work at the loaded TCA's torque levels: traces set, or the exact method."""
+    section = scene["pitch"]
     traces = any(k.endswith("_trace_um") and v for k, v in section.items())
     return traces or section["method"] == "exact"
 
 
 def drive_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """Upstream of a drivetrain stage: the mesh tables, and the ``pitch`` stage when
-    :func:`on_pitch_stage`."""
-    return (("tables", "pitch") if on_pitch_stage(scene) else ("tables",)), ()
+    """Upstream of a drivetrain stage: the mesh tables, and the ``approach`` stage when
+    :func:`on_approach_stage`."""
+    return (("tables", "approach") if on_approach_stage(scene) else ("tables",)), ()
 
 
 def waterfall_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -401,10 +398,10 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
     table = ctx.inputs["tables"]
     speeds = sweep_speeds(scene)
     solver = solver_of(scene)
-    pitch = ctx.inputs.get("pitch")
+    approach = ctx.inputs.get("approach")
     sim = dict(scene["simulation"])
     jobs = [
-        (model_at(scene, table, n, pitch), solver, sim, n, propeller_law_torque(scene, n))
+        (model_at(scene, table, n, approach), solver, sim, n, propeller_law_torque(scene, n))
         for n in speeds
     ]
     op = ctx.inputs.get("dynamics")
@@ -440,10 +437,10 @@ def compute_campbell(ctx: StageContext):
     table = ctx.inputs["tables"]
     lo, hi = scene["simulation"]["speed_sweep_rpm"][:2]
     grid = np.linspace(lo, hi, CAMPBELL_SPEEDS)
-    pitch = ctx.inputs.get("pitch")
-    models = {float(n): model_at(scene, table, n, pitch) for n in grid}
+    approach = ctx.inputs.get("approach")
+    models = {float(n): model_at(scene, table, n, approach) for n in grid}
     freqs = np.array([linear.modes(m).frequencies for m in models.values()])
-    op_model = model_at(scene, table, pitch=pitch)
+    op_model = model_at(scene, table, approach=approach)
     op_modes = linear.modes(op_model)
     kinds = [d.split(" mode")[0] for d in op_modes.descriptions()]
     curves = {}
@@ -454,7 +451,7 @@ def compute_campbell(ctx: StageContext):
     excitations = _orders(op_model)
     diagram = spectrum.campbell(curves, excitations, (lo, hi), operating_range_rpm=(lo, hi))
     for c in diagram.crossings:
-        models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm, pitch))
+        models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm, approach))
     speeds = np.array(sorted(models))
     # the excitation orders' own lines: no sidebands needed
     responses = [linear.order_responses(models[float(n)], sideband_harmonics=0) for n in speeds]

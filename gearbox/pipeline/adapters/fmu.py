@@ -36,7 +36,7 @@ def compute_fmu(ctx: StageContext) -> FmuArtifact:
     """Generate, compile (gcc, warnings as errors) and zip the drivetrain FMU."""
     fmu = require("gearbox.fmu", "build_fmu", "drivetrain_fmu")
     table = ctx.inputs["tables"]
-    model = model_at(ctx.scene, table, pitch=ctx.inputs.get("pitch"))
+    model = model_at(ctx.scene, table, approach=ctx.inputs.get("approach"))
     with tempfile.TemporaryDirectory(prefix="gearbox-fmu-") as tmp:
         b = fmu.build_fmu(fmu.drivetrain_fmu(model, table), tmp)
         data = Path(b.fmu).read_bytes()

@@ -152,8 +152,6 @@ def compute_pitch(ctx: StageContext):
         "PitchResult",
         "flank_grids",
         "deviations_from_scene",
-        "trace_turns",
-        "level_records",
     )
     scene = ctx.scene
     design = ctx.inputs["design"]
@@ -167,21 +165,50 @@ def compute_pitch(ctx: StageContext):
     kw = {"grids": grids, "compliance": compliance, "mapper": ctx.map}
     teeth = (design.pinion.teeth, design.gear.teeth)
     rec = pitch.hunting_lte(res, dev, _pitch_torque(scene), teeth=teeth, method=method, **kw)
-    turns = levels = None
-    # the stage reads drivetrain.pitch_deviations only then (pipeline.stages)
-    if (method == "exact" or dev.traces is not None) and scene["drivetrain"]["pitch_deviations"]:
-        # the dynamics carry the deviations: the exact records, or the traces' turns, at
-        # the loaded TCA's torque levels
-        if method == "exact":
-            levels = pitch.level_records(
-                res,
-                dev,
-                teeth=teeth,
-                grids=grids,
-                compliance=compliance,
-                mapper=ctx.map,
-                known=(rec,),  # the operating torque's, a level of its own
-            )
-        elif dev.traces is not None:
-            turns = pitch.trace_turns(res, grids, compliance, dev.traces, mapper=ctx.map)
-    return pitch.PitchResult(dev, rec, flank, turns, levels)
+    return pitch.PitchResult(dev, rec, flank)
+
+
+def approach_depends(scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Upstream of the ``approach`` stage: design and loaded TCA, and with the exact
+    method the ``pitch`` stage, whose record at the operating torque joins the levels."""
+    if scene["pitch"]["method"] == "exact":
+        return ("design", "ltca", "pitch"), ()
+    return ("design", "ltca"), ()
+
+
+def compute_approach(ctx: StageContext):
+    """The tooth deviations at the loaded TCA's torque levels for the dynamics
+    (gearbox.ltca.pitch): with ``pitch.method = "exact"`` the exact hunting records at
+    each level and the pitch stage's (``level_records``), else the measured traces'
+    turns (``trace_turns``); the positions go through the run's executor."""
+    pitch = require(
+        "gearbox.ltca.pitch",
+        "DeviationLevels",
+        "flank_grids",
+        "deviations_from_scene",
+        "trace_turns",
+        "level_records",
+    )
+    scene = ctx.scene
+    design = ctx.inputs["design"]
+    res = ctx.inputs["ltca"].flanks["drive"]  # the dynamics carry the drive flank's
+    dev = pitch.deviations_from_scene(design, scene, res.flank_range)
+    grids, compliance = pitch.flank_grids(design, scene, res.fraction.size, "drive")
+    if scene["pitch"]["method"] == "exact":
+        teeth = (design.pinion.teeth, design.gear.teeth)
+        own = ctx.inputs.get("pitch")
+        known = (own.record,) if own is not None and own.flank == "drive" else ()
+        levels = pitch.level_records(
+            res,
+            dev,
+            teeth=teeth,
+            grids=grids,
+            compliance=compliance,
+            mapper=ctx.map,
+            known=known,  # the operating torque's, a level of its own
+        )
+        return pitch.DeviationLevels(levels=levels)
+    if dev.traces is None:
+        return pitch.DeviationLevels()
+    turns = pitch.trace_turns(res, grids, compliance, dev.traces, mapper=ctx.map)
+    return pitch.DeviationLevels(turns=turns)
