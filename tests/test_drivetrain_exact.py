@@ -117,12 +117,26 @@ def test_the_exact_approach_needs_its_records(exact):
         DrivetrainModel.from_scene(other, table, level_records=ap.levels)
 
 
-def test_the_drivetrain_stages_run_on_the_exact_records(exact, cache):
-    """``gearbox run``: with the exact method the drivetrain stages run on the pitch
-    stage and the model carries its records."""
+def test_the_drivetrain_stages_run_on_the_exact_records(exact, cache, tmp_path, monkeypatch):
+    """``gearbox run``: with the exact method the drivetrain stages run on the
+    ``approach`` stage (and it on the pitch stage) and the model carries its records;
+    ``approach.json`` and the report's section list the levels."""
+    import json
+
+    from gearbox.pipeline.outputs import write_outputs
+    from gearbox.report import html
+    from gearbox.report.pitch import render_approach
+
     s = scene().replaced(simulation={"settle_time_s": 0.02, "settled_mesh_cycles": 30})
-    run = run_pipeline(s, ["dynamics"], cache=cache)
+    run = run_pipeline(s, ["dynamics", "approach"], cache=cache)
     assert run.summary.ok, run.summary.table()
     status = {r.name: r.status for r in run.summary.records}
-    assert status["approach"] == "cached"  # the fixture's
+    assert status["approach"] == "cached" and status["pitch"] == "cached"  # the fixture's
     assert "exact re-solves" in run["dynamics"].model.pitch.carries
+    write_outputs(run, tmp_path)
+    d = json.loads((tmp_path / "approach.json").read_text())
+    assert d["method"] == "exact" and d["torque_levels_Nm"] == [50.0, 300.0, 600.0, 802.0, 900.0]
+    assert len(d["te_change_peak_to_peak_m"]) == 5 and min(d["te_change_peak_to_peak_m"]) > 0
+    monkeypatch.setattr(html, "CHECK_LAYOUT", True)
+    body = render_approach(run["approach"], run).body
+    assert "802 N m" in body and "exact" in body

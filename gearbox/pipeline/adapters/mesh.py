@@ -193,8 +193,11 @@ def compute_approach(ctx: StageContext):
     design = ctx.inputs["design"]
     res = ctx.inputs["ltca"].flanks["drive"]  # the dynamics carry the drive flank's
     dev = pitch.deviations_from_scene(design, scene, res.flank_range)
+    exact = scene["pitch"]["method"] == "exact"
+    if not exact and dev.traces is None:
+        return pitch.DeviationLevels()  # the mesh table's weights carry them all
     grids, compliance = pitch.flank_grids(design, scene, res.fraction.size, "drive")
-    if scene["pitch"]["method"] == "exact":
+    if exact:
         teeth = (design.pinion.teeth, design.gear.teeth)
         own = ctx.inputs.get("pitch")
         known = (own.record,) if own is not None and own.flank == "drive" else ()
@@ -208,7 +211,5 @@ def compute_approach(ctx: StageContext):
             known=known,  # the operating torque's, a level of its own
         )
         return pitch.DeviationLevels(levels=levels)
-    if dev.traces is None:
-        return pitch.DeviationLevels()
     turns = pitch.trace_turns(res, grids, compliance, dev.traces, mapper=ctx.map)
     return pitch.DeviationLevels(turns=turns)
