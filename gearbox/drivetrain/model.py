@@ -344,7 +344,8 @@ def _pitch_of(
         why = "none given"
         if levels is not None:
             dev = PitchDeviations(pin, gear, 1.0, 1.0, form, traces)  # radii not compared
-            why = None if same_deviations(levels.deviations, dev) else "other deviations'"
+            same = same_deviations(levels.deviations, dev)
+            why = None if same else "those given were made of other deviations"
         if why is not None:
             raise InputError(
                 Problem(

@@ -774,10 +774,7 @@ class TraceTurns:
 
     def matches(self, traces: FlankTraces) -> bool:
         """Whether these turns were made of ``traces`` (the same positions and rows)."""
-        mine, theirs = self.traces.to_dict(), traces.to_dict()
-        return mine.keys() == theirs.keys() and all(
-            np.array_equal(mine[k][f], theirs[k][f]) for k in mine for f in mine[k]
-        )
+        return _same_numbers(_numbers(traces=self.traces), _numbers(traces=traces))
 
 
 def _between_levels(levels, values, torque: float) -> np.ndarray:
@@ -801,19 +798,26 @@ def _between_levels(levels, values, torque: float) -> np.ndarray:
 def same_deviations(a: PitchDeviations, b: PitchDeviations) -> bool:
     """Whether two sets of deviations are the same numbers: pitch, form (slopes,
     crownings, their ranges and vertices) and traces."""
+    na = _numbers(form=a.form, traces=a.traces) | {"pinion": a.pinion, "gear": a.gear}
+    nb = _numbers(form=b.form, traces=b.traces) | {"pinion": b.pinion, "gear": b.gear}
+    return _same_numbers(na, nb)
 
-    def flat(d):
-        out = {"pinion": d.pinion, "gear": d.gear}
-        for name, part in (("form", d.form), ("traces", d.traces)):
-            for k, v in ({} if part is None else part.to_dict()).items():
-                if isinstance(v, dict):
-                    out |= {f"{name}.{k}.{f}": np.asarray(x) for f, x in v.items()}
-                else:
-                    out[f"{name}.{k}"] = np.asarray(v)
-        return out
 
-    fa, fb = flat(a), flat(b)
-    return fa.keys() == fb.keys() and all(np.array_equal(fa[k], fb[k]) for k in fa)
+def _numbers(**parts) -> dict[str, np.ndarray]:
+    """The arrays of deviation parts with a ``to_dict`` (form, traces; None: none),
+    flat, by dotted name."""
+    out = {}
+    for name, part in parts.items():
+        for k, v in ({} if part is None else part.to_dict()).items():
+            if isinstance(v, dict):
+                out |= {f"{name}.{k}.{f}": np.asarray(x) for f, x in v.items()}
+            else:
+                out[f"{name}.{k}"] = np.asarray(v)
+    return out
+
+
+def _same_numbers(a: dict, b: dict) -> bool:
+    return a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
 
 
 @dataclass(frozen=True)
