@@ -258,25 +258,6 @@ def _carries(pinion, gear, form: bool, traces: bool) -> tuple[str, ...]:
     return tuple(name for name, on in named if on)
 
 
-def _check_levels(p: Problems, name: str, made, table: MeshTable) -> None:
-    """Turns or records made on a loaded TCA (``made.torque``, ``made.fraction``)
-    against the table: its torque levels and positions."""
-    p.check(
-        made.fraction.size == table.angle.size,
-        name,
-        f"{made.fraction.size} positions",
-        f"must be made at the table's {table.angle.size} positions",
-    )
-    p.check(
-        np.allclose(made.torque, table.torque, rtol=1e-12, atol=0.0)
-        if made.torque.shape == table.torque.shape
-        else False,
-        name,
-        np.asarray(made.torque).tolist(),
-        f"must be made at the table's torque levels {np.asarray(table.torque).tolist()} N m",
-    )
-
-
 def _check_turns(p: Problems, turns, table: MeshTable, ks, teeth) -> None:
     """Trace turns against the table: its torque levels, positions and tooth pairs,
     and each member's teeth."""
@@ -286,7 +267,19 @@ def _check_turns(p: Problems, turns, table: MeshTable, ks, teeth) -> None:
         np.asarray(turns.pair_index).tolist(),
         f"must be made for tooth pairs among the table's {ks.tolist()}",
     )
-    _check_levels(p, "trace turns", turns, table)
+    p.check(
+        turns.fraction.size == table.angle.size,
+        "trace turns",
+        f"{turns.fraction.size} positions",
+        f"must be made at the table's {table.angle.size} positions",
+    )
+    p.check(
+        turns.torque.shape == table.torque.shape
+        and np.allclose(turns.torque, table.torque, rtol=1e-12, atol=0.0),
+        "trace turns",
+        np.asarray(turns.torque).tolist(),
+        f"must be made at the table's torque levels {np.asarray(table.torque).tolist()} N m",
+    )
     for t, z, name in zip((turns.pinion, turns.gear), teeth, ("pinion", "gear"), strict=True):
         if t is not None:
             p.check(
