@@ -1,6 +1,7 @@
 """The default scene's drive flank at a few positions, for tests of the loaded TCA's
-hunting record (pitch and form deviations) that share its set-up; and the order
-spectrum of a drive's run against the pinion's own angle."""
+hunting record (pitch and form deviations) that share its set-up; the order spectrum
+of a drive's run against the pinion's own angle; and the check that a record's added
+lines lie at gear orders."""
 
 from __future__ import annotations
 
@@ -59,3 +60,15 @@ def angle_spectrum(ts, channel: str, revs: int = 45):
     grid = th[0] + np.arange(n) * (2 * math.pi * revs / n)
     x = np.interp(grid, th, ts.channels[channel])
     return np.abs(np.fft.rfft(x)) / n * 2
+
+
+def added_lines_at_gear_orders(rec):
+    """Assert that every line the deviations add to a hunting record's TE (against the
+    nominal teeth's) lies at a gear order, to 1e-9 of the largest; return the record's
+    (orders, amplitudes)."""
+    z1, z2 = rec.teeth
+    orders, amp = rec.order_spectrum()
+    added = np.abs(amp - rec.order_spectrum("lte_nominal")[1])
+    gear_order = np.isclose(orders * z2 / z1, np.round(orders * z2 / z1), atol=1e-9)
+    assert added[~gear_order].max() < 1e-9 * added.max()
+    return orders, amp
