@@ -485,13 +485,9 @@ def _weights(res: CycleResult, torque: float, form: bool):
 
 
 def _at_torque(res: CycleResult, torque: float, values: np.ndarray) -> np.ndarray:
-    """``values`` (T, ...) linearly interpolated in the torque levels (no extrapolation)."""
-    tq = np.asarray(res.torque, dtype=float)
-    if tq.size == 1:
-        return values[0]
-    i = int(np.clip(np.searchsorted(tq, torque) - 1, 0, tq.size - 2))
-    u = (torque - tq[i]) / (tq[i + 1] - tq[i])
-    return (1.0 - u) * values[i] + u * values[i + 1]
+    """``values`` (T, ...) at ``torque`` between the loaded TCA's levels
+    (:func:`_between_levels`)."""
+    return _between_levels(res.torque, values, torque)
 
 
 @dataclass(frozen=True)
