@@ -481,6 +481,16 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "mesh_harmonics": _i(
             0, "Mesh-order harmonics kept in the Fourier series of the tables (0 = all).", 0, 10000
         ),
+        "mesh_law": _s(
+            "tangent",
+            "Mesh force against deflection. 'tangent': the tangent stiffness and LTE of the "
+            "mesh tables at the model's mean torque, linear about it (docs/drivetrain.md "
+            "section 3); 'loaded': through every torque level of the tables, so that a "
+            "dynamic load far from the mean meets the stiffness of its own load (section "
+            "3d). The scipy and jax solvers carry both; the exudyn backend and the FMU the "
+            "tangent law only.",
+            ("tangent", "loaded"),
+        ),
         "backlash_mm": _f(0.1, "Circumferential backlash along the line of action (mm).", 0, 10),
         "mesh_friction_coefficient": _f(
             0.0,
@@ -799,6 +809,23 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
                     length,
                     f"must be > 0 when ltca.{name}_{kind}_{unit} is > 0 ({amount:g})",
                 )
+
+    dt = data.get("drivetrain", {})
+    if dt.get("mesh_law") == "loaded":
+        if data.get("simulation", {}).get("solver") == "exudyn":
+            probs.add(
+                "drivetrain.mesh_law",
+                "loaded",
+                "the exudyn solver carries the tangent law only: set simulation.solver to "
+                "'diffrax' or 'scipy', or the law to 'tangent'",
+            )
+        if "fmu" in (data.get("outputs", {}).get("requested") or ()):
+            probs.add(
+                "drivetrain.mesh_law",
+                "loaded",
+                "the FMU carries the tangent law only: leave 'fmu' out of "
+                "outputs.requested, or set the law to 'tangent'",
+            )
 
     pitch = data.get("pitch", {})
     applied = data.get("drivetrain", {}).get("pitch_deviations") is True

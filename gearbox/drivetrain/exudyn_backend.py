@@ -427,6 +427,9 @@ def _plan_from_model(model) -> _Plan:
     drive flank's spline ``params()['pt']``, ``['pt0']``, ``['pts']`` (docs §3c, a
     :class:`_Pitch`).
     """
+    from .model import require_tangent_law
+
+    require_tangent_law(model, "the exudyn backend")
     n = model.n_dof
     K, C = model.structural_matrices()
     G = model.mesh_vectors()

@@ -39,7 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from .linear import largest_stable_step, linear_matrices
-from .model import approach_terms
+from .model import approach_terms, loaded_force
 
 __all__ = [
     "FixedStepPlan",
@@ -247,6 +247,8 @@ def mesh_law_table(p, cells: int, xp):
     drive and coast (m; R = 10, else 6); [:, 0] values, [:, 1] derivatives with respect
     to phi = N_1 theta_1 times the cell width, at phi_j = 2 pi j / cells. From the
     Fourier coefficients ``p['kc']``, ``p['ec']``, ``p['fc']`` (docs/drivetrain.md §3).
+    With the loaded mesh law (docs §3d) its 2 J + 1 rows of the drive flank and then
+    of the coast flank follow (``p['lc']``).
     """
     kc, ec = p["kc"], p["ec"]
     h = (kc.shape[-1] - 1) // 2
@@ -263,6 +265,11 @@ def mesh_law_table(p, cells: int, xp):
         a = xp.concatenate([a, fr[:, 1 : 1 + h]], axis=0)
         b = xp.concatenate([b, fr[:, 1 + h :]], axis=0)
         a0 = xp.concatenate([a0, fr[:, 0]])
+    if p["lc"].shape[1]:
+        lr = p["lc"].reshape(-1, p["lc"].shape[-1])  # drive rows, then coast rows
+        a = xp.concatenate([a, lr[:, 1 : 1 + h]], axis=0)
+        b = xp.concatenate([b, lr[:, 1 + h :]], axis=0)
+        a0 = xp.concatenate([a0, lr[:, 0]])
     phi = xp.arange(cells + 1) * (2 * math.pi / cells)
     arg = kk[:, None] * phi[None, :]  # (h, cells + 1)
     c, s = xp.cos(arg), xp.sin(arg)
@@ -286,6 +293,20 @@ def _hermite(table, phi, cells: int, jnp, lax):
         + (3 * s2 - 2 * s3) * T[:, 0, 1]
         + (s3 - s2) * T[:, 1, 1]
     )
+
+
+def _flank_force(r, fl, s, sdot, p, xp):
+    """Contact force (N) of flank ``fl`` (0 drive, 1 coast) at gap s and rate sdot
+    from the mesh-law rows r of :func:`mesh_law_table` (the first axis): the tangent
+    law or the loaded law (docs/drivetrain.md §3, §3d), as
+    :func:`gearbox.drivetrain.model.contact_forces`."""
+    m = p["lc"].shape[1]
+    if m == 0:
+        return xp.where(s > 0, xp.maximum(r[fl] * s + p["cm"][fl] * sdot, 0.0), 0.0)
+    first = 10 if p["fc"].shape[-1] else 6
+    rows = xp.moveaxis(r[first + fl * m : first + (fl + 1) * m], 0, -1)
+    el = loaded_force(s + r[2 + fl], rows, p["lF"][fl], xp)
+    return xp.where(el > 0, xp.maximum(el + p["cm"][fl] * sdot, 0.0), 0.0)
 
 
 def lean_rhs(t, z, p, laws_at, te0, rp):
@@ -313,11 +334,11 @@ def lean_rhs(t, z, p, laws_at, te0, rp):
         if ecc is not None:
             s = s + ecc[0][fl]
             sdot = sdot + ecc[1][fl]
-        f.append(jnp.where(s > 0, jnp.maximum(r[fl] * s + p["cm"][fl] * sdot, 0.0), 0.0))
+        f.append(_flank_force(r, fl, s, sdot, p, jnp))
     te = te0 - p["Kp"] * v[0] - p["Ki"] * (x[0] - p["qe0"])
     wp = p["Omega2"] + v[3]
     tp = p["kappa"] * wp * wp * rp
-    friction = r.shape[0] > 6  # docs/drivetrain.md §3a
+    friction = p["fc"].shape[-1] > 0  # docs/drivetrain.md §3a
     acc = []
     for i in range(n):
         q = -sum(K[i, j] * x[j] + C[i, j] * v[j] for j in range(n))
@@ -428,7 +449,11 @@ def fixed_solve_fn(method: str, cells: int, chunked: bool = False, terms=None):
             if ecc is not None:
                 gap = gap + jnp.stack(ecc[0], axis=-1)
                 rate = rate + jnp.stack(ecc[1], axis=-1)
-            load = (gap > 0) & (r[:, 0:2] * gap + p["cm"] * rate > 0)
+            rt = r.T  # (R, S)
+            load = jnp.stack(
+                [_flank_force(rt, fl, gap[:, fl], rate[:, fl], p, jnp) > 0 for fl in range(2)],
+                axis=-1,
+            )
             return jnp.sum(valid & (~load[:, 0] | load[:, 1]))
 
         return body, (t, h, te0, rp), lost

@@ -29,11 +29,16 @@ __all__ = [
     "eccentricity_terms",
     "energy",
     "friction_torques",
+    "loaded_force",
     "outputs",
     "pitch_terms",
     "power",
+    "require_tangent_law",
     "rhs",
 ]
+
+#: Mesh laws of :meth:`DrivetrainModel.build` (docs/drivetrain.md §3, §3d).
+MESH_LAWS = ("tangent", "loaded")
 
 _DOF_NAMES = ("engine", "pinion", "gear", "propeller", "pinion_bearing", "gear_bearing")
 
@@ -55,6 +60,10 @@ class MeshFlank:
     vector from the axis towards the drive flank's mean mesh point (perpendicular to
     a_i) and v_i = a_i x u_i: an eccentricity's approach of the flanks (docs §3b).
     None for a model built before it existed (then no eccentricity is allowed).
+    load_coef, load_forces: the loaded mesh law (docs §3d), None for the tangent law:
+    Fourier coefficients, shape (2 J + 1, 1 + 2 h), of the flank's deflection at no load,
+    its deflections (the LTE) at the table's J torque levels (m) and its tangent
+    stiffnesses there (N/m); and the mesh forces of the levels (N, shape (J,)).
     """
 
     k_coef: np.ndarray
@@ -67,6 +76,8 @@ class MeshFlank:
     backlash: float
     friction_coef: np.ndarray | None = None
     transverse: np.ndarray | None = None
+    load_coef: np.ndarray | None = None
+    load_forces: np.ndarray | None = None
 
     @property
     def mean_stiffness(self) -> float:
@@ -470,6 +481,14 @@ class DrivetrainModel:
                 continue
             k0 = fl.k_coef[0]
             p.check(k0 > 0, f"{fl_name}.mean_stiffness", float(k0), "must be > 0 N/m")
+            p.check(
+                (fl.load_coef is None) == (self.drive.load_coef is None)
+                and (fl.load_coef is None) == (fl.load_forces is None),
+                f"{fl_name}.load_coef",
+                "given" if fl.load_coef is not None else None,
+                "both flanks take one mesh law: the loaded law's rows and forces on both, "
+                "or on neither",
+            )
             p.check(fl.backlash >= 0, f"{fl_name}.backlash", fl.backlash, "must be >= 0 m")
         p.check(
             self.drive.lambda1 > 0 and self.drive.lambda2 > 0,
@@ -540,6 +559,7 @@ class DrivetrainModel:
             mesh_damping_ratio=d["mesh_damping_ratio"],
             backlash=d["backlash_mm"] * 1e-3,
             mesh_harmonics=d["mesh_harmonics"],
+            mesh_law=d["mesh_law"],
             bearing_dofs=d["bearing_dofs"],
             pinion_bearing_stiffness=d["pinion_bearing_stiffness_N_per_m"],
             gear_bearing_stiffness=d["gear_bearing_stiffness_N_per_m"],
@@ -575,33 +595,51 @@ class DrivetrainModel:
         mesh_damping_ratio: float = 0.05,
         backlash: float = 1e-4,
         mesh_harmonics: int = 0,
+        mesh_law: str = "tangent",
         **kw,
     ) -> DrivetrainModel:
         """Model from SI parameters and a table; the mesh flanks are evaluated at ``torque``.
 
         speed: Omega (rad/s); torque: T_op (N m), must lie in the table's torque range.
-        Other keywords: the dataclass fields.
+        mesh_law: ``"tangent"``, the table's tangent stiffness and LTE at ``torque``
+        (docs §3), or ``"loaded"``, the force against the deflection through all of the
+        table's torque levels (docs §3d); its tangent at ``torque`` is then the
+        linearised model's. Other keywords: the dataclass fields.
         """
         p = Problems()
         p.in_range("mesh_damping_ratio", mesh_damping_ratio, 0, 1)
         p.in_range("backlash", backlash, 0, None)
         p.check(math.isfinite(torque) and torque > 0, "torque", torque, "must be > 0 N m")
+        p.check(mesh_law in MESH_LAWS, "mesh_law", mesh_law, f"must be one of {MESH_LAWS}")
+        if mesh_law == "loaded":
+            p.check(
+                table.torque.size >= 2,
+                "mesh_law",
+                mesh_law,
+                f"needs a mesh table with >= 2 torque levels (it has {table.torque.size})",
+            )
         p.raise_if_any("invalid drivetrain model")
         j1 = kw["pinion_inertia"]
         j2 = kw["gear_inertia"]
 
         def flank(name: str, b: float) -> MeshFlank:
             lam1, lam2 = table.rotation_radii(name, torque)
-            kt = table.values_at("tangent_stiffness", name, torque)
-            lte = table.values_at("lte", name, torque)
             lam1d = table.rotation_radii("drive", torque)[0] if "drive" in table.flanks else lam1
             fn = torque / abs(lam1d)
-            e = lte - fn / kt
             a0 = float(table.angle[0])
 
             def coef(values):  # [a0, a, b] in the absolute pinion angle
                 return np.concatenate(_fit(values, mesh_harmonics, table.pinion_teeth, a0))
 
+            load = None
+            if mesh_law == "loaded":
+                rows, forces = loaded_law_samples(table, name, abs(lam1d))
+                lte, kt = loaded_law_point(rows, forces, fn)
+                load = (np.stack([coef(r) for r in rows]), forces)
+            else:
+                kt = table.values_at("tangent_stiffness", name, torque)
+                lte = table.values_at("lte", name, torque)
+            e = lte - fn / kt
             kc, ec, lc = coef(kt), coef(e), coef(lte)
             inv_m = lam1**2 / j1 + lam2**2 / j2
             c = 2 * mesh_damping_ratio * math.sqrt(kc[0] / inv_m) if kc[0] > 0 else 0.0
@@ -609,7 +647,9 @@ class DrivetrainModel:
             if all(k in table.extra for k in FRICTION_ARMS):
                 fc = np.stack([coef(table.values_at(k, name, torque)) for k in FRICTION_ARMS])
             direction = table.mean_direction(name, torque)
-            return MeshFlank(kc, ec, lc, lam1, lam2, direction, c, b, fc, basis @ direction)
+            return MeshFlank(
+                kc, ec, lc, lam1, lam2, direction, c, b, fc, basis @ direction, *(load or ())
+            )
 
         basis = transverse_axes(table, torque)
 
@@ -630,6 +670,12 @@ class DrivetrainModel:
         return dataclasses.replace(self, speed=float(speed))
 
     # ---------------------------------------------------------------- layout
+    @property
+    def mesh_law(self) -> str:
+        """``"loaded"`` when the flanks carry the loaded mesh law (docs §3d), else
+        ``"tangent"``."""
+        return "tangent" if self.drive.load_coef is None else "loaded"
+
     @property
     def n_dof(self) -> int:
         return 6 if self.bearing_dofs else 4
@@ -881,6 +927,17 @@ class DrivetrainModel:
         x0 = self.static_state()
         # eccentricities: none -> nothing to evaluate (docs §3b)
         rc = self.eccentricity_coefficients() if self.has_eccentricity else np.zeros((2, 0))
+        if self.mesh_law == "loaded":  # docs §3d
+            lc = np.stack([np.stack([pad(r) for r in f.load_coef]) for f in fl if f])
+            lf = np.stack([f.load_forces for f in fl if f])
+            if self.coast is None:  # no coast flank: a law that closes a metre away
+                J = lf.shape[-1]
+                never = np.zeros_like(lc[0])
+                never[:, 0] = np.concatenate([np.arange(1.0, J + 2.0), np.ones(J)])
+                lc = np.stack([lc[0], never])
+                lf = np.stack([lf[0], np.arange(1.0, J + 1.0)])
+        else:
+            lc, lf = np.zeros((2, 0, h)), np.zeros((2, 0))
         return {
             "Minv": 1.0 / self.mass_vector(),
             "K": K,
@@ -889,6 +946,8 @@ class DrivetrainModel:
             "kc": np.stack([pad(f.k_coef) if f else zero for f in fl]),
             "ec": np.stack([pad(f.e_coef) if f else zero for f in fl]),
             "fc": fc,
+            "lc": lc,
+            "lF": lf,
             "cm": np.array([f.damping if f else 0.0 for f in fl]),
             "bl": np.array([f.backlash if f else 0.0 for f in fl]),
             "N1": np.array(float(self.pinion_teeth)),
@@ -958,7 +1017,7 @@ class DrivetrainModel:
                 f = dict(d[k])
                 for a in ("k_coef", "e_coef", "lte_coef", "direction"):
                     f[a] = np.asarray(f[a], dtype=float)
-                for a in ("friction_coef", "transverse"):
+                for a in ("friction_coef", "transverse", "load_coef", "load_forces"):
                     if f.get(a) is not None:
                         f[a] = np.asarray(f[a], dtype=float)
                 d[k] = MeshFlank(**f)
@@ -1032,6 +1091,141 @@ def mesh_laws(theta1, p, xp=np):
     coef = xp.stack([p["kc"], p["ec"]])  # (2 fields, 2 flanks, 1 + 2 h)
     f, df = _series_rows(theta1, coef, p["N1"], xp, derivative=True)
     return f[..., 0, :], df[..., 0, :], f[..., 1, :], df[..., 1, :]
+
+
+def require_tangent_law(model, where: str) -> None:
+    """InputError naming ``drivetrain.mesh_law`` when ``model`` carries the loaded law
+    (docs §3d), which ``where`` (the exudyn backend, the FMU) does not."""
+    if model.mesh_law != "tangent":
+        raise InputError(
+            Problem(
+                "drivetrain.mesh_law",
+                model.mesh_law,
+                f"{where} carries the tangent law only: set it to 'tangent', or run the "
+                "scipy or jax solver",
+            ),
+            f"cannot build {where} with the loaded mesh law",
+        )
+
+
+def loaded_law_samples(table: MeshTable, flank: str, lam1: float):
+    """The loaded mesh law's samples of ``flank`` at the table's positions (docs §3d):
+    rows, shape (2 J + 1, P), the deflection at no load, the LTE at the J torque levels
+    (m) and the tangent stiffnesses there (N/m), the last limited where a cubic between
+    two levels would not grow (Fritsch and Carlson: slopes within 3 times the
+    interval's secant); and the levels' mesh forces T_j / lam1 (N, shape (J,)), with
+    lam1 the model's drive rotation radius of the pinion (m)."""
+    i = table.flank_index(flank)
+    forces = np.asarray(table.torque, dtype=float) / lam1
+    X = np.asarray(table.lte[i], dtype=float)
+    K = np.array(table.tangent_stiffness[i], dtype=float)
+    S = np.asarray(table.stiffness[i], dtype=float)
+    p = Problems()
+    p.check(
+        bool(np.all(np.diff(X, axis=0) > 0)),
+        f"mesh table ({flank} flank)",
+        table.attrs.get("method", ""),
+        "the loaded mesh law needs the LTE to grow with the torque at every position",
+    )
+    p.check(
+        bool(np.all(K > 0) and np.all(S[0] > 0)),
+        f"mesh table ({flank} flank)",
+        table.attrs.get("method", ""),
+        "the loaded mesh law needs stiffnesses > 0 N/m",
+    )
+    p.raise_if_any("invalid mesh table for drivetrain.mesh_law = 'loaded'")
+    for j in range(forces.size - 1):
+        m = (forces[j + 1] - forces[j]) / (X[j + 1] - X[j])
+        r = np.hypot(K[j] / m, K[j + 1] / m)
+        tau = np.where(r > 3.0, 3.0 / r, 1.0)
+        K[j] *= tau
+        K[j + 1] *= tau
+    xu = X[0] - forces[0] / S[0]
+    return np.concatenate([xu[None], X, K]), forces
+
+
+def loaded_force(d, rows, forces, xp=np, derivative: bool = False):
+    """The loaded mesh law's elastic force (N) at deflections d (m, shape S) of one
+    flank (docs §3d). rows, shape S + (2 J + 1,): the no-load deflection x_u, the
+    levels' deflections x_j and tangent stiffnesses k_j; forces (J,): the levels'
+    forces F_j. Zero up to x_u, a parabola from (x_u, 0) to (x_0, F_0) with slope k_0
+    there (clipped at 0), cubic Hermite between the levels, straight with slope
+    k_{J-1} beyond the last. With ``derivative`` also dF/dd."""
+    J = forces.shape[-1]
+    xu = rows[..., 0]
+    X = [rows[..., 1 + j] for j in range(J)]
+    K = [rows[..., 1 + J + j] for j in range(J)]
+    F = [forces[..., j] for j in range(J)]
+    w = X[0] - xu
+    a = (K[0] * w - F[0]) / (w * w)
+    u = d - X[0]
+    val = F[0] + u * (K[0] + a * u)
+    der = K[0] + 2.0 * a * u
+    on = (d > xu) & (val > 0)
+    val = xp.where(on, val, 0.0)
+    der = xp.where(on, der, 0.0)
+    for j in range(J - 1):
+        h = X[j + 1] - X[j]
+        t = (d - X[j]) / h
+        t2 = t * t
+        t3 = t2 * t
+        v = (
+            (2 * t3 - 3 * t2 + 1) * F[j]
+            + (t3 - 2 * t2 + t) * h * K[j]
+            + (3 * t2 - 2 * t3) * F[j + 1]
+            + (t3 - t2) * h * K[j + 1]
+        )
+        dv = (
+            (6 * t2 - 6 * t) * (F[j] - F[j + 1]) / h
+            + (3 * t2 - 4 * t + 1) * K[j]
+            + (3 * t2 - 2 * t) * K[j + 1]
+        )
+        val = xp.where(d >= X[j], v, val)
+        der = xp.where(d >= X[j], dv, der)
+    top = d >= X[J - 1]
+    val = xp.where(top, F[J - 1] + K[J - 1] * (d - X[J - 1]), val)
+    der = xp.where(top, K[J - 1], der)
+    return (val, der) if derivative else val
+
+
+def loaded_law_point(rows, forces, force: float):
+    """Deflection (m) and tangent stiffness (N/m) of the loaded mesh law at the mesh
+    force ``force`` (N), at every sample of ``rows`` (shape (2 J + 1, P)): bisection
+    on the non-decreasing law, to the last bit."""
+    r = np.moveaxis(np.asarray(rows, dtype=float), 0, -1)  # (P, 2J + 1)
+    J = forces.size
+    lo = r[:, 0].copy()
+    top = r[:, J] + max(force - forces[-1], 0.0) / r[:, 2 * J] + 1e-9
+    hi = np.maximum(top, lo + 1e-9)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if not np.any((mid > lo) & (mid < hi)):
+            break
+        below = loaded_force(mid, r, forces) < force
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    _, k = loaded_force(hi, r, forces, derivative=True)
+    return hi, k
+
+
+def load_laws(theta1, p, xp=np):
+    """The loaded mesh law's rows (:func:`loaded_force`) of both flanks at pinion angle
+    theta1 (any shape S), shape S + (2, 2 J + 1); None for the tangent law."""
+    lc = p["lc"]
+    if lc.shape[1] == 0:
+        return None
+    return _series_rows(theta1, lc, p["N1"], xp)
+
+
+def contact_forces(s, sdot, k, e, rows, p, xp=np):
+    """Contact forces F_f (N, shape S + (2,)) from the gaps s_f and their rates sdot_f:
+    k_f s_f + c_f sdot_f (the tangent law, docs §3) or, with the loaded law's ``rows``
+    (:func:`load_laws`), its elastic force at the deflection s_f + e_f plus c_f sdot_f
+    (docs §3d); zero where the flank is open, never negative."""
+    if rows is None:
+        return xp.where(s > 0, xp.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
+    el = loaded_force(s + e, rows, p["lF"], xp)
+    return xp.where(el > 0, xp.maximum(el + p["cm"] * sdot, 0.0), 0.0)
 
 
 def friction_arms(theta1, p, xp=np):
@@ -1133,7 +1327,7 @@ def mesh_forces(t, x, v, p, xp=np):
     if ecc is not None:
         s = s + ecc[0]
         sdot = sdot + ecc[1]
-    f = xp.where(s > 0, xp.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
+    f = contact_forces(s, sdot, k, e, load_laws(theta1, p, xp), p, xp)
     return f, s, theta1
 
 
@@ -1168,12 +1362,25 @@ def rhs(t, z, p, xp=np):
     return xp.concatenate([v, a]) / p["scale"]
 
 
+def _tangent_only(p, what: str) -> None:
+    if p["lc"].shape[1]:
+        raise InputError(
+            Problem(
+                "mesh_law",
+                "loaded",
+                f"{what}() holds the tangent law's strain energy (1/2) k s^2 only: build the "
+                "model with mesh_law = 'tangent' for the energy balance",
+            )
+        )
+
+
 def energy(t, y, p, xp=np):
     """Mechanical energy (J) of the unscaled state y: kinetic (absolute speeds), shaft and
     bearing strain, mesh strain (1/2) k_f s_f^2 of the flanks in contact.
 
     With zero damping, dE/dt = :func:`power` (energy-balance check).
     """
+    _tangent_only(p, "energy")
     n = y.shape[0] // 2
     x, v = y[:n], y[n:]
     w = p["Wn"] + v
@@ -1193,6 +1400,7 @@ def power(t, y, p, xp=np):
     mesh and the eccentricities store and release energy); exact when the rotation radii keep the tooth ratio
     (lambda_1 Omega = lambda_2 Omega_2).
     """
+    _tangent_only(p, "power")
     n = y.shape[0] // 2
     x, v = y[:n], y[n:]
     theta1 = p["Omega"] * t + x[1] + p["phase"]
@@ -1258,7 +1466,7 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     if pit is not None:  # the drive flank only
         s[:, 0] = s[:, 0] + pit[0]
         sdot[:, 0] = sdot[:, 0] + pit[1]
-    forces = np.where(s > 0, np.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
+    forces = contact_forces(s, sdot, k, e, load_laws(theta1, p), p)
     tt = t[:, None]
     te = p["T"] * (1.0 + np.sum(p["ea"] * np.sin(p["eo"] * p["Omega"] * tt), axis=-1))
     te = te - p["Kp"] * v[:, 0] - p["Ki"] * (x[:, 0] - p["qe0"])

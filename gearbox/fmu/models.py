@@ -114,7 +114,11 @@ def _pitch_layout(n: int) -> tuple[int, int]:
 
 def _mesh_features(model, table) -> dict[str, bool]:
     """The optional parts of the mesh FMUs: ``friction`` (:func:`_friction`),
-    ``eccentricity`` (:func:`_eccentricity`) and ``pitch`` (:func:`_pitch`)."""
+    ``eccentricity`` (:func:`_eccentricity`) and ``pitch`` (:func:`_pitch`). The
+    FMU's C code holds the tangent mesh law only (InputError otherwise)."""
+    from ..drivetrain.model import require_tangent_law
+
+    require_tangent_law(model, "the FMU")
     return {
         "friction": _friction(model, table),
         "eccentricity": _eccentricity(model),

@@ -63,6 +63,12 @@ def _parameters(m) -> list[tuple]:
         ("output shaft damping ratio", m.output_damping_ratio),
         ("mean drive-flank mesh stiffness (N/m)", m.drive.mean_stiffness),
         (
+            "mesh law",
+            "loaded: force against deflection through every torque level of the tables"
+            if m.mesh_law == "loaded"
+            else "tangent at the mean torque",
+        ),
+        (
             "drive-flank rotation radii lambda_1 / lambda_2 (mm)",
             f"{fmt(m.drive.lambda1 * 1e3)} / {fmt(m.drive.lambda2 * 1e3)}",
         ),
