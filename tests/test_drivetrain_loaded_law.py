@@ -183,3 +183,31 @@ def test_what_carries_the_tangent_law_only_refuses_the_loaded_one(tables):
     y = m.static_state()
     with pytest.raises(InputError, match="mesh_law"):
         energy(0.0, y, m.params())
+
+
+def test_on_a_linear_mesh_the_loaded_law_is_the_tangent_law():
+    """The analytical table's stiffness (ISO 6336-1 mean stiffness) is the same at 600
+    and 900 N m (below, its low-load factor lowers it): through these two levels its
+    LTE grows in proportion to the force, so at every table position the law (parabola,
+    cubic and straight end alike) is the tangent law's straight line (to 1e-12 of the
+    force), and the two runs' mesh forces agree within 1e-3 of the range (measured
+    2.1e-4: between the positions the law's rows are Fourier series of their own, whose
+    product is not the tangent law's series)."""
+    from gearbox.mesh_analytical import analytical_table, pair_from_scene
+
+    linear = scene().replaced(load={"torques_Nm": [600.0, 900.0]})
+    table = analytical_table(pair_from_scene(linear), [600.0, 900.0])
+    (rows, forces), _ = law(table, "drive")
+    k = table.tangent_stiffness[table.flank_index("drive"), 0]
+    np.testing.assert_allclose(k, table.tangent_stiffness[table.flank_index("drive"), 1])
+    d = rows[0] + np.linspace(0.0, 3.0, 31)[:, None] * (rows[2] - rows[0])
+    np.testing.assert_allclose(
+        loaded_force(d, rows.T[None], forces), k * (d - rows[0]), rtol=1e-12, atol=1e-12
+    )
+    runs = {}
+    for name in ("tangent", "loaded"):
+        m = DrivetrainModel.from_scene(linear.replaced(drivetrain={"mesh_law": name}), table)
+        assert m.mesh_law == name
+        runs[name] = simulate(m, mesh_cycles=40).channels["mesh_force_N"]
+    f = runs["tangent"]
+    assert np.abs(runs["loaded"] - f).max() < 1e-3 * np.ptp(f)
