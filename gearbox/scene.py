@@ -487,7 +487,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "mesh tables at the model's mean torque, linear about it (docs/drivetrain.md "
             "section 3); 'loaded': through every torque level of the tables, so that a "
             "dynamic load far from the mean meets the stiffness of its own load (section "
-            "3d). The scipy and jax solvers carry both; the exudyn backend and the FMU the "
+            "3d). The scipy and jax solvers and the FMU carry both; the exudyn backend the "
             "tangent law only.",
             ("tangent", "loaded"),
         ),
@@ -818,13 +818,6 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
                 "loaded",
                 "the exudyn solver carries the tangent law only: set simulation.solver to "
                 "'diffrax' or 'scipy', or the law to 'tangent'",
-            )
-        if "fmu" in (data.get("outputs", {}).get("requested") or ()):
-            probs.add(
-                "drivetrain.mesh_law",
-                "loaded",
-                "the FMU carries the tangent law only: leave 'fmu' out of "
-                "outputs.requested, or set the law to 'tangent'",
             )
 
     pitch = data.get("pitch", {})

@@ -165,8 +165,6 @@ def test_what_carries_the_tangent_law_only_refuses_the_loaded_one(tables):
     table, _ = tables
     with pytest.raises(InputError, match="drivetrain.mesh_law"):
         scene(mesh_law="loaded").replaced(simulation={"solver": "exudyn"})
-    with pytest.raises(InputError, match="drivetrain.mesh_law.*FMU"):
-        scene(mesh_law="loaded").replaced(outputs={"requested": ["fmu"]})
     with pytest.raises(InputError, match="mesh_law"):
         scene(mesh_law="secant")
     m = DrivetrainModel.from_scene(scene(mesh_law="loaded"), table)
@@ -174,12 +172,6 @@ def test_what_carries_the_tangent_law_only_refuses_the_loaded_one(tables):
 
     with pytest.raises(InputError, match="drivetrain.mesh_law.*exudyn"):
         build_exudyn_system(m)
-    from gearbox.fmu.models import drivetrain_fmu, gearbox_fmu
-
-    with pytest.raises(InputError, match="drivetrain.mesh_law.*FMU"):
-        drivetrain_fmu(m, table)
-    with pytest.raises(InputError, match="drivetrain.mesh_law.*FMU"):
-        gearbox_fmu(m, table)
     y = m.static_state()
     with pytest.raises(InputError, match="mesh_law"):
         energy(0.0, y, m.params())

@@ -114,15 +114,13 @@ def _pitch_layout(n: int) -> tuple[int, int]:
 
 def _mesh_features(model, table) -> dict[str, bool]:
     """The optional parts of the mesh FMUs: ``friction`` (:func:`_friction`),
-    ``eccentricity`` (:func:`_eccentricity`) and ``pitch`` (:func:`_pitch`). The
-    FMU's C code holds the tangent mesh law only (InputError otherwise)."""
-    from ..drivetrain.model import require_tangent_law
-
-    require_tangent_law(model, "the FMU")
+    ``eccentricity`` (:func:`_eccentricity`), ``pitch`` (:func:`_pitch`) and
+    ``loaded``, the loaded mesh law (docs/drivetrain.md §3d) where the model has it."""
     return {
         "friction": _friction(model, table),
         "eccentricity": _eccentricity(model),
         "pitch": _pitch(model),
+        "loaded": model.mesh_law == "loaded",
     }
 
 
@@ -195,6 +193,17 @@ def mesh_resources(model, table) -> dict[str, str]:
             rows,
         ),
     }
+    if model.mesh_law == "loaded":
+        out["mesh_secant.txt"] = fmt(
+            "secant",
+            "the loaded mesh law's no-load deflection (docs/drivetrain.md 3d): secant "
+            "stiffness F_n / LTE (N/m) of the lowest torque level; rows flank x position",
+            [
+                [table.stiffness[table.flank_index(f), 0, p]]
+                for f in flanks
+                for p in range(table.angle.size)
+            ],
+        )
     if _pitch(model):
         pa = model.pitch
         n = pa.values.size
@@ -335,7 +344,9 @@ def _propeller_params(model, *, full: bool) -> list[Variable]:
     return v
 
 
-def _gearbox_params(model, *, friction: bool, eccentricity: bool, pitch: bool) -> list[Variable]:
+def _gearbox_params(
+    model, *, friction: bool, eccentricity: bool, pitch: bool, loaded: bool = False
+) -> list[Variable]:
     """The gearbox's parameters; the pitch approach (``pitch``) has none: its spline
     is data, not tunable."""
     v = [
@@ -490,7 +501,9 @@ def _mesh_damping_ratio(model) -> float:
     return float(d.damping / c_unit)
 
 
-def _gearbox_outputs(model, *, friction: bool, eccentricity: bool, pitch: bool) -> list[Variable]:
+def _gearbox_outputs(
+    model, *, friction: bool, eccentricity: bool, pitch: bool, loaded: bool = False
+) -> list[Variable]:
     v = [
         _out("pinion.phi", "rad", "Pinion angle (absolute)"),
         _out("pinion.w", "rad/s", "Pinion speed"),
@@ -588,6 +601,7 @@ def _mesh_c(
     friction,
     eccentricity,
     pitch,
+    loaded,
     readme,
     resources,
 ) -> FmuModel:
@@ -601,6 +615,8 @@ def _mesh_c(
         f"#define GBX_FRICTION {int(friction)}\n"
         f"#define GBX_ECCENTRICITY {int(eccentricity)}\n"
         f"#define GBX_PITCH {int(pitch)}\n"
+        f"#define GBX_LOADED {int(loaded)}\n"
+        f"#define GBX_MAX_LEVELS {len(model.drive.load_forces) if loaded else 1}\n"
         f"#define GBX_MAX_HARMONICS {h}\n"
         f"#define GBX_ENGINE_HARMONICS {model.engine_harmonics}\n"
         f"#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
@@ -625,7 +641,12 @@ def _mesh_c(
     /* pitch deviations: the drive flank's approach, a periodic cubic spline over npt
      * samples from the pinion angle pt0 every pts (rad), coefficients (npt, 4) */
     double *pitch, pt0, pts;
-    int npt;"""
+    int npt;
+    /* the loaded mesh law: the lowest level's secant stiffnesses (flank x position), the
+     * series of its nl = 2 J + 1 rows per flank (then work rows), the levels' forces,
+     * its grid */
+    double *secant, *lcoef, *lforce, *lgrid;
+    int nl;"""
     return FmuModel(identifier, description, tuple(variables), data, code, resources, readme)
 
 
