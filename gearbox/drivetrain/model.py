@@ -1150,38 +1150,37 @@ def loaded_force(d, rows, forces, xp=np, derivative: bool = False):
     levels' deflections x_j and tangent stiffnesses k_j; forces (J,): the levels'
     forces F_j. Zero up to x_u, a parabola from (x_u, 0) to (x_0, F_0) with slope k_0
     there (clipped at 0), cubic Hermite between the levels, straight with slope
-    k_{J-1} beyond the last. With ``derivative`` also dF/dd."""
+    k_{J-1} beyond the last. With ``derivative`` also dF/dd. Each piece is evaluated
+    once, between the ends that the deflection selects."""
     J = forces.shape[-1]
     xu = rows[..., 0]
     X = [rows[..., 1 + j] for j in range(J)]
     K = [rows[..., 1 + J + j] for j in range(J)]
     F = [forces[..., j] for j in range(J)]
+    # the cubic's ends: levels j and j + 1, j the last level at or below d (0 below)
+    xa, xb, ka, kb, fa, fb = X[0], X[1], K[0], K[1], F[0], F[1]
+    for j in range(1, J - 1):
+        c = d >= X[j]
+        xa, xb = xp.where(c, X[j], xa), xp.where(c, X[j + 1], xb)
+        ka, kb = xp.where(c, K[j], ka), xp.where(c, K[j + 1], kb)
+        fa, fb = xp.where(c, F[j], fa), xp.where(c, F[j + 1], fb)
+    h = xb - xa
+    t = (d - xa) / h
+    t2 = t * t
+    t3 = t2 * t
+    val = (2 * t3 - 3 * t2 + 1) * fa + (t3 - 2 * t2 + t) * h * ka + (3 * t2 - 2 * t3) * fb
+    val = val + (t3 - t2) * h * kb
+    der = (6 * t2 - 6 * t) * (fa - fb) / h + (3 * t2 - 4 * t + 1) * ka + (3 * t2 - 2 * t) * kb
+    # below the lowest level: the parabola, zero up to x_u
     w = X[0] - xu
     a = (K[0] * w - F[0]) / (w * w)
     u = d - X[0]
-    val = F[0] + u * (K[0] + a * u)
-    der = K[0] + 2.0 * a * u
-    on = (d > xu) & (val > 0)
-    val = xp.where(on, val, 0.0)
-    der = xp.where(on, der, 0.0)
-    for j in range(J - 1):
-        h = X[j + 1] - X[j]
-        t = (d - X[j]) / h
-        t2 = t * t
-        t3 = t2 * t
-        v = (
-            (2 * t3 - 3 * t2 + 1) * F[j]
-            + (t3 - 2 * t2 + t) * h * K[j]
-            + (3 * t2 - 2 * t3) * F[j + 1]
-            + (t3 - t2) * h * K[j + 1]
-        )
-        dv = (
-            (6 * t2 - 6 * t) * (F[j] - F[j + 1]) / h
-            + (3 * t2 - 4 * t + 1) * K[j]
-            + (3 * t2 - 2 * t) * K[j + 1]
-        )
-        val = xp.where(d >= X[j], v, val)
-        der = xp.where(d >= X[j], dv, der)
+    q = F[0] + u * (K[0] + a * u)
+    on = (d > xu) & (q > 0)
+    low = d < X[0]
+    val = xp.where(low, xp.where(on, q, 0.0), val)
+    der = xp.where(low, xp.where(on, K[0] + 2.0 * a * u, 0.0), der)
+    # beyond the highest: straight
     top = d >= X[J - 1]
     val = xp.where(top, F[J - 1] + K[J - 1] * (d - X[J - 1]), val)
     der = xp.where(top, K[J - 1], der)
