@@ -11,7 +11,8 @@ Printed:
    that torque and (a) the loaded law's deflection under the torque's mesh force,
    (b) linear interpolation of the table in torque (what a tangent-law model built at
    that torque takes), (c) the tangent law of the operating torque (802 N m) carried
-   to that force.
+   to that force. 1b: the cycle mean of the tangent stiffness there, the law's slope
+   and the table's linear interpolation in torque, against the loaded TCA's.
 2. At 1000, 2000 and 3500 rpm on the propeller law (engine and propeller ripple as in
    the scene): the mesh force's mesh-order amplitude, largest value and dynamic RMS
    over a settled record with each law (fixed-step jax solver).
@@ -72,6 +73,22 @@ def main() -> None:
             tan = lte_op + (torque - op.torque) / lam / kt
             gaps = [np.abs(v - ref).max() / ref.max() * 100 for v in (x, lin, tan)]
             print(f"{flank:6} {torque:10.0f} {gaps[0]:10.3f}% {gaps[1]:11.3f}% {gaps[2]:11.2f}%")
+    print(
+        "\n1b. Tangent stiffness there: cycle mean against the loaded TCA's (loaded law / linear in T)"
+    )
+    for flank in ("drive", "coast"):
+        rows, forces = loaded_law_samples(table, flank, lam)
+        im = more.flank_index(flank)
+        for j, torque in enumerate(MORE):
+            if torque in table.torque:
+                continue
+            ref = more.tangent_stiffness[im, j].mean()
+            _, k = loaded_law_point(rows, forces, torque / lam)
+            lin = table.values_at("tangent_stiffness", flank, torque).mean()
+            print(
+                f"{flank:6} {torque:10.0f} N m  {(k.mean() / ref - 1) * 100:+7.2f}%  "
+                f"{(lin / ref - 1) * 100:+7.2f}%"
+            )
 
     print(
         "\n2. Mesh force along the propeller law (mesh-order amplitude / largest / dynamic RMS, N)"
