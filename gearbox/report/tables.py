@@ -72,4 +72,69 @@ def render(tab, run) -> Section:
     )
     if not math.isfinite(float(np.max(tab.stiffness))):
         warnings.append(ReportWarning("tables", "non-finite mesh stiffness in the tables"))
+    gaps = torque_interpolation_gaps(tab)
+    if gaps:
+        body += (
+            "<p>Between the torque levels: the cycle mean of the tangent stiffness as the "
+            "tangent mesh law takes it (the table interpolated linearly in torque) against "
+            "the loaded mesh law's slope (cubic in the deflection through the levels, "
+            "docs/drivetrain.md section 3d), at a quarter, half and three quarters of each "
+            "interval; the largest gap per flank and interval.</p>"
+            + table(
+                ["flank", "levels (N m)", "at (N m)", "linear in torque / loaded law - 1"],
+                [(f, f"{a:g} - {b:g}", t, f"{100 * g:+.2f} %") for f, a, b, t, g in gaps],
+            )
+        )
+        worst = max(gaps, key=lambda r: abs(r[4]))
+        law = run.scene["drivetrain"]["mesh_law"]
+        if abs(worst[4]) > INTERPOLATION_WARN and law == "tangent":
+            f, a, b, t, g = worst
+            warnings.append(
+                ReportWarning(
+                    "tables",
+                    f"between {a:g} and {b:g} N m the tangent mesh law's stiffness, "
+                    f"interpolated linearly in torque, departs from the loaded law's by "
+                    f"{100 * g:+.1f} % ({f} flank at {t:g} N m): drivetrain models whose "
+                    "mean torque lies there (speed sweeps on the propeller law) take it; "
+                    "more levels in load.torques_Nm, or drivetrain.mesh_law = 'loaded', "
+                    "avoid it",
+                )
+            )
     return Section("Mesh tables", body, tuple(warnings), anchor="tables")
+
+
+#: Gap (share) between the two interpolations in torque of the tangent stiffness above
+#: which the report warns (a choice: the loaded law met loaded TCA solves between the
+#: default scene's levels within 0.7 %, docs/drivetrain.md section 3d).
+INTERPOLATION_WARN = 0.02
+
+
+def torque_interpolation_gaps(tab) -> list[tuple[str, float, float, float, float]]:
+    """(flank, lower level, upper level, torque, gap) of the largest gap per flank and
+    pair of neighbouring torque levels between the cycle mean of the tangent stiffness
+    interpolated linearly in torque and the loaded mesh law's slope at that torque's
+    mesh force (docs/drivetrain.md section 3d), at 1/4, 1/2 and 3/4 of the interval;
+    empty for a table of one level or one the law cannot take (an LTE that does not
+    grow with the torque)."""
+    from ..drivetrain.model import loaded_law_point, loaded_law_samples
+    from ..errors import InputError
+
+    out = []
+    if tab.torque.size < 2 or "drive" not in tab.flanks:
+        return out
+    for flank in tab.flanks:
+        for a, b in zip(tab.torque[:-1], tab.torque[1:], strict=True):
+            worst = None
+            for t in a + (b - a) * np.array([0.25, 0.5, 0.75]):
+                lam = abs(tab.rotation_radii("drive", float(t))[0])
+                try:
+                    rows, forces = loaded_law_samples(tab, flank, lam)
+                except InputError:
+                    return []
+                _, k = loaded_law_point(rows, forces, float(t) / lam)
+                lin = tab.values_at("tangent_stiffness", flank, float(t))
+                g = float(np.mean(lin) / np.mean(k) - 1.0)
+                if worst is None or abs(g) > abs(worst[4]):
+                    worst = (flank, float(a), float(b), float(t), g)
+            out.append(worst)
+    return out
