@@ -1,7 +1,8 @@
 """Helpers shared by the FMU tests: a kept-alive fmi2 logger, the light-load scene
 variant whose drive flank separates, Co-Simulation instances, Model Exchange
-derivatives (FMI 2.0 and 3.0) with the gearbox FMU's flange inputs, the scipy
-reference and the libcosim run against the drivetrain FMU."""
+derivatives (FMI 2.0 and 3.0) with the gearbox FMU's flange inputs and the numpy
+right-hand side they are checked against (with the FMU's rows among the model's), the
+scipy reference and the libcosim run against the drivetrain FMU."""
 
 from ctypes import byref
 
@@ -207,3 +208,21 @@ def cosim_against_drivetrain(model, table, gearbox, drivetrain, out, stop=0.01, 
         ),
         abs(res["mesh_force_N"].mean() - mean) / abs(mean),
     )
+
+
+def fmu_rows(model, kind: str) -> np.ndarray:
+    """The FMU's states among the model's (the gearbox FMU: without engine and propeller)."""
+    n = model.n_dof
+    dofs = [i for i in range(n) if "gearbox" not in kind or i not in (0, 3)]
+    return np.array(dofs + [n + i for i in dofs])
+
+
+def rhs_derivatives(params, times, states, rows=None) -> np.ndarray:
+    """The numpy reference ``gearbox.drivetrain.model.rhs`` with ``params`` at each (t, y)
+    of ``times`` (S,) and unscaled ``states`` (S, 2 n): dy/dt, shape (S, 2 n), or its
+    ``rows``."""
+    from gearbox.drivetrain.model import rhs
+
+    sc = params["scale"]
+    out = np.array([rhs(t, y / sc, params) * sc for t, y in zip(times, states, strict=True)])
+    return out if rows is None else out[:, rows]

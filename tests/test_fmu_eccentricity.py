@@ -25,15 +25,16 @@ from _fmu_helpers import (
     cs_instance,
     flange_inputs,
     fmu_log,
+    fmu_rows,
     light_load,
     me_derivatives,
+    rhs_derivatives,
     scipy_reference,
 )
 
 fmpy = pytest.importorskip("fmpy")
 
 from gearbox import load_scene  # noqa: E402
-from gearbox.drivetrain.model import rhs  # noqa: E402
 from gearbox.fmu import build_fmu, drivetrain_fmu, gearbox_fmu  # noqa: E402
 from gearbox.fmu.build import find_c_compiler  # noqa: E402
 from gearbox.fmu.models import model_from_scene  # noqa: E402
@@ -82,13 +83,6 @@ pytestmark = pytest.mark.skipif(find_c_compiler() is None, reason="needs a C com
 def _eccentric(model, params):
     """The model with the FMU parameters' eccentricities (SI)."""
     return replace(model, **{k.replace(".", "_"): v for k, v in params.items()})
-
-
-def _rows(model, kind):
-    """The FMU's states among the model's (the gearbox FMU: without engine and propeller)."""
-    n = model.n_dof
-    dofs = [i for i in range(n) if "gearbox" not in kind or i not in (0, 3)]
-    return np.array(dofs + [n + i for i in dofs])
 
 
 @pytest.fixture(scope="module")
@@ -181,7 +175,7 @@ def test_right_hand_side_with_eccentricities_agrees_with_numpy(built, model_tabl
     p, p0 = model.params(), _eccentric(model, ZERO).params()
     y0, scale = model.static_state(), model.state_scale()
     n = model.n_dof
-    rows = _rows(model, kind)
+    rows = fmu_rows(model, kind)
     rng = np.random.default_rng(11)
     times = rng.uniform(0.0, 0.05, 200)
     states = y0 + 0.3 * scale * rng.standard_normal((200, 2 * n))  # in drive contact
@@ -193,15 +187,7 @@ def test_right_hand_side_with_eccentricities_agrees_with_numpy(built, model_tabl
             built[kind].fmu, times, states[:, rows], start=start, inputs=flanges, name=kind
         )
         assert np.max(np.abs(x0 - y0[rows])) < 1e-11 * np.abs(y0).max()
-    want = {
-        name: np.array(
-            [
-                (rhs(t, y / q["scale"], q) * q["scale"])[rows]
-                for t, y in zip(times, states, strict=True)
-            ]
-        )
-        for name, q in (("ecc", p), ("zero", p0))
-    }
+    want = {name: rhs_derivatives(q, times, states, rows) for name, q in (("ecc", p), ("zero", p0))}
     rel = np.abs(got["ecc"] - want["ecc"]).max(axis=0) / want["ecc"].std(axis=0)
     acc = [k for k, r in enumerate(rows) if r - n in (1, 2)]  # pinion and gear accelerations
     assert rel[acc].max() < 1e-10, rel
@@ -275,7 +261,7 @@ def test_parameters_set_at_instantiation_act_as_in_the_python_model(built, model
         assert np.array_equal(ch[var], runs["drivetrain"][1][var]), var
     assert ac_relative_error(t, ch["mesh.force"], t_ref, ref["ecc"]["mesh_force_N"]) < 1e-5
 
-    rows = _rows(model, "drivetrain")
+    rows = fmu_rows(model, "drivetrain")
     acc = [1, 2]
     rng = np.random.default_rng(5)
     times = rng.uniform(0.0, 0.05, 50)
@@ -286,9 +272,7 @@ def test_parameters_set_at_instantiation_act_as_in_the_python_model(built, model
     ):
         p = _eccentric(model, params).params()
         _, got = me_derivatives(built["plain"].fmu, times, states, start=params, name="set")
-        want = np.array(
-            [rhs(t, y / p["scale"], p) * p["scale"] for t, y in zip(times, states, strict=True)]
-        )
+        want = rhs_derivatives(p, times, states)
         rel = np.abs(got - want).max(axis=0) / want.std(axis=0)
         assert rel[[model.n_dof + i for i in acc]].max() < 1e-10, (params, rel)
 

@@ -12,12 +12,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _fmu_helpers import flange_inputs, me_derivatives
+from _fmu_helpers import flange_inputs, fmu_rows, me_derivatives, rhs_derivatives
 
 fmpy = pytest.importorskip("fmpy")
 
 from gearbox import load_scene  # noqa: E402
-from gearbox.drivetrain.model import DrivetrainModel, outputs, rhs  # noqa: E402
+from gearbox.drivetrain.model import DrivetrainModel, outputs  # noqa: E402
 from gearbox.drivetrain.scipy_backend import ScipySolver, integrate_scipy  # noqa: E402
 from gearbox.fmu import build_fmu, drivetrain_fmu, gearbox_fmu  # noqa: E402
 from gearbox.fmu.build import find_c_compiler  # noqa: E402
@@ -71,12 +71,6 @@ def test_builds_validate_and_ship_the_secant_stiffnesses(built, model_table):
     assert "mesh_secant.txt" not in plain.resources
 
 
-def _rows(model, kind):
-    n = model.n_dof
-    dofs = [i for i in range(n) if "gearbox" not in kind or i not in (0, 3)]
-    return np.array(dofs + [n + i for i in dofs])
-
-
 @pytest.mark.parametrize("kind", ["drivetrain", "gearbox", "drivetrain3"])
 def test_right_hand_side_with_the_loaded_law_agrees_with_numpy(built, model_table, kind):
     """Derivatives of the Model Exchange FMU at 200 random states about the static
@@ -91,22 +85,14 @@ def test_right_hand_side_with_the_loaded_law_agrees_with_numpy(built, model_tabl
     p, pt = model.params(), _tangent(model, table).params()
     y0, scale = model.static_state(), model.state_scale()
     n = model.n_dof
-    rows = _rows(model, kind)
+    rows = fmu_rows(model, kind)
     rng = np.random.default_rng(5)
     times = rng.uniform(0.0, 0.05, 200)
     states = y0 + 0.3 * scale * rng.standard_normal((200, 2 * n))
     states[:, 1] = y0[1] * (1.0 + rng.uniform(-0.95, 0.6, 200))
     flanges = flange_inputs(model, states) if "gearbox" in kind else None
     _, got = me_derivatives(built[kind].fmu, times, states[:, rows], inputs=flanges, name=kind)
-    want, want_t = (
-        np.array(
-            [
-                (rhs(t, y / q["scale"], q) * q["scale"])[rows]
-                for t, y in zip(times, states, strict=True)
-            ]
-        )
-        for q in (p, pt)
-    )
+    want, want_t = (rhs_derivatives(q, times, states, rows) for q in (p, pt))
     rel = np.abs(got - want).max(axis=0) / want.std(axis=0)
     acc = [k for k, r in enumerate(rows) if r - n in (1, 2)]
     assert rel[acc].max() < 1e-10, rel

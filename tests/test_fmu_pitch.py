@@ -24,12 +24,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _fmu_helpers import flange_inputs, fmu_log, light_load, me_derivatives
+from _fmu_helpers import (
+    flange_inputs,
+    fmu_log,
+    fmu_rows,
+    light_load,
+    me_derivatives,
+    rhs_derivatives,
+)
 
 fmpy = pytest.importorskip("fmpy")
 
 from gearbox import load_scene  # noqa: E402
-from gearbox.drivetrain.model import PitchApproach, outputs, rhs  # noqa: E402
+from gearbox.drivetrain.model import PitchApproach, outputs  # noqa: E402
 from gearbox.drivetrain.scipy_backend import ScipySolver, integrate_scipy  # noqa: E402
 from gearbox.fmu import build_fmu, drivetrain_fmu, gearbox_fmu  # noqa: E402
 from gearbox.fmu.build import find_c_compiler  # noqa: E402
@@ -63,13 +70,6 @@ ROUGH, SMOOTH = 0.1e-6, 0.0
 
 def _with_pitch(model, table, noise: float):
     return replace(model, pitch=PitchApproach(_series(noise), float(table.angle[0]), STEP))
-
-
-def _rows(model, kind):
-    """The FMU's states among the model's (the gearbox FMU: without engine and propeller)."""
-    n = model.n_dof
-    dofs = [i for i in range(n) if "gearbox" not in kind or i not in (0, 3)]
-    return np.array(dofs + [n + i for i in dofs])
 
 
 @pytest.fixture(scope="module")
@@ -223,22 +223,14 @@ def test_right_hand_side_with_pitch_agrees_with_numpy(built, model_table, kind):
     p, p0 = model.params(), replace(model, pitch=None).params()
     y0, scale = model.static_state(), model.state_scale()
     n = model.n_dof
-    rows = _rows(model, kind)
+    rows = fmu_rows(model, kind)
     rng = np.random.default_rng(11)
     times = rng.uniform(0.0, 0.05, 200)
     states = y0 + 0.3 * scale * rng.standard_normal((200, 2 * n))  # in drive contact
     flanges = flange_inputs(model, states) if "gearbox" in kind else None
     x0, got = me_derivatives(built[kind].fmu, times, states[:, rows], inputs=flanges, name=kind)
     assert np.max(np.abs(x0 - y0[rows])) < 1e-11 * np.abs(y0).max()
-    want, want0 = (
-        np.array(
-            [
-                (rhs(t, y / q["scale"], q) * q["scale"])[rows]
-                for t, y in zip(times, states, strict=True)
-            ]
-        )
-        for q in (p, p0)
-    )
+    want, want0 = (rhs_derivatives(q, times, states, rows) for q in (p, p0))
     rel = np.abs(got - want).max(axis=0) / want.std(axis=0)
     acc = [k for k, r in enumerate(rows) if r - n in (1, 2)]  # pinion and gear accelerations
     assert rel[acc].max() < 1e-10, rel
@@ -266,9 +258,7 @@ def test_right_hand_side_with_pitch_and_eccentricities(built, model_table):
     times = rng.uniform(0.0, 0.05, 100)
     states = model.static_state() + 0.3 * model.state_scale() * rng.standard_normal((100, 2 * n))
     _, got = me_derivatives(built["drivetrain"].fmu, times, states, start=params, name="both")
-    want = np.array(
-        [rhs(t, y / p["scale"], p) * p["scale"] for t, y in zip(times, states, strict=True)]
-    )
+    want = rhs_derivatives(p, times, states)
     rel = np.abs(got - want).max(axis=0) / want.std(axis=0)
     assert rel[[n + 1, n + 2]].max() < 1e-10, rel
 
