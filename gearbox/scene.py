@@ -488,7 +488,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "section 3); 'loaded': through every torque level of the tables, so that a "
             "dynamic load far from the mean meets the stiffness of its own load (section "
             "3d). The scipy and jax solvers and the FMU carry both; the exudyn backend the "
-            "tangent law only.",
+            "loaded law only with its Python user functions (not from a scene).",
             ("tangent", "loaded"),
         ),
         "backlash_mm": _f(0.1, "Circumferential backlash along the line of action (mm).", 0, 10),
@@ -816,8 +816,9 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
             probs.add(
                 "drivetrain.mesh_law",
                 "loaded",
-                "the exudyn solver carries the tangent law only: set simulation.solver to "
-                "'diffrax' or 'scipy', or the law to 'tangent'",
+                "the exudyn solver's symbolic user functions carry the tangent law only "
+                "(its Python ones, ExudynSolver(user_functions='python'), both): set "
+                "simulation.solver to 'diffrax' or 'scipy', or the law to 'tangent'",
             )
 
     pitch = data.get("pitch", {})

@@ -65,7 +65,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import Problems
+from ..errors import InputError, Problem, Problems
+from .model import _series_rows, loaded_force
 
 __all__ = [
     "ExudynSolver",
@@ -183,6 +184,9 @@ class _Flank:
     §3b: A_i cos theta_i + B_i sin theta_i); None without eccentricity.
     pitch: :class:`_Pitch`, the pitch deviations' approach a(theta_1) of the drive flank
     (docs §3c); None without them (and always on the coast flank).
+    law: the loaded mesh law (docs §3d): (coefficients of its 2 J + 1 rows, shape
+    (2 J + 1, 1 + 2 h), the levels' forces (J,), N_1), evaluated by the Python user
+    functions with :func:`gearbox.drivetrain.model.loaded_force`; None for the tangent law.
     """
 
     name: str
@@ -196,6 +200,7 @@ class _Flank:
     r1: Any = None
     r2: Any = None
     pitch: Any = None
+    law: Any = None
 
     def __post_init__(self):
         object.__setattr__(self, "k_harmonics", _harmonics(self.k))
@@ -427,9 +432,6 @@ def _plan_from_model(model) -> _Plan:
     drive flank's spline ``params()['pt']``, ``['pt0']``, ``['pts']`` (docs §3c, a
     :class:`_Pitch`).
     """
-    from .model import require_tangent_law
-
-    require_tangent_law(model, "the exudyn backend")
     n = model.n_dof
     K, C = model.structural_matrices()
     G = model.mesh_vectors()
@@ -469,6 +471,12 @@ def _plan_from_model(model) -> _Plan:
         if name == "drive" and p["pt"].shape[0]:  # docs/drivetrain.md §3c
             pt = np.array(p["pt"], dtype=float)
             extra["pitch"] = _Pitch(pt, float(p["pt0"]), float(p["pts"]))
+        if fl.load_coef is not None:  # docs/drivetrain.md §3d
+            extra["law"] = (
+                np.asarray(fl.load_coef, dtype=float),
+                np.asarray(fl.load_forces, dtype=float),
+                float(model.pinion_teeth),
+            )
         flanks.append(
             _Flank(
                 name,
@@ -740,19 +748,24 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
     ):
         G = fl.G[dofs]
         arg = we * theta - pe
-        s = float(G @ qa[idx]) - (fl.e.a0 + float(Re @ np.cos(arg))) - fl.b
+        e = fl.e.a0 + float(Re @ np.cos(arg))
+        s = float(G @ qa[idx]) - e - fl.b
         ecc = None
         if fl.eccentric or fl.pitch is not None:
             ecc = _approach_terms(fl, angles, speeds, False)
             if ecc is not None:
                 s = s + ecc[0]
-        if s > 0.0:
-            k = fl.k.a0 + float(Rk @ np.cos(wk * theta - pk))
+        if fl.law is not None:  # the loaded law at the deflection s + e (docs §3d)
+            coef, forces, n1 = fl.law
+            elastic = float(loaded_force(s + e, _series_rows(theta, coef, n1, np), forces))
+        if (s > 0.0) if fl.law is None else (elastic > 0.0):
             de = -float((we * Re) @ np.sin(arg))
             sdot = float(G @ va[idx]) - de * (plan.omega + va[ip])
             if ecc is not None:
                 sdot = sdot + ecc[1]
-            F = max(0.0, k * s + fl.c * sdot)
+            if fl.law is None:
+                elastic = (fl.k.a0 + float(Rk @ np.cos(wk * theta - pk))) * s
+            F = max(0.0, elastic + fl.c * sdot)
             out[idx] -= G * F
             if fr is not None:  # friction torques (docs/drivetrain.md §3a)
                 (w1, R1, p1), (w2, R2, p2) = fr
@@ -964,6 +977,18 @@ def build_exudyn_system(model, solver: ExudynSolver = ExudynSolver(), *, y0=None
     y0: ndarray, shape (2 n,), unscaled [x, v] (rad, m, rad/s, m/s).
     """
     solver.validate()
+    if model.mesh_law != "tangent" and solver.user_functions == "symbolic":
+        raise InputError(
+            Problem(
+                "user_functions",
+                solver.user_functions,
+                f"the {model.mesh_law} mesh law (drivetrain.mesh_law, docs/drivetrain.md "
+                "section 3d) is carried by exudyn's Python user functions only: "
+                "ExudynSolver(user_functions='python') (its symbolic expressions share no "
+                "subexpressions, and the law uses each of its series several times)",
+            ),
+            "cannot build the exudyn system",
+        )
     plan = _plan_from_model(model)
     if y0 is not None:
         y0 = np.asarray(y0, dtype=float)

@@ -33,7 +33,6 @@ __all__ = [
     "outputs",
     "pitch_terms",
     "power",
-    "require_tangent_law",
     "rhs",
 ]
 
@@ -1091,21 +1090,6 @@ def mesh_laws(theta1, p, xp=np):
     coef = xp.stack([p["kc"], p["ec"]])  # (2 fields, 2 flanks, 1 + 2 h)
     f, df = _series_rows(theta1, coef, p["N1"], xp, derivative=True)
     return f[..., 0, :], df[..., 0, :], f[..., 1, :], df[..., 1, :]
-
-
-def require_tangent_law(model, where: str) -> None:
-    """InputError naming ``drivetrain.mesh_law`` when ``model`` carries the loaded law
-    (docs §3d), which ``where`` (the exudyn backend, the FMU) does not."""
-    if model.mesh_law != "tangent":
-        raise InputError(
-            Problem(
-                "drivetrain.mesh_law",
-                model.mesh_law,
-                f"{where} carries the tangent law only: set it to 'tangent', or run the "
-                "scipy or jax solver",
-            ),
-            f"cannot build {where} with the loaded mesh law",
-        )
 
 
 def loaded_law_samples(table: MeshTable, flank: str, lam1: float):
