@@ -246,3 +246,26 @@ def test_exudyns_python_user_functions_carry_the_loaded_law(tables):
     tangent = DrivetrainModel.from_scene(scene(), table)
     other = simulate(tangent, ScipySolver(rtol=1e-10), mesh_cycles=40)["mesh_force_N"]
     assert np.sqrt(np.mean((other - ref) ** 2)) > 5e-3 * np.std(ref)
+
+
+def test_the_pipeline_runs_the_drivetrain_stages_and_the_fmu_with_the_loaded_law(tmp_path):
+    """`gearbox run`'s drivetrain stages and the FMU stage on a scene with the loaded law
+    (12 positions, 3 sweep speeds): the waterfall's and the Campbell diagram's models
+    carry the law, the report names it, and its mesh-tables section sets the two
+    interpolations in torque side by side without the tangent law's warning."""
+    from gearbox.fmu.build import find_c_compiler
+    from gearbox.report import write_report
+
+    s = scene(mesh_law="loaded").replaced(
+        ltca={"positions": 12}, simulation={"sweep_speeds": 3, "settled_mesh_cycles": 120}
+    )
+    wanted = ["tables", "dynamics", "waterfall", "campbell"]
+    if find_c_compiler() is not None:
+        wanted.append("fmu")
+    run = run_pipeline(s, wanted, cache=tmp_path / "cache")
+    assert run.summary.ok, run.summary.table()
+    assert run["dynamics"].model.mesh_law == "loaded"
+    html = write_report(run, tmp_path / "report.html").read_text()
+    assert "loaded: force against deflection through every torque level" in html
+    assert "Between the torque levels" in html
+    assert "departs from the loaded law" not in html  # the tangent law's warning
