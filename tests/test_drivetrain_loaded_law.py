@@ -226,6 +226,7 @@ def test_the_report_warns_of_coarse_torque_levels_for_the_tangent_law(tables):
         sec = render(table, stage_view(scene(mesh_law=law), "tables", table, "k"))
         assert any("interpolated linearly in torque" in w.text for w in sec.warnings) is warned
         assert "Between the torque levels" in sec.body
+        assert "Mean tangent mesh stiffness against torque" in sec.body
 
 
 def test_exudyns_python_user_functions_carry_the_loaded_law(tables):

@@ -1171,14 +1171,15 @@ def loaded_force(d, rows, forces, xp=np, derivative: bool = False):
     return (val, der) if derivative else val
 
 
-def loaded_law_point(rows, forces, force: float):
+def loaded_law_point(rows, forces, force):
     """Deflection (m) and tangent stiffness (N/m) of the loaded mesh law at the mesh
-    force ``force`` (N), at every sample of ``rows`` (shape (2 J + 1, P)): bisection
-    on the non-decreasing law, to the last bit."""
+    force ``force`` (N; a number, or one per sample), at every sample of ``rows`` (shape
+    (2 J + 1, P)): bisection on the non-decreasing law, to the last bit."""
     r = np.moveaxis(np.asarray(rows, dtype=float), 0, -1)  # (P, 2J + 1)
     J = forces.size
+    force = np.asarray(force, dtype=float)
     lo = r[:, 0].copy()
-    top = r[:, J] + max(force - forces[-1], 0.0) / r[:, 2 * J] + 1e-9
+    top = r[:, J] + np.maximum(force - forces[-1], 0.0) / r[:, 2 * J] + 1e-9
     hi = np.maximum(top, lo + 1e-9)
     for _ in range(200):
         mid = 0.5 * (lo + hi)

@@ -84,6 +84,7 @@ def render(tab, run) -> Section:
                 ["flank", "levels (N m)", "at (N m)", "linear in torque / loaded law - 1"],
                 [(f, f"{a:g} - {b:g}", t, f"{100 * g:+.2f} %") for f, a, b, t, g in gaps],
             )
+            + _stiffness_figure(tab)
         )
         worst = max(gaps, key=lambda r: abs(r[4]))
         law = run.scene["drivetrain"]["mesh_law"]
@@ -109,32 +110,73 @@ def render(tab, run) -> Section:
 INTERPOLATION_WARN = 0.02
 
 
+def stiffness_against_torque(tab, flank: str, torques):
+    """Cycle means of the tangent stiffness (N/m) of ``flank`` at ``torques`` (N m,
+    within the levels): (the loaded mesh law's slope at the torque's mesh force, the
+    table interpolated linearly in torque), each shape (len(torques),). One drive
+    rotation radius, the levels' middle one's, turns torque into force; InputError when
+    the law cannot take the table (docs/drivetrain.md section 3d)."""
+    from ..drivetrain.model import loaded_law_point, loaded_law_samples
+
+    torques = np.asarray(torques, dtype=float)
+    lam = abs(tab.rotation_radii("drive", float(np.median(tab.torque)))[0])
+    rows, forces = loaded_law_samples(tab, flank, lam)
+    P = rows.shape[1]
+    _, k = loaded_law_point(np.tile(rows, torques.size), forces, np.repeat(torques / lam, P))
+    law = k.reshape(torques.size, P).mean(axis=1)
+    linear = np.array([np.mean(tab.values_at("tangent_stiffness", flank, t)) for t in torques])
+    return law, linear
+
+
 def torque_interpolation_gaps(tab) -> list[tuple[str, float, float, float, float]]:
     """(flank, lower level, upper level, torque, gap) of the largest gap per flank and
     pair of neighbouring torque levels between the cycle mean of the tangent stiffness
     interpolated linearly in torque and the loaded mesh law's slope at that torque's
-    mesh force (docs/drivetrain.md section 3d), at 1/4, 1/2 and 3/4 of the interval;
+    mesh force (:func:`stiffness_against_torque`), at 1/4, 1/2 and 3/4 of the interval;
     empty for a table of one level or one the law cannot take (an LTE that does not
     grow with the torque)."""
-    from ..drivetrain.model import loaded_law_point, loaded_law_samples
     from ..errors import InputError
 
     out = []
     if tab.torque.size < 2 or "drive" not in tab.flanks:
         return out
+    lo, hi = tab.torque[:-1], tab.torque[1:]
+    at = (lo[:, None] + (hi - lo)[:, None] * np.array([0.25, 0.5, 0.75])).ravel()
     for flank in tab.flanks:
-        for a, b in zip(tab.torque[:-1], tab.torque[1:], strict=True):
-            worst = None
-            for t in a + (b - a) * np.array([0.25, 0.5, 0.75]):
-                lam = abs(tab.rotation_radii("drive", float(t))[0])
-                try:
-                    rows, forces = loaded_law_samples(tab, flank, lam)
-                except InputError:
-                    return []
-                _, k = loaded_law_point(rows, forces, float(t) / lam)
-                lin = tab.values_at("tangent_stiffness", flank, float(t))
-                g = float(np.mean(lin) / np.mean(k) - 1.0)
-                if worst is None or abs(g) > abs(worst[4]):
-                    worst = (flank, float(a), float(b), float(t), g)
-            out.append(worst)
+        try:
+            law, linear = stiffness_against_torque(tab, flank, at)
+        except InputError:
+            return []
+        gap = (linear / law - 1.0).reshape(lo.size, 3)
+        for i, g in enumerate(gap):
+            j = int(np.argmax(np.abs(g)))
+            out.append((flank, float(lo[i]), float(hi[i]), float(at[3 * i + j]), float(g[j])))
     return out
+
+
+def _stiffness_figure(tab) -> str:
+    """k (cycle mean) against torque per flank: the loaded law's slope, the linear
+    interpolation in torque and the levels; empty where the law cannot take the table."""
+    from ..errors import InputError
+
+    torques = np.linspace(tab.torque[0], tab.torque[-1], 61)
+    fig, ax = new_figure(1, 1, size=(6.4, 3.4))
+    a = ax[0, 0]
+    for flank in tab.flanks:
+        try:
+            law, linear = stiffness_against_torque(tab, flank, torques)
+        except InputError:
+            return ""
+        i = tab.flank_index(flank)
+        style = "-" if flank == "drive" else "--"
+        a.plot(torques, law / 1e6, style, label=f"{flank}: loaded law")
+        a.plot(torques, linear / 1e6, style, lw=0.8, label=f"{flank}: linear in torque")
+        a.plot(tab.torque, tab.tangent_stiffness[i].mean(axis=1) / 1e6, "ko", ms=3)
+    a.set(xlabel="pinion torque (N m)", ylabel="mean tangent stiffness (N/um)")
+    a.grid(True, alpha=0.3)
+    a.legend(fontsize=6)
+    return figure(
+        fig,
+        "Mean tangent mesh stiffness against torque: the loaded law's slope and the "
+        "table interpolated linearly in torque (dots: the levels)",
+    )
