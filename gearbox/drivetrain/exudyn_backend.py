@@ -755,10 +755,13 @@ def _mesh_generalised(plan: _Plan, pos: dict[int, int], size: int, t, q, q_t, sy
             ecc = _approach_terms(fl, angles, speeds, False)
             if ecc is not None:
                 s = s + ecc[0]
-        if fl.law is not None:  # the loaded law at the deflection s + e (docs §3d)
+        if fl.law is None:
+            closed = s > 0.0
+        else:  # the loaded law at the deflection s + e (docs §3d)
             coef, forces, n1 = fl.law
             elastic = float(loaded_force(s + e, _series_rows(theta, coef, n1, np), forces))
-        if (s > 0.0) if fl.law is None else (elastic > 0.0):
+            closed = elastic > 0.0
+        if closed:
             de = -float((we * Re) @ np.sin(arg))
             sdot = float(G @ va[idx]) - de * (plan.omega + va[ip])
             if ecc is not None:

@@ -39,7 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from .linear import largest_stable_step, linear_matrices
-from .model import approach_terms, loaded_force
+from .model import approach_terms, contact_forces
 
 __all__ = [
     "FixedStepPlan",
@@ -297,16 +297,15 @@ def _hermite(table, phi, cells: int, jnp, lax):
 
 def _flank_force(r, fl, s, sdot, p, xp):
     """Contact force (N) of flank ``fl`` (0 drive, 1 coast) at gap s and rate sdot
-    from the mesh-law rows r of :func:`mesh_law_table` (the first axis): the tangent
-    law or the loaded law (docs/drivetrain.md §3, §3d), as
-    :func:`gearbox.drivetrain.model.contact_forces`."""
+    from the mesh-law rows r of :func:`mesh_law_table` (the first axis):
+    :func:`gearbox.drivetrain.model.contact_forces` with the tangent law or the loaded
+    law's rows (docs/drivetrain.md §3, §3d)."""
     m = p["lc"].shape[1]
-    if m == 0:
-        return xp.where(s > 0, xp.maximum(r[fl] * s + p["cm"][fl] * sdot, 0.0), 0.0)
-    first = 10 if p["fc"].shape[-1] else 6
-    rows = xp.moveaxis(r[first + fl * m : first + (fl + 1) * m], 0, -1)
-    el = loaded_force(s + r[2 + fl], rows, p["lF"][fl], xp)
-    return xp.where(el > 0, xp.maximum(el + p["cm"][fl] * sdot, 0.0), 0.0)
+    rows = None
+    if m:
+        first = 10 if p["fc"].shape[-1] else 6
+        rows = xp.moveaxis(r[first + fl * m : first + (fl + 1) * m], 0, -1)
+    return contact_forces(s, sdot, r[fl], r[2 + fl], rows, p["cm"][fl], p["lF"][fl], xp)
 
 
 def lean_rhs(t, z, p, laws_at, te0, rp):

@@ -1201,15 +1201,16 @@ def load_laws(theta1, p, xp=np):
     return _series_rows(theta1, lc, p["N1"], xp)
 
 
-def contact_forces(s, sdot, k, e, rows, p, xp=np):
-    """Contact forces F_f (N, shape S + (2,)) from the gaps s_f and their rates sdot_f:
-    k_f s_f + c_f sdot_f (the tangent law, docs §3) or, with the loaded law's ``rows``
-    (:func:`load_laws`), its elastic force at the deflection s_f + e_f plus c_f sdot_f
-    (docs §3d); zero where the flank is open, never negative."""
+def contact_forces(s, sdot, k, e, rows, damping, forces, xp=np):
+    """Contact forces (N) from the gaps s and their rates sdot (any shape): k s + c sdot
+    (the tangent law, docs §3) or, with the loaded law's ``rows`` (:func:`load_laws`),
+    its elastic force at the deflection s + e plus c sdot (docs §3d); zero where the
+    flank is open, never negative. damping: c (N s/m); forces: the law's level forces
+    (:func:`loaded_force`). Per flank or both at once (a trailing flank axis)."""
     if rows is None:
-        return xp.where(s > 0, xp.maximum(k * s + p["cm"] * sdot, 0.0), 0.0)
-    el = loaded_force(s + e, rows, p["lF"], xp)
-    return xp.where(el > 0, xp.maximum(el + p["cm"] * sdot, 0.0), 0.0)
+        return xp.where(s > 0, xp.maximum(k * s + damping * sdot, 0.0), 0.0)
+    el = loaded_force(s + e, rows, forces, xp)
+    return xp.where(el > 0, xp.maximum(el + damping * sdot, 0.0), 0.0)
 
 
 def friction_arms(theta1, p, xp=np):
@@ -1311,7 +1312,7 @@ def mesh_forces(t, x, v, p, xp=np):
     if ecc is not None:
         s = s + ecc[0]
         sdot = sdot + ecc[1]
-    f = contact_forces(s, sdot, k, e, load_laws(theta1, p, xp), p, xp)
+    f = contact_forces(s, sdot, k, e, load_laws(theta1, p, xp), p["cm"], p["lF"], xp)
     return f, s, theta1
 
 
@@ -1450,7 +1451,7 @@ def outputs(model: DrivetrainModel, t: np.ndarray, y: np.ndarray, p=None) -> dic
     if pit is not None:  # the drive flank only
         s[:, 0] = s[:, 0] + pit[0]
         sdot[:, 0] = sdot[:, 0] + pit[1]
-    forces = contact_forces(s, sdot, k, e, load_laws(theta1, p), p)
+    forces = contact_forces(s, sdot, k, e, load_laws(theta1, p), p["cm"], p["lF"])
     tt = t[:, None]
     te = p["T"] * (1.0 + np.sum(p["ea"] * np.sin(p["eo"] * p["Omega"] * tt), axis=-1))
     te = te - p["Kp"] * v[:, 0] - p["Ki"] * (x[:, 0] - p["qe0"])
