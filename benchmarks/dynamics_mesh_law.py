@@ -9,9 +9,9 @@ Printed:
 1. For each flank and each torque between the table's levels (50, 300, 600, 900 N m):
    the largest gap, as a share of the largest LTE, between the loaded TCA solved at
    that torque and (a) the loaded law's deflection under the torque's mesh force,
-   (b) linear interpolation of the table in torque (what a tangent-law model built at
-   that torque takes), (c) the tangent law of the operating torque (802 N m) carried
-   to that force. 1b: the cycle mean of the tangent stiffness there, the law's slope
+   (b) linear interpolation of the table in torque (which neither law takes: both
+   take the loaded law's tangent between the levels), (c) the tangent law of the
+   operating torque (802 N m) carried to that force. 1b: the cycle mean of the tangent stiffness there, the law's slope
    and the table's linear interpolation in torque, against the loaded TCA's.
 2. At 1000, 2000 and 3500 rpm on the propeller law (engine and propeller ripple as in
    the scene): the mesh force's mesh-order amplitude, largest value and dynamic RMS

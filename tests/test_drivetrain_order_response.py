@@ -103,7 +103,7 @@ def marine_run(tmp_path_factory):
 def test_operating_point_mesh_orders_match_the_nonlinear_run(marine_run):
     """At 3500 rpm the mesh order sits 16 % below the mesh mode: the mean-stiffness
     model misses the 2x mesh order (the time-varying stiffness times the mesh-order
-    vibration); harmonic balance holds it. Measured 0.01 / 0.14 / 0.21 % off the
+    vibration); harmonic balance holds it. Measured 0.003 / 0.13 / 0.12 % off the
     simulation's spectrum at 1x / 2x / 3x mesh; tolerance 1 % (the simulation's
     theta_1 follows the vibration, which the linear model leaves out)."""
     from gearbox.pipeline.adapters.dynamics import model_at
@@ -136,8 +136,8 @@ def test_crossing_responses_match_the_nonlinear_run_at_the_crossing_speed(marine
     against the nonlinear simulation at that speed on the propeller law, the
     crossing's order read from its spectrum (rectangular window over the common
     period of all orders). Measured: engine and propeller orders within 0.4 %, the
-    mesh orders' crossings (2x and 3x mesh on the mesh mode) within 0.3 %, where the
-    mean-stiffness solution is 19 and 46 % low. Tolerance 2 %: the simulated
+    mesh orders' crossings (2x and 3x mesh on the mesh mode) within 0.21 %, where the
+    mean-stiffness solution is 16 and 68 % low. Tolerance 2 %: the simulated
     spectrum also holds the other orders' mixing products, and the exact crossing is
     a resonance peak where a small shift of frequency moves the amplitude."""
     from gearbox.pipeline.adapters import dynamics as dy
@@ -192,8 +192,8 @@ def test_campbell_warnings_rank_by_response(marine_run):
 def test_order_responses_match_the_nonlinear_speed_sweep(marine_run):
     """Every order at every speed of the default scene's sweep (ten speeds, 1000-3500
     rpm on the propeller law) against the nonlinear runs' mesh force spectra. Measured:
-    every order above 10 N within 0.9 %; the small half orders and firing 6 (1-12 N)
-    up to 14 % off where they sit 200-1000 times below the largest line, beside the
+    every order above 12 N within 0.9 %; the small half orders and firing 6 and 9 (1-12
+    N) up to 14 % off where they sit 25-1000 times below the largest line, beside the
     nonlinear runs' mixing products. Tolerance: 1 % of the simulated amplitude plus
     0.5 % of the largest line at that speed."""
     from gearbox.pipeline.adapters.dynamics import model_at
@@ -258,16 +258,17 @@ def test_order_cuts_hold_the_crossings_and_survive_the_round_trip(marine_run, tm
 def test_bearings_and_governor(marine_run):
     """With the bearing translations (n = 6) and the PI governor on the engine: every
     order of mesh force and both shaft torques against the nonlinear run at the 2x
-    mesh crossing speed and at the operating speed. Measured: all within 1.2 % but
-    firing 6 / 9 on the output shaft at 1855 rpm (0.07 and 0.009 N m beside 18 N m of
-    blade pass: +4.1 / +2.4 %); tolerance as for the sweep, 1 % plus 0.5 % of the
+    mesh crossing speed (1919 rpm) and at the operating speed. Measured: all within
+    1.2 % but firing 6 / 9 on the output shaft at 1919 rpm (0.064 and 0.008 N m beside
+    13.5 N m: +6.1 / +1.8 %); tolerance as for the sweep, 1 % plus 0.5 % of the
     channel's largest line."""
     from gearbox.pipeline.adapters import dynamics as dy
 
     scene, run = marine_run
     scene = scene.replaced(drivetrain={"bearing_dofs": True, "governor": True})
     solver = dy.solver_of(scene)
-    for n in (1855.0, 3500.0):
+    cross = next(c.speed_rpm for c in run["campbell"].crossings if c.excitation == "2x mesh")
+    for n in (cross, 3500.0):
         model = dy.model_at(scene, run["tables"], n)
         assert model.n_dof == 6 and model.governor
         r = order_responses(model)

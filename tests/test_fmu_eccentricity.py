@@ -320,11 +320,11 @@ def test_fixed_step_contact_test_includes_the_eccentricities(tmp_path):
     """The light-load scene of tests/test_fmu.py (separation, coast contact at zero
     backlash) with the eccentricities: the fixed steps that end out of the nominal
     contact, with the gap s_f + eps_f (gearbox.drivetrain.fixed_step: lost), are redone
-    with adaptive steps. Measured 652 intervals handed over, mesh force 6.5e-7 of the AC
+    with adaptive steps. Measured 657 intervals handed over, mesh force 6.4e-7 of the AC
     RMS off the scipy reference over 0.02 s. 1e-5 allowed (tests/test_fmu.py's). With
     the contact test left without eps the run read the reference 5.6e-4 off (measured
-    once by hand on a modified build, before the analytical table's radial sign was
-    turned, at 668 intervals and 2.5e-6 with eps)."""
+    once by hand on a modified build, at 60 N m, before the analytical table's radial
+    sign was turned, at 668 intervals and 2.5e-6 with eps)."""
     light = {**ECC, "pinion_eccentricity_angle_deg": 30.0, "gear_eccentricity_angle_deg": -60.0}
     scene = load_scene(SCENE).replaced(drivetrain={**light_load(0.0), **light})
     model, table = model_from_scene(scene)

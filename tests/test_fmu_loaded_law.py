@@ -142,3 +142,46 @@ def test_run_with_the_loaded_law_matches_python_reference(
     _, tangent = _reference(_tangent(model, table))
     effect = ac_relative_error(t_ref, tangent["mesh_force_N"], t_ref, ref["mesh_force_N"])
     assert effect > 5e-3, effect
+
+
+def test_tangent_law_fmu_takes_the_laws_tangent_at_another_mean_torque(
+    model_table, tmp_path, monkeypatch
+):
+    """The tangent-law drivetrain FMU of the 802 N m model with ``engine.mean_torque`` set
+    to 150 N m at instantiation (between the levels 50 and 300 N m, where the law bends
+    most): its derivatives at 200 random states against ``rhs`` of the model built at
+    150 N m (``tangent_at``: the loaded law's tangent), within the grids' 1e-10 of the
+    std (tests/test_fmu.py's bound) on the pinion and gear rows (measured 1.0e-11). The
+    model built with the table linear in torque differs by 0.41 of the std there
+    (measured; asserted above 0.1), so C code that interpolated linearly would fail."""
+    from gearbox.drivetrain import model as dm
+
+    model, table = model_table
+    power = 150.0 * 3500 * np.pi / 30 / 1e3
+    low_scene = load_scene(SCENE).replaced(drivetrain={"engine_power_kW": power})
+    low = DrivetrainModel.from_scene(low_scene, table)
+    assert low.torque == pytest.approx(150.0, rel=1e-12) and low.mesh_law == "tangent"
+    fmu = build_fmu(drivetrain_fmu(_tangent(model, table), table), tmp_path).fmu
+    n = low.n_dof
+    rows = fmu_rows(low, "drivetrain")
+    rng = np.random.default_rng(7)
+    times = rng.uniform(0.0, 0.05, 200)
+    y0, scale = low.static_state(), low.state_scale()
+    states = y0 + 0.3 * scale * rng.standard_normal((200, 2 * n))
+    start = {"engine.mean_torque": low.torque}
+    _, got = me_derivatives(fmu, times, states[:, rows], start=start, name="tangent 150")
+    want = rhs_derivatives(low.params(), times, states, rows)
+    rel = np.abs(got - want).max(axis=0) / want.std(axis=0)
+    acc = [k for k, r in enumerate(rows) if r - n in (1, 2)]
+    assert rel[acc].max() < 1e-10, rel
+
+    def linear(tab, flank, lam1, torque):
+        k = tab.values_at("tangent_stiffness", flank, torque)
+        return (k, tab.values_at("lte", flank, torque)), "linear"
+
+    monkeypatch.setattr(dm, "tangent_at", linear)
+    other = rhs_derivatives(
+        DrivetrainModel.from_scene(low_scene, table).params(), times, states, rows
+    )
+    gap = np.abs(other - want)[:, acc].max(axis=0) / want.std(axis=0)[acc]
+    assert gap.min() > 0.1, gap

@@ -327,11 +327,12 @@ def test_run_with_pitch_matches_python_reference(
 def test_fixed_step_contact_test_includes_the_pitch_approach(tmp_path):
     """The light-load scene of tests/test_fmu.py (separation, coast contact at zero
     backlash) with the smooth approach: the fixed steps that end out of the nominal
-    contact, with the gap s_drive + a, are redone with adaptive steps. The approach
-    moves this run's mesh force by 0.67 of its AC RMS. Measured 245 intervals handed
-    over, mesh force 2.1e-6 of the AC RMS off the scipy reference (rtol 1e-10) over
-    0.02 s; 1e-5 allowed (tests/test_fmu.py's). With the contact test left without a
-    (measured once by hand on a modified build): 82 intervals, 4.6e-3 off."""
+    contact, with the gap s_drive + a, are redone with adaptive steps. Measured 229
+    intervals handed over, mesh force 8.3e-6 of the AC RMS off the scipy reference
+    (rtol 1e-10) over 0.02 s; 2e-5 allowed (the kinks at contact change limit the
+    adaptive DOPRI5 of tests/test_fmu.py's light-load case to 1.0e-5 as well). With the
+    contact test left without a (measured once by hand on a modified build, when the
+    case ran at 60 N m): 82 intervals, 4.6e-3 off."""
     scene = load_scene(SCENE).replaced(drivetrain=light_load(0.0))
     model, table = model_from_scene(scene)
     model = _with_pitch(model, table, SMOOTH)
@@ -342,7 +343,7 @@ def test_fixed_step_contact_test_includes_the_pitch_approach(tmp_path):
         fmu, stop_time=STOP, step=1e-4, outputs=["mesh.force", "solver.handed_over"]
     )
     assert ch["solver.handed_over"][-1] > 10
-    assert ac_relative_error(t, ch["mesh.force"], tt, ref["mesh_force_N"]) < 1e-5
+    assert ac_relative_error(t, ch["mesh.force"], tt, ref["mesh_force_N"]) < 2e-5
 
 
 @pytest.mark.parametrize(

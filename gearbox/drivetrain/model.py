@@ -600,10 +600,11 @@ class DrivetrainModel:
         """Model from SI parameters and a table; the mesh flanks are evaluated at ``torque``.
 
         speed: Omega (rad/s); torque: T_op (N m), must lie in the table's torque range.
-        mesh_law: ``"tangent"``, the table's tangent stiffness and LTE at ``torque``
-        (docs §3), or ``"loaded"``, the force against the deflection through all of the
-        table's torque levels (docs §3d); its tangent at ``torque`` is then the
-        linearised model's. Other keywords: the dataclass fields.
+        mesh_law: ``"tangent"``, the tangent stiffness and LTE at ``torque`` (docs §3;
+        between the table's levels the loaded law's tangent, :func:`tangent_at`), or
+        ``"loaded"``, the force against the deflection through all of the table's torque
+        levels (docs §3d), whose tangent at ``torque`` is the same. Other keywords: the
+        dataclass fields.
         """
         p = Problems()
         p.in_range("mesh_damping_ratio", mesh_damping_ratio, 0, 1)
@@ -636,8 +637,7 @@ class DrivetrainModel:
                 lte, kt = loaded_law_point(rows, forces, fn)
                 load = (np.stack([coef(r) for r in rows]), forces)
             else:
-                kt = table.values_at("tangent_stiffness", name, torque)
-                lte = table.values_at("lte", name, torque)
+                (kt, lte), _ = tangent_at(table, name, abs(lam1d), torque)
             e = lte - fn / kt
             kc, ec, lc = coef(kt), coef(e), coef(lte)
             inv_m = lam1**2 / j1 + lam2**2 / j2
@@ -1092,18 +1092,35 @@ def mesh_laws(theta1, p, xp=np):
     return f[..., 0, :], df[..., 0, :], f[..., 1, :], df[..., 1, :]
 
 
-def loaded_law_samples(table: MeshTable, flank: str, lam1: float):
-    """The loaded mesh law's samples of ``flank`` at the table's positions (docs §3d):
-    rows, shape (2 J + 1, P), the deflection at no load, the LTE at the J torque levels
-    (m) and the tangent stiffnesses there (N/m), the last limited where a cubic between
-    two levels would not grow (Fritsch and Carlson: slopes within 3 times the
-    interval's secant); and the levels' mesh forces T_j / lam1 (N, shape (J,)), with
-    lam1 the model's drive rotation radius of the pinion (m)."""
+def law_levels(table: MeshTable, flank: str, lam1: float):
+    """The loaded mesh law's level samples of ``flank``: the LTE x_j (m, shape (J, P)),
+    the tangent stiffnesses k_j (N/m), limited where a cubic between two levels would
+    not grow (Fritsch and Carlson: slopes within 3 times the interval's secant), and the
+    levels' mesh forces T_j / lam1 (N, shape (J,)); ``ok`` when the law can take them
+    (the LTE grows with the torque and the stiffnesses are > 0 at every position)."""
     i = table.flank_index(flank)
     forces = np.asarray(table.torque, dtype=float) / lam1
     X = np.asarray(table.lte[i], dtype=float)
     K = np.array(table.tangent_stiffness[i], dtype=float)
-    S = np.asarray(table.stiffness[i], dtype=float)
+    ok = bool(np.all(np.diff(X, axis=0) > 0) and np.all(K > 0))
+    if ok:
+        for j in range(forces.size - 1):
+            m = (forces[j + 1] - forces[j]) / (X[j + 1] - X[j])
+            r = np.hypot(K[j] / m, K[j + 1] / m)
+            tau = np.where(r > 3.0, 3.0 / r, 1.0)
+            K[j] *= tau
+            K[j + 1] *= tau
+    return X, K, forces, ok
+
+
+def loaded_law_samples(table: MeshTable, flank: str, lam1: float):
+    """The loaded mesh law's samples of ``flank`` at the table's positions (docs §3d):
+    rows, shape (2 J + 1, P), the deflection at no load, the LTE at the J torque levels
+    (m) and the tangent stiffnesses there (N/m), limited as :func:`law_levels` says;
+    and the levels' mesh forces T_j / lam1 (N, shape (J,)), with lam1 the model's drive
+    rotation radius of the pinion (m)."""
+    X, K, forces, _ = law_levels(table, flank, lam1)
+    S = np.asarray(table.stiffness[table.flank_index(flank)], dtype=float)
     p = Problems()
     p.check(
         bool(np.all(np.diff(X, axis=0) > 0)),
@@ -1118,14 +1135,27 @@ def loaded_law_samples(table: MeshTable, flank: str, lam1: float):
         "the loaded mesh law needs stiffnesses > 0 N/m",
     )
     p.raise_if_any("invalid mesh table for drivetrain.mesh_law = 'loaded'")
-    for j in range(forces.size - 1):
-        m = (forces[j + 1] - forces[j]) / (X[j + 1] - X[j])
-        r = np.hypot(K[j] / m, K[j + 1] / m)
-        tau = np.where(r > 3.0, 3.0 / r, 1.0)
-        K[j] *= tau
-        K[j + 1] *= tau
     xu = X[0] - forces[0] / S[0]
     return np.concatenate([xu[None], X, K]), forces
+
+
+def tangent_at(table: MeshTable, flank: str, lam1: float, torque: float):
+    """The tangent mesh law's stiffness (N/m) and LTE (m) of ``flank`` at ``torque`` (N
+    m), each shape (P,) (docs §3): between the table's torque levels the loaded mesh
+    law's tangent at the mesh force torque / lam1 (cubic in the deflection through the
+    levels, :func:`loaded_force`), at a level the level's samples (tangents limited as
+    :func:`law_levels` says); the table interpolated linearly in torque where the law
+    cannot take it (one level, an LTE that does not grow with the torque). The second
+    value says which: ``"law"`` or ``"linear"``."""
+    if table.torque.size >= 2:
+        X, K, forces, ok = law_levels(table, flank, lam1)
+        if ok:
+            # between the levels only the cubics count: x_u is any deflection below x_0
+            rows = np.concatenate([(X[0] - forces[0] / K[0])[None], X, K])
+            lte, kt = loaded_law_point(rows, forces, torque / lam1)
+            return (kt, lte), "law"
+    kt = table.values_at("tangent_stiffness", flank, torque)
+    return (kt, table.values_at("lte", flank, torque)), "linear"
 
 
 def loaded_force(d, rows, forces, xp=np, derivative: bool = False):

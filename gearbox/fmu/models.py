@@ -602,6 +602,7 @@ def _mesh_c(
     eccentricity,
     pitch,
     loaded,
+    levels,
     readme,
     resources,
 ) -> FmuModel:
@@ -616,7 +617,7 @@ def _mesh_c(
         f"#define GBX_ECCENTRICITY {int(eccentricity)}\n"
         f"#define GBX_PITCH {int(pitch)}\n"
         f"#define GBX_LOADED {int(loaded)}\n"
-        f"#define GBX_MAX_LEVELS {len(model.drive.load_forces) if loaded else 1}\n"
+        f"#define GBX_MAX_LEVELS {levels}\n"
         f"#define GBX_MAX_HARMONICS {h}\n"
         f"#define GBX_ENGINE_HARMONICS {model.engine_harmonics}\n"
         f"#define GBX_BLADE_HARMONICS {model.blade_pass_harmonics}\n"
@@ -695,6 +696,7 @@ def drivetrain_fmu(model, table, *, identifier: str = "BeveloidDrivetrain") -> F
         propeller=True,
         **features,
         readme=_readme("drivetrain", identifier, desc),
+        levels=table.torque.size,
         resources=mesh_resources(model, table),
     )
 
@@ -783,6 +785,7 @@ def gearbox_fmu(model, table, *, identifier: str = "BeveloidGearbox") -> FmuMode
         propeller=False,
         **features,
         readme=_readme("gearbox", identifier, desc),
+        levels=table.torque.size,
         resources=mesh_resources(model, table),
     )
 
