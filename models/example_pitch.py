@@ -27,8 +27,8 @@ What it does, step by step:
 
 Measured (the scene's random deviations, 24 positions, ``--simulate``): the largest
 pitch line of the mesh force follows the mesh mode near 2 kHz, from order 99 at 1000 rpm
-(37 N) to order 34.16 at 3500 rpm (492 N); at 3500 rpm, with the engine and propeller
-orders off, the six largest pitch lines (193 to 492 N, orders 32 to 35) simulated over
+(41 N) to order 34.16 at 3500 rpm (490 N); at 3500 rpm, with the engine and propeller
+orders off, the six largest pitch lines (194 to 490 N, orders 32 to 35) simulated over
 the hunting period and from the harmonic balance agree within 0.06 %.
 Run it from the repository root::
 

@@ -195,7 +195,7 @@ def test_fixed_step_against_scipy_with_the_loaded_law(tables):
     """The default drive at 3500 rpm (firing ripple on: the mesh force swings by +-25 %),
     40 mesh cycles: the fixed-step scan against scipy DOP853 at rtol 1e-9, within 1e-4 of
     the mesh force's range (measured over 120 cycles: the mesh-order amplitudes 2841.208
-    N both, 2820.40 N with the tangent law)."""
+    N both)."""
     table, _ = tables
     m = DrivetrainModel.from_scene(scene(mesh_law="loaded"), table)
     a = simulate(m, mesh_cycles=40)
