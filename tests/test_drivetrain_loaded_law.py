@@ -313,6 +313,8 @@ def test_the_pipeline_runs_the_drivetrain_stages_and_the_fmu_with_the_loaded_law
     html = write_report(run, tmp_path / "report.html").read_text()
     assert "loaded: force against deflection through every torque level" in html
     assert "Between the torque levels" in html
+    assert "loaded TCA stiffness at least / largest force (%)" in html
+    assert "tangent mesh law at" not in html  # the waterfall's warning: the tangent law's
 
 
 def test_at_light_load_the_laws_part_on_contact_loss(tables):
@@ -338,3 +340,42 @@ def test_at_light_load_the_laws_part_on_contact_loss(tables):
         forces[law] = b
     assert np.sum(forces["tangent"] == 0.0) > 50
     assert forces["loaded"].min() > 0.0
+
+
+def test_the_report_says_where_the_force_range_outruns_the_tangent_law(tables):
+    """``law_stiffness_ratio``: at the levels' mesh forces the cycle mean of the table's
+    tangent stiffness over the model's (to 1e-12), 0 at the model's own mean force. On
+    the default drive the run's force range at 3500 rpm keeps the loaded TCA's stiffness
+    within 10 % of the tangent law's (measured -4.8 / +1.1 %), at 1833 rpm, below the 2x
+    mesh crossing, it does not (-25.7 / +8.9 %): the dynamics section warns there with
+    the tangent law, not with the loaded law, and not at 3500 rpm."""
+    from gearbox.drivetrain.linear import modes
+    from gearbox.drivetrain.model import law_stiffness_ratio
+    from gearbox.pipeline.adapters import dynamics as dy
+    from gearbox.report.dynamics import LAW_SPAN_WARN, render_dynamics
+    from gearbox.report.sections import stage_view
+
+    table, _ = tables
+    m = DrivetrainModel.from_scene(scene(), table)
+    lam = abs(m.drive.lambda1)
+    got = law_stiffness_ratio(table, m, table.torque / lam)
+    want = table.tangent_stiffness[table.flank_index("drive")].mean(axis=1) / m.drive.mean_stiffness
+    np.testing.assert_allclose(got, want - 1.0, rtol=0, atol=1e-12)
+    assert abs(law_stiffness_ratio(table, m, m.mean_mesh_force)) < 1e-12
+    base = scene()
+    spans = {}
+    for rpm, law in ((3500.0, "tangent"), (1833.0, "tangent"), (1833.0, "loaded")):
+        s = base.replaced(drivetrain={"mesh_law": law})
+        model = dy.model_at(s, table, rpm)
+        ts, metrics = dy._simulate(model, dy.solver_of(s), dict(s["simulation"]))
+        metrics = dict(metrics) | dy.law_metrics(model, table, metrics)
+        spans[rpm, law] = (
+            metrics["law_stiffness_at_min_force"],
+            metrics["law_stiffness_at_max_force"],
+        )
+        op = dy.OperatingPoint(rpm, model.torque, model, ts, metrics, modes(model))
+        sec = render_dynamics(op, stage_view(s, "dynamics", op, "k"))
+        warned = any("tangent mesh law" in w.text for w in sec.warnings)
+        assert warned is (rpm < 3500.0 and law == "tangent"), (rpm, law, spans[rpm, law])
+    assert max(map(abs, spans[3500.0, "tangent"])) < LAW_SPAN_WARN
+    assert min(spans[1833.0, "tangent"]) < -2 * LAW_SPAN_WARN

@@ -311,6 +311,9 @@ def test_default_scene_end_to_end_through_the_cli(tmp_path, capsys):
     # warning says so and that the pressure there is a lower bound
     warn = html[html.index('id="warning-list"') :]
     assert "edge contact (up to" in warn and "a lower bound" in warn
+    # the sweep's table says how far each speed's force range reaches along the loaded
+    # TCA's stiffness (tests/test_drivetrain_loaded_law.py checks the numbers)
+    assert "loaded TCA stiffness at least / largest force (%)" in html
     assert (out / "tables.nc").exists() and (out / "dynamics.csv").exists()
     from gearbox.report.browser import browser_check, find_chromium
 

@@ -67,8 +67,8 @@ def record_times(
 
 
 def mesh_force_metrics(ts: TimeSeries, model: DrivetrainModel) -> dict[str, float]:
-    """RMS, dynamic (AC) RMS, mean, largest value and mesh-order amplitude of the mesh
-    force (N), and the dynamic factor.
+    """RMS, dynamic (AC) RMS, mean, largest and least value and mesh-order amplitude of
+    the mesh force (N), and the dynamic factor.
 
     The mesh-order amplitude is the single-sided DFT amplitude at exactly N_1 x the
     nominal pinion speed over the record (whole mesh cycles, uniform samples). The
@@ -111,12 +111,14 @@ def mesh_force_metrics_arrays(
         var = (np.where(ok, f - mean[:, None], 0.0) ** 2).sum(axis=1) / cnt
         amp = 2.0 * np.abs((fz * np.exp(-1j * w * np.where(ok, t, 0.0))).sum(axis=1) / cnt)
         peak = np.where(cnt > 0, np.where(ok, f, -np.inf).max(axis=1), np.nan)
+        least = np.where(cnt > 0, np.where(ok, f, np.inf).min(axis=1), np.nan)
         factor = peak / mean
     return {
         "mesh_force_rms_N": np.sqrt(ms),
         "mesh_force_dynamic_rms_N": np.sqrt(var),
         "mesh_force_mean_N": mean,
         "mesh_force_max_N": peak,
+        "mesh_force_min_N": least,
         "dynamic_factor": factor,
         "mesh_force_mesh_order_amplitude_N": amp,
     }

@@ -11,6 +11,7 @@ the torques of the sweep; :func:`validate_torques` says so before anything runs.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -182,14 +183,32 @@ def _simulate(model, solver, sim: Mapping[str, Any]):
     return ts, metrics | simulate.friction_metrics(ts)
 
 
+def law_metrics(model, table, metrics: Mapping[str, float]) -> dict[str, float]:
+    """The loaded mesh law's mean drive tangent stiffness at the run's least and largest
+    mesh force over the model's, less 1 (``law_stiffness_at_min_force``,
+    ``law_stiffness_at_max_force``; gearbox.drivetrain.model.law_stiffness_ratio): how
+    far the run's force range reaches along the loaded TCA's stiffness, which the
+    tangent law holds constant. NaN without the two forces or where the law cannot
+    take the table."""
+    ratio = require("gearbox.drivetrain.model", "law_stiffness_ratio").law_stiffness_ratio
+    f = [metrics.get("mesh_force_min_N", math.nan), metrics.get("mesh_force_max_N", math.nan)]
+    if not all(math.isfinite(x) for x in f) or table.torque.size < 2:
+        lo = hi = math.nan
+    else:
+        lo, hi = (float(r) for r in ratio(table, model, f))
+    return {"law_stiffness_at_min_force": lo, "law_stiffness_at_max_force": hi}
+
+
 def compute_dynamics(ctx: StageContext) -> OperatingPoint:
     """Settled response at the operating point (gearbox.drivetrain.simulate)."""
     linear = require("gearbox.drivetrain.linear", "modes")
     scene = ctx.scene
-    model = model_at(scene, ctx.inputs["tables"], approach=ctx.inputs.get("approach"))
+    table = ctx.inputs["tables"]
+    model = model_at(scene, table, approach=ctx.inputs.get("approach"))
     ts, metrics = _simulate(model, solver_of(scene), scene["simulation"])
+    metrics = dict(metrics) | law_metrics(model, table, metrics)
     t0, n0 = operating_torque(scene)
-    return OperatingPoint(n0, t0, model, ts, dict(metrics), linear.modes(model))
+    return OperatingPoint(n0, t0, model, ts, metrics, linear.modes(model))
 
 
 # -- spectra ----------------------------------------------------------------------------
@@ -410,6 +429,10 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
     todo = [j for i, j in enumerate(jobs) if i not in reused]
     run = iter(ctx.map(sweep_point, todo, threads=getattr(solver, "name", "") in THREADED))
     points = tuple(reused[i] if i in reused else next(run) for i in range(len(jobs)))
+    points = tuple(
+        dataclasses.replace(p, metrics=dict(p.metrics) | law_metrics(j[0], table, p.metrics))
+        for p, j in zip(points, jobs, strict=True)
+    )
     waterfalls = {}
     for name in SPECTRUM_CHANNELS:
         ok = [p for p in points if name in p.spectra]
