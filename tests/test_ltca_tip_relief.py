@@ -109,6 +109,9 @@ _REFERENCE_FIELD = {
     "line_u": 2.889659133401106,
     "line_gear_radius": 88.67096199660708,
 }
+#: The curvature's sum, of second differences, carries the last bits of the math
+#: library: with numpy 2.4.6 it reads 3.9e-12 off the recording, the other sums 3e-16.
+_REFERENCE_RTOL = {"line_curvature": 1e-10}
 
 
 def test_zero_relief_reproduces_the_unmodified_field_and_tables(case03):
@@ -116,7 +119,8 @@ def test_zero_relief_reproduces_the_unmodified_field_and_tables(case03):
     kw = dict(n_profile=12, n_face=12, positions=8)
     f0 = separation_field(design, scene, "R", **kw)
     for key, ref in _REFERENCE_FIELD.items():
-        assert float(np.nansum(getattr(f0, key))) == pytest.approx(ref, rel=1e-12), key
+        rel = _REFERENCE_RTOL.get(key, 1e-12)
+        assert float(np.nansum(getattr(f0, key))) == pytest.approx(ref, rel=rel), key
     assert int(f0.line_edge.sum()) == 212
     # zero amount with a length and shape given: bit for bit the default scene
     zero = scene.replaced(ltca=_relief_keys(0.0, 1.5, "parabolic"))
