@@ -483,12 +483,13 @@ SCHEMA: dict[str, dict[str, Field]] = {
         ),
         "mesh_law": _s(
             "tangent",
-            "Mesh force against deflection. 'tangent': the tangent stiffness and LTE of the "
-            "mesh tables at the model's mean torque, linear about it (docs/drivetrain.md "
-            "section 3); 'loaded': through every torque level of the tables, so that a "
-            "dynamic load far from the mean meets the stiffness of its own load (section "
-            "3d). The scipy and jax solvers and the FMU carry both; the exudyn backend the "
-            "loaded law only with its Python user functions (not from a scene).",
+            "Mesh force against deflection. 'tangent': the tangent stiffness and LTE at the "
+            "model's mean torque (between the tables' torque levels the loaded law's "
+            "tangent), linear about it (docs/drivetrain.md section 3); 'loaded': through "
+            "every torque level of the tables, so that a dynamic load far from the mean "
+            "meets the stiffness of its own load (section 3d). Every solver and the FMU "
+            "carry both; with simulation.solver = 'exudyn' the loaded law runs on exudyn's "
+            "Python user functions (its symbolic ones carry the tangent law only).",
             ("tangent", "loaded"),
         ),
         "backlash_mm": _f(0.1, "Circumferential backlash along the line of action (mm).", 0, 10),
@@ -809,17 +810,6 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
                     length,
                     f"must be > 0 when ltca.{name}_{kind}_{unit} is > 0 ({amount:g})",
                 )
-
-    dt = data.get("drivetrain", {})
-    if dt.get("mesh_law") == "loaded":
-        if data.get("simulation", {}).get("solver") == "exudyn":
-            probs.add(
-                "drivetrain.mesh_law",
-                "loaded",
-                "the exudyn solver's symbolic user functions carry the tangent law only "
-                "(its Python ones, ExudynSolver(user_functions='python'), both): set "
-                "simulation.solver to 'diffrax' or 'scipy', or the law to 'tangent'",
-            )
 
     pitch = data.get("pitch", {})
     applied = data.get("drivetrain", {}).get("pitch_deviations") is True

@@ -113,7 +113,7 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
         raise InputError(Problem("--rtol", rtol, "must be in (0, 1)"))
     if name == "diffrax" and args.rtol is None:
         rtol = None  # fixed steps from the model's frequencies; --rtol asks for adaptive ones
-    solver = default_solver(name, rtol)
+    solver = default_solver(name, rtol, model.mesh_law)
     cycles = args.mesh_cycles if args.mesh_cycles is not None else sim["settled_mesh_cycles"]
     if args.periodic and args.mesh_cycles is None and model.common_period_mesh_cycles():
         cycles = model.common_period_mesh_cycles()  # one whole common period

@@ -35,10 +35,12 @@ __all__ = [
 ]
 
 
-def default_solver(name: str = "diffrax", rtol: float | None = None):
+def default_solver(name: str = "diffrax", rtol: float | None = None, mesh_law: str = "tangent"):
     """Solver object by name ('diffrax', 'scipy', 'exudyn') with an optional rtol.
 
     'diffrax' without rtol: fixed steps (``DiffraxSolver()``); with rtol: adaptive steps.
+    'exudyn' (fixed steps, no rtol): its symbolic user functions, or with ``mesh_law =
+    "loaded"`` its Python ones, the only ones that carry that law.
     """
     if name == "scipy":
         from .scipy_backend import ScipySolver
@@ -51,7 +53,7 @@ def default_solver(name: str = "diffrax", rtol: float | None = None):
     if name == "exudyn":
         from .exudyn_backend import ExudynSolver
 
-        return ExudynSolver()
+        return ExudynSolver(user_functions="python" if mesh_law == "loaded" else "symbolic")
     from ..errors import InputError, Problem
 
     raise InputError(Problem("solver", name, "must be one of diffrax, scipy, exudyn"))

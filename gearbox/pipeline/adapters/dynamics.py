@@ -128,13 +128,16 @@ def model_at(scene: Scene, table, speed_rpm: float | None = None, approach=None)
 
 
 def solver_of(scene: Scene):
-    """The solver object named by ``simulation.solver``: scipy and exudyn with
-    ``simulation.rtol``; diffrax with fixed steps (``DiffraxSolver()``, as ``gearbox
-    simulate`` without ``--rtol``), whose runs that lose contact are repeated with
-    adaptive steps (``DiffraxSolver.contact_rtol``)."""
+    """The solver object named by ``simulation.solver``: scipy with ``simulation.rtol``;
+    diffrax with fixed steps (``DiffraxSolver()``, as ``gearbox simulate`` without
+    ``--rtol``), whose runs that lose contact are repeated with adaptive steps
+    (``DiffraxSolver.contact_rtol``); exudyn's fixed-step RK67, on its Python user
+    functions with ``drivetrain.mesh_law = "loaded"`` (its symbolic ones carry the
+    tangent law only)."""
     sim = require("gearbox.drivetrain.simulate", "default_solver")
     s = scene["simulation"]
-    return sim.default_solver(s["solver"], None if s["solver"] == "diffrax" else s["rtol"])
+    rtol = None if s["solver"] == "diffrax" else s["rtol"]
+    return sim.default_solver(s["solver"], rtol, scene["drivetrain"]["mesh_law"])
 
 
 def contact_metrics(series) -> dict[str, float]:
