@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{378d4d4b-7faf-12c4-25c0-d0c6ed44145c}"
+#define MODEL_GUID "{b285fa29-309d-5598-9bd1-b024fb572489}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
@@ -133,6 +133,11 @@ typedef struct {
      * samples from the pinion angle pt0 every pts (rad), coefficients (npt, 4) */
     double *pitch, pt0, pts;
     int npt;
+    /* the loaded mesh law: the lowest level's secant stiffnesses (flank x position), the
+     * series of its nl = 2 J + 1 rows per flank (then work rows), the levels' forces,
+     * its grid */
+    double *secant, *lcoef, *lforce, *lgrid;
+    int nl;
 } GbxModelData;
 
 #endif /* config_h */

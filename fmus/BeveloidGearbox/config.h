@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{11ce7538-b017-a963-8ac3-c0d52d3fa0e2}"
+#define MODEL_GUID "{f22eed5f-dbf3-7cbd-dbfa-f9f16efada4c}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
@@ -112,6 +112,11 @@ typedef struct {
      * samples from the pinion angle pt0 every pts (rad), coefficients (npt, 4) */
     double *pitch, pt0, pts;
     int npt;
+    /* the loaded mesh law: the lowest level's secant stiffnesses (flank x position), the
+     * series of its nl = 2 J + 1 rows per flank (then work rows), the levels' forces,
+     * its grid */
+    double *secant, *lcoef, *lforce, *lgrid;
+    int nl;
 } GbxModelData;
 
 #endif /* config_h */

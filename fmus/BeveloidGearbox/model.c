@@ -27,7 +27,7 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"pinion.eccentricity_angle", 0, -1, 0.0, -6.283185307179586, 6.283185307179586, 0, 0, 1.0, 0}, /* vr 14 parameter */
     {"gear.eccentricity", 0, -1, 0.0, 0.0, 0.001, 0, 0, 1.0, 0}, /* vr 15 parameter */
     {"gear.eccentricity_angle", 0, -1, 0.0, -6.283185307179586, 6.283185307179586, 0, 0, 1.0, 0}, /* vr 16 parameter */
-    {"input_flange.phi", 1, 18, 0.1609658073999087, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 17 input */
+    {"input_flange.phi", 1, 18, 0.16096580739990873, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 17 input */
     {"input_flange.w", 1, 19, 366.51914291880917, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 18 input */
     {"input_flange.a", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 19 input */
     {"output_flange.phi", 1, 21, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 20 input */
@@ -48,10 +48,10 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"mesh.gear_friction_torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 35 output */
     {"mesh.friction_power", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 36 output */
     {"mesh.eccentricity_approach", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 37 output */
-    {"q.pinion", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 38 state */
-    {"q.gear", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 39 state */
-    {"v.pinion", 3, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 40 state */
-    {"v.gear", 3, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 41 state */
+    {"q.pinion", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052972, 0}, /* vr 38 state */
+    {"q.gear", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678581e-05, 0}, /* vr 39 state */
+    {"v.pinion", 3, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896894, 0}, /* vr 40 state */
+    {"v.gear", 3, 3, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955775, 0}, /* vr 41 state */
     {"der(q.pinion)", 4, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 42 derivative */
     {"der(q.gear)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 43 derivative */
     {"der(v.pinion)", 4, 2, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 44 derivative */
@@ -77,6 +77,8 @@ const gbx_var GBX_VARS[GBX_NR] = {
 #define GBX_FRICTION 1
 #define GBX_ECCENTRICITY 1
 #define GBX_PITCH 0
+#define GBX_LOADED 0
+#define GBX_MAX_LEVELS 4
 #define GBX_MAX_HARMONICS 24
 #define GBX_ENGINE_HARMONICS 3
 #define GBX_BLADE_HARMONICS 1
@@ -96,8 +98,10 @@ static const int GBX_STATE_OF_DOF[4] = {-1, 0, 1, -1};
  * x = [q_e, q_1, q_2, q_p (, y_1, y_2)] deviations from the nominal rotation
  * (theta_1 = Omega t + q_1). The mesh laws k_f, e_f, LTE_f are truncated Fourier series
  * in the pinion angle, fitted here from the table samples in resources/ at the
- * operating torque exactly as DrivetrainModel.build does (linear in torque, then the
- * discrete Fourier fit of gearbox.meshtable.fourier_fit). The right-hand side reads the
+ * operating torque exactly as DrivetrainModel.build does (k_f and LTE_f: the loaded
+ * mesh law's tangent at the mean mesh force between the levels, tangent_point, where the
+ * table allows the law, else linear in torque; the mesh points and lines of action linear
+ * in torque; then the discrete Fourier fit of gearbox.meshtable.fourier_fit). The right-hand side reads the
  * series from a grid over one mesh period (mesh_grid): quintic Hermite cells built from
  * the series' exact values and first and second derivatives at ng = 32 h nodes; the
  * outputs evaluate the series themselves.
@@ -127,11 +131,21 @@ static const int GBX_STATE_OF_DOF[4] = {-1, 0, 1, -1};
  * and da/dt = (c1 + d (2 c2 + 3 d c3)) / step (Omega + v_1) (pitch_terms). The model's
  * approach at its torque: not refitted at another engine.mean_torque, no parameter.
  *
+ * The loaded mesh law (GBX_LOADED, docs section 3d; gearbox.drivetrain.model.loaded_force):
+ * F_f = H(F_el) max(0, F_el + c_f sdot_f), F_el the force through every torque level
+ * of the table at the deflection s_f + e_f: its 2 J + 1 rows (the no-load deflection
+ * x_u = x_0 - F_0 / ks_0 with the lowest level's secant stiffnesses of
+ * resources/mesh_secant.txt, the LTE x_j and the tangent stiffnesses k_j of the levels,
+ * these limited as loaded_law_samples does) fitted and gridded like k_f, the levels'
+ * forces F_j = T_j / |lambda_1,drive|; k_f, e_f and LTE_f are the law's tangent at
+ * engine.mean_torque (loaded_law_point: bisection), as with the tangent law.
+ *
  * Build switches: GBX_WITH_ENGINE, GBX_WITH_PROPELLER (0: that shaft end is an input
  * flange), GBX_BEARINGS (bearing translations along the drive line of action),
  * GBX_FRICTION (friction arms in the table: mesh.friction_coefficient and its outputs),
  * GBX_ECCENTRICITY (the eccentricities' parameters and mesh.eccentricity_approach),
- * GBX_PITCH (the pitch deviations' spline and mesh.pitch_approach). */
+ * GBX_PITCH (the pitch deviations' spline and mesh.pitch_approach), GBX_LOADED (the
+ * loaded mesh law). */
 
 #define NDOF (GBX_BEARINGS ? 6 : 4)
 #define TWO_PI 6.283185307179586
@@ -208,7 +222,28 @@ int gbx_model_load(ModelInstance *m) {
         if (fabs(sqrt(r[5] * r[5] + r[6] * r[6] + r[7] * r[7]) - 1.0) > 1e-6)
             return fail(m, "line of action must be a unit vector");
     }
+#if GBX_LOADED
+    if (d->nt < 2 || d->nt > GBX_MAX_LEVELS)
+        return fail(m, "the loaded mesh law needs 2..GBX_MAX_LEVELS torque levels");
+    if (gbx_read_table(m, "mesh_secant.txt", &rows, &cols, &d->secant) != 0) return 1;
+    if (rows != d->nf * d->np || cols != 1)
+        return fail(m, "mesh_secant.txt must have n_flanks*n_positions rows, 1 column");
+    for (i = 0; i < rows; i++)
+        if (!(d->secant[i] > 0.0)) return fail(m, "secant mesh stiffness must be > 0 N/m");
+    d->nl = 2 * d->nt + 1;
+#else
+    if (d->nt > GBX_MAX_LEVELS) return fail(m, "mesh_torque.txt holds more levels than GBX_MAX_LEVELS");
+#endif
     n = 1 + 2 * d->h;
+#if GBX_LOADED
+    /* the law's series of both flanks, its work rows, the levels' forces, its grid */
+    d->lcoef = (double *)gbx_calloc(m, (size_t)(2 * d->nl * n + d->nl * d->np + 2 * d->nt), sizeof(double));
+    if (!d->lcoef) return fail(m, "out of memory");
+    d->lforce = d->lcoef + 2 * d->nl * n + d->nl * d->np;
+    d->lgrid = (double *)gbx_calloc(m, (size_t)(6 * d->nl * GBX_GRID_PER_HARMONIC * d->h * d->nf),
+                                    sizeof(double));
+    if (!d->lgrid) return fail(m, "out of memory");
+#endif
     /* the series of both flanks, then the work arrays of gbx_model_update */
     d->coef = (double *)gbx_calloc(
         m, (size_t)(2 * GBX_SERIES * n + (9 + 2 * GBX_FRICTION) * d->np), sizeof(double));
@@ -249,6 +284,12 @@ void gbx_model_free(ModelInstance *m) {
     gbx_free(m, d->tgrid);
     gbx_free(m, d->pitch);
     d->torque = d->samples = d->coef = d->grid = d->egrid = d->pgrid = d->tgrid = d->pitch = NULL;
+#if GBX_LOADED
+    gbx_free(m, d->secant);
+    gbx_free(m, d->lcoef);
+    gbx_free(m, d->lgrid);
+    d->secant = d->lcoef = d->lgrid = d->lforce = NULL;
+#endif
 }
 
 #if GBX_PITCH
@@ -386,7 +427,7 @@ static void grid_node(const double *kc, const double *ec, int h, int ng, int j, 
     }
 }
 
-#if GBX_FRICTION
+#if GBX_FRICTION || GBX_LOADED
 /* value, first and second derivative in phi of the series c at node j */
 static void grid_node_series(const double *c, int h, int ng, int j, const double *cs,
                              const double *sn, double *v) {
@@ -441,6 +482,21 @@ static void mesh_grid(GbxModelData *d) {
             quintic(v0[4], v0[5], v0[6], v1[4], v1[5], v1[6], dx, a + 12);
             memcpy(v0, v1, sizeof v0);
         }
+#if GBX_LOADED
+        {
+            int r;
+            for (r = 0; r < d->nl; r++) {
+                const double *lc = d->lcoef + (f * d->nl + r) * nc;
+                grid_node_series(lc, h, ng, 0, cs, sn, v0);
+                for (j = 0; j < ng; j++) {
+                    grid_node_series(lc, h, ng, (j + 1) % ng, cs, sn, v1);
+                    quintic(v0[0], v0[1], v0[2], v1[0], v1[1], v1[2], dx,
+                            d->lgrid + 6 * (d->nl * (f * ng + j) + r));
+                    memcpy(v0, v1, 3 * sizeof v0[0]);
+                }
+            }
+        }
+#endif
 #if GBX_FRICTION
         {
             int w;
@@ -630,6 +686,119 @@ static int eccentricity_coefficients(ModelInstance *m, const double *pm) {
 }
 #endif
 
+/* The loaded mesh law's elastic force (N) at deflection x (m) from its rows r[k stride],
+ * k = 0..2 J (x_u, x_j, k_j) and the levels' forces F[0..J) (N); its slope (N/m) in
+ * *der when asked. The operations of gearbox.drivetrain.model.loaded_force on the
+ * piece it selects: zero up to x_u, the parabola below x_0, cubic Hermite between the
+ * levels, straight beyond the last. */
+static double law_force(double x, const double *r, int stride, const double *F, int J, double *der) {
+    const double xu = r[0], x0 = r[stride], k0 = r[(1 + J) * stride];
+    double v, dv;
+    int j = -1;
+    while (j + 1 < J && x >= r[(2 + j) * stride]) j++;
+    if (j < 0) {
+        const double w = x0 - xu, a = (k0 * w - F[0]) / (w * w), u = x - x0;
+        v = F[0] + u * (k0 + a * u);
+        dv = k0 + 2.0 * a * u;
+        if (!(x > xu && v > 0.0)) v = dv = 0.0;
+    } else if (j == J - 1) {
+        const double xl = r[J * stride], kl = r[2 * J * stride];
+        v = F[J - 1] + kl * (x - xl);
+        dv = kl;
+    } else {
+        const double xa = r[(1 + j) * stride], xb = r[(2 + j) * stride];
+        const double ka = r[(1 + J + j) * stride], kb = r[(2 + J + j) * stride];
+        const double h = xb - xa, t = (x - xa) / h, t2 = t * t, t3 = t2 * t;
+        v = (2 * t3 - 3 * t2 + 1) * F[j] + (t3 - 2 * t2 + t) * h * ka + (3 * t2 - 2 * t3) * F[j + 1];
+        v = v + (t3 - t2) * h * kb;
+        dv = (6 * t2 - 6 * t) * (F[j] - F[j + 1]) / h + (3 * t2 - 4 * t + 1) * ka + (3 * t2 - 2 * t) * kb;
+    }
+    if (der) *der = dv;
+    return v;
+}
+
+/* deflection *x (m) and slope *k (N/m) of the law at the force fn (N): bisection from
+ * x_u, as gearbox.drivetrain.model.loaded_law_point */
+static void law_point(const double *r, int stride, const double *F, int J, double fn, double *x,
+                      double *k) {
+    double lo = r[0], hi, top = fn - F[J - 1];
+    int it;
+    top = r[J * stride] + (top > 0.0 ? top : 0.0) / r[2 * J * stride] + 1e-9;
+    hi = top > lo + 1e-9 ? top : lo + 1e-9;
+    for (it = 0; it < 200; it++) {
+        const double mid = 0.5 * (lo + hi);
+        if (!(mid > lo && mid < hi)) break;
+        if (law_force(mid, r, stride, F, J, NULL) < fn)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    *x = hi;
+    law_force(hi, r, stride, F, J, k);
+}
+
+/* The law's level rows of flank f at position i: r[(1 + j) stride] = x_j (the LTE),
+ * r[(1 + J + j) stride] = k_j (the tangent stiffness, limited where a cubic between
+ * two levels would not grow, as gearbox.drivetrain.model.law_levels does), for the
+ * levels' forces F[0..J); nonzero when the LTE does not grow with the torque. */
+static int law_levels(const GbxModelData *d, int f, int i, const double *F, double *r, int stride) {
+    const int J = d->nt, np = d->np;
+    int j;
+    for (j = 0; j < J; j++) {
+        const double *s = d->samples + GBX_SAMPLE_COLS * ((f * J + j) * np + i);
+        r[(1 + j) * stride] = s[1];
+        r[(1 + J + j) * stride] = s[0];
+        if (j > 0 && !(s[1] > r[j * stride])) return 1;
+    }
+    for (j = 0; j + 1 < J; j++) {
+        double *ka = r + (1 + J + j) * stride, *kb = ka + stride;
+        const double mm = (F[j + 1] - F[j]) / (r[(2 + j) * stride] - r[(1 + j) * stride]);
+        const double rr = hypot(*ka / mm, *kb / mm), tau = rr > 3.0 ? 3.0 / rr : 1.0;
+        *ka *= tau;
+        *kb *= tau;
+    }
+    return 0;
+}
+
+#if GBX_LOADED
+/* The law's rows of flank f at the table's positions into d->lcoef's work rows, its
+ * forces for the drive rotation radius lam1d, and its tangent kt[i] and deflection
+ * lte[i] at fn; nonzero when the table does not allow the law. */
+static int law_samples(GbxModelData *d, int f, double lam1d, double fn, double *kt, double *lte) {
+    const int J = d->nt, np = d->np, nc = 1 + 2 * d->h;
+    double *rows = d->lcoef + 2 * d->nl * nc, *F = d->lforce + f * J;
+    int i, j;
+    for (j = 0; j < J; j++) F[j] = d->torque[j] / lam1d;
+    for (i = 0; i < np; i++) {
+        if (law_levels(d, f, i, F, rows + i, np) != 0) return 1;
+        rows[i] = rows[np + i] - F[0] / d->secant[f * np + i];
+        law_point(rows + i, np, F, J, fn, &lte[i], &kt[i]);
+    }
+    for (j = 0; j < d->nl; j++) fourier_fit(np, d->h, rows + j * np, d->lcoef + (f * d->nl + j) * nc);
+    return 0;
+}
+#else
+/* The tangent law's kt[i] and lte[i] of flank f at the mesh force fn between the
+ * levels: the loaded law's tangent (gearbox.drivetrain.model.tangent_at), when the
+ * table allows the law at every position; else kt and lte stay as they are (the table
+ * interpolated linearly in torque). */
+static void tangent_point(const GbxModelData *d, int f, double lam1d, double fn, double *kt,
+                          double *lte) {
+    const int J = d->nt, np = d->np;
+    double F[GBX_MAX_LEVELS], r[2 * GBX_MAX_LEVELS + 1];
+    int i, j;
+    if (J < 2) return;
+    for (j = 0; j < J; j++) F[j] = d->torque[j] / lam1d;
+    for (i = 0; i < np; i++)
+        if (law_levels(d, f, i, F, r, 1) != 0) return;
+    for (i = 0; i < np; i++) {
+        law_levels(d, f, i, F, r, 1);
+        r[0] = r[1] - F[0] / r[1 + J]; /* any deflection below x_0: only the cubics count */
+        law_point(r, 1, F, J, fn, &lte[i], &kt[i]);
+    }
+}
+#endif
+
 int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
     GbxModelData *d = &m->data;
     const int nc = 1 + 2 * d->h, np = d->np;
@@ -704,6 +873,13 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
                     d->lam1[0], d->lam2[0]);
         }
         fn = T / fabs(lam1d);
+#if GBX_LOADED
+        if (law_samples(d, f, fabs(lam1d), fn, kt, lte) != 0)
+            ERR("the loaded mesh law needs the LTE of the %s flank to grow with the torque at every "
+                "position", f == 0 ? "drive" : "coast");
+#else
+        tangent_point(d, f, fabs(lam1d), fn, kt, lte);
+#endif
         for (i = 0; i < np; i++) e[i] = lte[i] - fn / kt[i];
         fourier_fit(np, d->h, kt, d->coef + (3 * f + 0) * nc);
         fourier_fit(np, d->h, e, d->coef + (3 * f + 1) * nc);
@@ -715,8 +891,14 @@ int gbx_model_update(ModelInstance *m, char *msg, size_t n) {
         d->farm[f][1] = GBX_ARM(d, f, 1, nc)[0];
 #endif
         d->ebound[f] = 0.0;
+#if GBX_LOADED
+        /* the law closes where s + e = delta - b exceeds x_u: bound |x_u| instead */
+        for (j = 0; j < nc; j++) d->ebound[f] += fabs(d->lcoef[f * d->nl * nc + j]);
+        d->ebound[f] = d->ebound[f] * (1.0 + 1e-6) + 1e-15;
+#else
         for (j = 0; j < nc; j++) d->ebound[f] += fabs(d->coef[(3 * f + 1) * nc + j]);
         d->ebound[f] *= 1.0 + 1e-6; /* also bounds the grid's e (error below 1e-8) */
+#endif
         inv_m = d->lam1[f] * d->lam1[f] / j1n + d->lam2[f] * d->lam2[f] / j2n;
         d->kbar[f] = d->coef[3 * f * nc];
         d->cm[f] = d->kbar[f] > 0.0 ? 2.0 * P(mesh_damping_ratio) * sqrt(d->kbar[f] / inv_m) : 0.0;
@@ -900,9 +1082,13 @@ static double series_value(const double *c, int h, const double *cs, const doubl
  * LTE_drive); with arms (GBX_FRICTION) also the friction arms phi_1f, phi_2f as
  * arms[2 f], arms[2 f + 1] (m) */
 static void mesh_laws(const GbxModelData *d, double t, double x1, const int *want, int exact,
-                      double *kf, double *ef, double *de, double *lte_drive, double *arms) {
+                      double *kf, double *ef, double *de, double *lte_drive, double *arms,
+                      double *lrows) {
     const int h = d->h, nc = 1 + 2 * h;
     int f, k;
+#if !GBX_LOADED
+    (void)lrows;
+#endif
 #if !GBX_FRICTION
     (void)arms;
 #endif
@@ -916,6 +1102,13 @@ static void mesh_laws(const GbxModelData *d, double t, double x1, const int *wan
             kf[f] = quintic_value(a, tau);
             ef[f] = quintic_value(a + 6, tau);
             de[f] = d->n1 * quintic_value(a + 12, tau);
+#if GBX_LOADED
+            {
+                const double *l = d->lgrid + 6 * d->nl * (f * d->ng + j);
+                int r;
+                for (r = 0; r < d->nl; r++) lrows[f * d->nl + r] = quintic_value(l + 6 * r, tau);
+            }
+#endif
 #if GBX_FRICTION
             if (arms) {
                 arms[2 * f] = quintic_value(a + 18, tau);
@@ -942,6 +1135,13 @@ static void mesh_laws(const GbxModelData *d, double t, double x1, const int *wan
         for (f = 0; f < d->nf; f++) {
             kf[f] = series_value(d->coef + (3 * f) * nc, h, cs, sn);
             series(d->coef + (3 * f + 1) * nc, h, d->n1, cs, sn, &ef[f], &de[f]);
+#if GBX_LOADED
+            {
+                int r;
+                for (r = 0; r < d->nl; r++)
+                    lrows[f * d->nl + r] = series_value(d->lcoef + (f * d->nl + r) * nc, h, cs, sn);
+            }
+#endif
 #if GBX_FRICTION
             if (arms) {
                 arms[2 * f] = series_value(GBX_ARM(d, f, 0, nc), h, cs, sn);
@@ -1053,20 +1253,32 @@ static void mesh(const ModelInstance *m, double t, const double *x, const double
                  int exact, double *lte_drive, double *tf) {
     const GbxModelData *d = &m->data;
     double kf[2], ef[2], de[2], delta[2], ddelta[2], arms[4];
+#if GBX_LOADED
+    double lrows[2 * (2 * GBX_MAX_LEVELS + 1)];
+#else
+    double *lrows = NULL;
+#endif
     int f, want[2];
     int friction = GBX_FRICTION && tf != NULL && d->mu != 0.0;
     int any = approach(d, t, x, v, exact, delta, ddelta, want) || lte_drive != NULL;
     F[0] = F[1] = 0.0;
     if (tf) tf[0] = tf[1] = 0.0;
     if (!any) return;
-    mesh_laws(d, t, x[1], want, exact, kf, ef, de, lte_drive, friction ? arms : NULL);
+    mesh_laws(d, t, x[1], want, exact, kf, ef, de, lte_drive, friction ? arms : NULL, lrows);
     for (f = 0; f < d->nf; f++) {
         double s;
         if (!want[f]) continue;
         s = delta[f] - ef[f] - d->bl[f];
         double sd = ddelta[f] - de[f] * (d->Omega + v[1]);
+#if GBX_LOADED
+        /* the loaded law (section 3d) at the deflection s + e */
+        double el = law_force(s + ef[f], lrows + f * d->nl, 1, d->lforce + f * d->nt, d->nt, NULL);
+        if (el > 0.0) {
+            double Ff = el + d->cm[f] * sd;
+#else
         if (s > 0.0) {
             double Ff = kf[f] * s + d->cm[f] * sd;
+#endif
             F[f] = Ff > 0.0 ? Ff : 0.0; /* no tension (NaN gives 0, as fmax) */
             if (friction && F[f] > 0.0) {
                 /* friction opposes the sliding: -mu phi_1 F on the pinion, +mu phi_2 F on
@@ -1266,17 +1478,29 @@ int gbx_model_in_contact(const ModelInstance *m, double t, const double *s) {
     const GbxModelData *d = &m->data;
     double x[6], v[6], kf[2], ef[2], de[2], delta[2], ddelta[2];
     double gap[2], load[2];
+#if GBX_LOADED
+    double lrows[2 * (2 * GBX_MAX_LEVELS + 1)];
+#else
+    double *lrows = NULL;
+#endif
     int f, want[2];
     coordinates(m, t, s, x, v);
     /* the gap with the eccentricities' and the pitch deviations' approach
      * (gearbox.drivetrain.fixed_step: lost) */
     approach(d, t, x, v, 0, delta, ddelta, want);
     if (!want[0]) return 0; /* drive flank surely open */
-    mesh_laws(d, t, x[1], want, 0, kf, ef, de, NULL, NULL);
+    mesh_laws(d, t, x[1], want, 0, kf, ef, de, NULL, NULL, lrows);
     for (f = 0; f < d->nf; f++) {
         if (!want[f]) continue;
         gap[f] = delta[f] - ef[f] - d->bl[f];
+#if GBX_LOADED
+        /* the loaded law closes where its elastic force is positive (section 3d) */
+        load[f] = law_force(gap[f] + ef[f], lrows + f * d->nl, 1, d->lforce + f * d->nt, d->nt, NULL);
+        gap[f] = load[f];
+        load[f] += d->cm[f] * (ddelta[f] - de[f] * (d->Omega + v[1]));
+#else
         load[f] = kf[f] * gap[f] + d->cm[f] * (ddelta[f] - de[f] * (d->Omega + v[1]));
+#endif
     }
     if (!(gap[0] > 0.0 && load[0] > 0.0)) return 0;
     return !(want[1] && gap[1] > 0.0 && load[1] > 0.0);

@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER MarineEngine
-#define MODEL_GUID "{5302d706-e690-5f10-dcff-32addeb39cac}"
+#define MODEL_GUID "{fb5c660e-3002-da98-b50a-04be53ef57b2}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

@@ -18,15 +18,15 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"engine.half_order_ripple", 0, -1, 0.02, 0.0, 10.0, 0, 0, 1.0, 0}, /* vr 5 parameter */
     {"engine.governor_kp", 0, -1, 0.0, 0.0, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 6 parameter */
     {"engine.governor_ki", 0, -1, 0.0, 0.0, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 7 parameter */
-    {"engine.initial_deviation", 0, -1, 0.1609658073999087, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 1}, /* vr 8 parameter */
+    {"engine.initial_deviation", 0, -1, 0.16096580739990873, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 1}, /* vr 8 parameter */
     {"input_shaft.torque", 1, 10, 802.1409131831526, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 9 input */
     {"input_shaft.torque_rate", 1, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 10 input */
     {"engine.a", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 11 output */
     {"engine.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 12 output */
     {"engine.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 13 output */
     {"engine.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 14 output */
-    {"q.engine", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052964, 0}, /* vr 15 state */
-    {"v.engine", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896885, 0}, /* vr 16 state */
+    {"q.engine", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.00014418466021052972, 0}, /* vr 15 state */
+    {"v.engine", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.5325467043896894, 0}, /* vr 16 state */
     {"der(q.engine)", 4, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 17 derivative */
     {"der(v.engine)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 18 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 19 parameter */

@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER Propeller
-#define MODEL_GUID "{f92c1c44-021b-52a8-c51c-ffb391a54f0c}"
+#define MODEL_GUID "{3cc82211-e9b8-4154-de89-e1a3cdd4252c}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

@@ -21,8 +21,8 @@ const gbx_var GBX_VARS[GBX_NR] = {
     {"propeller.phi", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 8 output */
     {"propeller.w", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 9 output */
     {"propeller.torque", 2, -1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 10 output */
-    {"q.propeller", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678577e-05, 0}, /* vr 11 state */
-    {"v.propeller", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955771, 0}, /* vr 12 state */
+    {"q.propeller", 3, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 9.291900324678581e-05, 0}, /* vr 11 state */
+    {"v.propeller", 3, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 0.9876412094955775, 0}, /* vr 12 state */
     {"der(q.propeller)", 4, 0, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 13 derivative */
     {"der(v.propeller)", 4, 1, 0.0, -HUGE_VAL, HUGE_VAL, 0, 0, 1.0, 0}, /* vr 14 derivative */
     {"solver.rtol", 0, -1, 1e-08, 1e-14, 0.1, 0, 0, 1.0, 0}, /* vr 15 parameter */
