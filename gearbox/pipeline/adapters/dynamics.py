@@ -432,8 +432,11 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
     todo = [j for i, j in enumerate(jobs) if i not in reused]
     run = iter(ctx.map(sweep_point, todo, threads=getattr(solver, "name", "") in THREADED))
     points = tuple(reused[i] if i in reused else next(run) for i in range(len(jobs)))
+    # the operating point's run brings its own (from its model, equal but for the last bits)
     points = tuple(
-        dataclasses.replace(p, metrics=dict(p.metrics) | law_metrics(j[0], table, p.metrics))
+        p
+        if "law_stiffness_at_min_force" in p.metrics
+        else dataclasses.replace(p, metrics=dict(p.metrics) | law_metrics(j[0], table, p.metrics))
         for p, j in zip(points, jobs, strict=True)
     )
     waterfalls = {}
