@@ -241,6 +241,8 @@ def test_gearbox_simulate_runs_the_loaded_law_on_exudyn(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert rc == 0 and out["status"] == "success", out
     assert out["solver"] == "exudyn"
+    # the summary says how far the run's force range reaches along the table's stiffness
+    assert all(np.isfinite(out[f"law_stiffness_at_{e}_force"]) for e in ("min", "max"))
     m = DrivetrainModel.from_scene(scene(mesh_law="loaded"))
     assert out["mesh_force_mean_N"] == pytest.approx(m.mean_mesh_force, rel=0.01)
 

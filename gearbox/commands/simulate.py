@@ -97,6 +97,7 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
     from ..drivetrain.simulate import (
         default_solver,
         friction_metrics,
+        law_metrics,
         mesh_force_metrics,
         simulate,
     )
@@ -141,7 +142,8 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
             "common_period_mesh_cycles": ts.attrs.get("common_period_mesh_cycles"),
             "periodicity_residual": ts.attrs.get("periodicity_residual"),
             "shooting_converged": ts.attrs.get("shooting_converged"),
-            **mesh_force_metrics(ts, model),
+            **(metrics := mesh_force_metrics(ts, model)),
+            **law_metrics(model, table, metrics),
             **friction_metrics(ts),
         }
     )

@@ -28,6 +28,7 @@ from .timeseries import TimeSeries
 __all__ = [
     "default_solver",
     "friction_metrics",
+    "law_metrics",
     "mesh_force_metrics",
     "mesh_force_metrics_arrays",
     "record_times",
@@ -82,6 +83,24 @@ def mesh_force_metrics(ts: TimeSeries, model: DrivetrainModel) -> dict[str, floa
     t = np.asarray(ts.time)
     m = mesh_force_metrics_arrays(t[None, :], f[None, :], np.array([model.mesh_frequency]))
     return {k: float(v[0]) for k, v in m.items()}
+
+
+def law_metrics(model: DrivetrainModel, table, metrics) -> dict[str, float]:
+    """The loaded mesh law's mean drive tangent stiffness at a run's least and largest
+    mesh force (``metrics`` of :func:`mesh_force_metrics`) over the model's, less 1:
+    ``law_stiffness_at_min_force``, ``law_stiffness_at_max_force``
+    (:func:`gearbox.drivetrain.model.law_stiffness_ratio`, docs §3d): how far the run's
+    force range reaches along the loaded TCA's stiffness, which the tangent law holds
+    constant. NaN without the two forces, or for a table of one level or one the law
+    cannot take."""
+    from .model import law_stiffness_ratio
+
+    f = [metrics.get("mesh_force_min_N", math.nan), metrics.get("mesh_force_max_N", math.nan)]
+    if not all(math.isfinite(x) for x in f) or table.torque.size < 2:
+        lo = hi = math.nan
+    else:
+        lo, hi = (float(r) for r in law_stiffness_ratio(table, model, f))
+    return {"law_stiffness_at_min_force": lo, "law_stiffness_at_max_force": hi}
 
 
 def friction_metrics(ts: TimeSeries) -> dict[str, float]:

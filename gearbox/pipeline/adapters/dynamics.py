@@ -187,19 +187,9 @@ def _simulate(model, solver, sim: Mapping[str, Any]):
 
 
 def law_metrics(model, table, metrics: Mapping[str, float]) -> dict[str, float]:
-    """The loaded mesh law's mean drive tangent stiffness at the run's least and largest
-    mesh force over the model's, less 1 (``law_stiffness_at_min_force``,
-    ``law_stiffness_at_max_force``; gearbox.drivetrain.model.law_stiffness_ratio): how
-    far the run's force range reaches along the loaded TCA's stiffness, which the
-    tangent law holds constant. NaN without the two forces or where the law cannot
-    take the table."""
-    ratio = require("gearbox.drivetrain.model", "law_stiffness_ratio").law_stiffness_ratio
-    f = [metrics.get("mesh_force_min_N", math.nan), metrics.get("mesh_force_max_N", math.nan)]
-    if not all(math.isfinite(x) for x in f) or table.torque.size < 2:
-        lo = hi = math.nan
-    else:
-        lo, hi = (float(r) for r in ratio(table, model, f))
-    return {"law_stiffness_at_min_force": lo, "law_stiffness_at_max_force": hi}
+    """gearbox.drivetrain.simulate.law_metrics: how far the run's force range reaches
+    along the loaded TCA's stiffness."""
+    return require("gearbox.drivetrain.simulate", "law_metrics").law_metrics(model, table, metrics)
 
 
 def compute_dynamics(ctx: StageContext) -> OperatingPoint:
