@@ -1158,24 +1158,31 @@ def tangent_at(table: MeshTable, flank: str, lam1: float, torque: float):
     return (kt, table.values_at("lte", flank, torque)), "linear"
 
 
+def law_mean_stiffness(table: MeshTable, flank: str, lam1: float, forces) -> np.ndarray:
+    """Cycle means (N/m) of the loaded mesh law's tangent stiffness of ``flank`` at the
+    mesh forces ``forces`` (N, any shape; the result's shape), lam1 the drive rotation
+    radius of :func:`loaded_law_samples`, which raises InputError where the law cannot
+    take the table. One bisection for all forces and positions."""
+    rows, levels = loaded_law_samples(table, flank, lam1)
+    forces = np.asarray(forces, dtype=float)
+    flat, P = forces.ravel(), rows.shape[1]
+    _, k = loaded_law_point(np.tile(rows, flat.size), levels, np.repeat(flat, P))
+    return k.reshape(flat.size, P).mean(axis=1).reshape(forces.shape)
+
+
 def law_stiffness_ratio(table: MeshTable, model, forces) -> np.ndarray:
-    """The cycle mean of the loaded mesh law's tangent stiffness of the drive flank at
-    the mesh forces ``forces`` (N, any shape; clipped at 0) over the model's mean drive
-    tangent stiffness, less 1, shape of ``forces``: how far a run's force range takes the
-    loaded TCA's stiffness from the constant one of the tangent law (docs §3d). NaN
-    where the law cannot take the table (:func:`loaded_law_samples`)."""
+    """:func:`law_mean_stiffness` of the drive flank at the mesh forces ``forces`` (N,
+    any shape; clipped at 0) over the model's mean drive tangent stiffness, less 1: how
+    far a run's force range takes the loaded TCA's stiffness from the constant one of
+    the tangent law (docs §3d). NaN where the law cannot take the table."""
     from ..errors import InputError
 
     forces = np.maximum(np.asarray(forces, dtype=float), 0.0)
     try:
-        rows, levels = loaded_law_samples(table, "drive", abs(model.drive.lambda1))
+        k = law_mean_stiffness(table, "drive", abs(model.drive.lambda1), forces)
     except InputError:
         return np.full(forces.shape, np.nan)
-    P = rows.shape[1]
-    flat = forces.ravel()
-    _, k = loaded_law_point(np.tile(rows, flat.size), levels, np.repeat(flat, P))
-    k = k.reshape(flat.size, P).mean(axis=1)
-    return (k / model.drive.mean_stiffness - 1.0).reshape(forces.shape)
+    return k / model.drive.mean_stiffness - 1.0
 
 
 def loaded_force(d, rows, forces, xp=np, derivative: bool = False):

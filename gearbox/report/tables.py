@@ -117,14 +117,11 @@ def stiffness_against_torque(tab, flank: str, torques):
     table interpolated linearly in torque), each shape (len(torques),). One drive
     rotation radius, the levels' middle one's, turns torque into force; InputError when
     the law cannot take the table (docs/drivetrain.md section 3d)."""
-    from ..drivetrain.model import loaded_law_point, loaded_law_samples
+    from ..drivetrain.model import law_mean_stiffness
 
     torques = np.asarray(torques, dtype=float)
     lam = abs(tab.rotation_radii("drive", float(np.median(tab.torque)))[0])
-    rows, forces = loaded_law_samples(tab, flank, lam)
-    P = rows.shape[1]
-    _, k = loaded_law_point(np.tile(rows, torques.size), forces, np.repeat(torques / lam, P))
-    law = k.reshape(torques.size, P).mean(axis=1)
+    law = law_mean_stiffness(tab, flank, lam, torques / lam)
     linear = np.array([np.mean(tab.values_at("tangent_stiffness", flank, t)) for t in torques])
     return law, linear
 
