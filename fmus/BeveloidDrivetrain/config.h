@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{b285fa29-309d-5598-9bd1-b024fb572489}"
+#define MODEL_GUID "{ea0c953b-186c-6e17-ce78-cd82cfafe851}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

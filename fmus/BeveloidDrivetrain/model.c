@@ -145,10 +145,10 @@ static double propeller_torque(double kappa, double Omega2, double w, double Z, 
  * (theta_1 = Omega t + q_1). The mesh laws k_f, e_f, LTE_f are truncated Fourier series
  * in the pinion angle, fitted here from the table samples in resources/ at the
  * operating torque exactly as DrivetrainModel.build does (k_f and LTE_f: the loaded
- * mesh law's tangent at the mean mesh force between the levels, tangent_point, where the
- * table allows the law, else linear in torque; the mesh points and lines of action linear
- * in torque; then the discrete Fourier fit of gearbox.meshtable.fourier_fit). The right-hand side reads the
- * series from a grid over one mesh period (mesh_grid): quintic Hermite cells built from
+ * mesh law's tangent at the mean mesh force between the levels, tangent_point, where
+ * the table allows the law, else linear in torque; the mesh points and lines of action
+ * linear in torque; then the discrete Fourier fit of gearbox.meshtable.fourier_fit).
+ * The right-hand side reads the series from a grid over one mesh period (mesh_grid): quintic Hermite cells built from
  * the series' exact values and first and second derivatives at ng = 32 h nodes; the
  * outputs evaluate the series themselves.
  *

@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{f22eed5f-dbf3-7cbd-dbfa-f9f16efada4c}"
+#define MODEL_GUID "{1caded71-d2cb-2900-0e4a-b365c0c1cef9}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1
