@@ -1231,22 +1231,48 @@ def loaded_force(d, rows, forces, xp=np, derivative: bool = False):
 def loaded_law_point(rows, forces, force):
     """Deflection (m) and tangent stiffness (N/m) of the loaded mesh law at the mesh
     force ``force`` (N; a number, or one per sample), at every sample of ``rows`` (shape
-    (2 J + 1, P)): bisection on the non-decreasing law, to the last bit."""
+    (2 J + 1, P)): Newton's method on the non-decreasing law, kept inside a bracket that
+    every evaluation narrows (a step that would leave it bisects it), until the force is
+    met to the rounding of the law's evaluation (4 eps of the force plus the top level's).
+    The start is the levels' deflections interpolated linearly in force. At a force <= 0
+    the flank is open: the deflection is the no-load one, x_u, the stiffness 0."""
     r = np.moveaxis(np.asarray(rows, dtype=float), 0, -1)  # (P, 2J + 1)
     J = forces.size
-    force = np.asarray(force, dtype=float)
+    P = r.shape[0]
+    force = np.broadcast_to(np.asarray(force, dtype=float), (P,))
     lo = r[:, 0].copy()
     top = r[:, J] + np.maximum(force - forces[-1], 0.0) / r[:, 2 * J] + 1e-9
     hi = np.maximum(top, lo + 1e-9)
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if not np.any((mid > lo) & (mid < hi)):
+    # start: between the levels whose forces hold the force (below the lowest: from x_u)
+    fx = np.concatenate([[0.0], forces])
+    xx = np.concatenate([lo[:, None], r[:, 1 : 1 + J]], axis=1)  # (P, J + 1)
+    j = np.clip(np.searchsorted(fx, force) - 1, 0, J - 1)
+    rows_p = np.arange(P)
+    w = np.clip((force - fx[j]) / (fx[j + 1] - fx[j]), 0.0, 1.0)
+    x = np.clip(xx[rows_p, j] + w * (xx[rows_p, j + 1] - xx[rows_p, j]), lo, hi)
+    live = force > 0
+    x = np.where(live, x, lo)
+    tol = 4.0 * np.finfo(float).eps * (np.abs(force) + forces[-1])  # the law's rounding
+    for _ in range(100):
+        f, k = loaded_force(x, r, forces, derivative=True)
+        g = f - force
+        below = g < 0
+        lo = np.where(below, x, lo)
+        hi = np.where(below, hi, x)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(k > 0, g / k, np.inf)
+        nxt = x - step
+        inside = (nxt > lo) & (nxt < hi)
+        nxt = np.where(inside, nxt, 0.5 * (lo + hi))
+        # done: on the force to its rounding, or no float left between the bracket's ends
+        live &= (np.abs(g) > tol) & (nxt != x) & (0.5 * (lo + hi) > lo) & (0.5 * (lo + hi) < hi)
+        if not live.any():
             break
-        below = loaded_force(mid, r, forces) < force
-        lo = np.where(below, mid, lo)
-        hi = np.where(below, hi, mid)
-    _, k = loaded_force(hi, r, forces, derivative=True)
-    return hi, k
+        x = np.where(live, nxt, x)
+    on = force > 0
+    x = np.where(on, x, r[:, 0])
+    _, k = loaded_force(x, r, forces, np, True)
+    return x, np.where(on, k, 0.0)
 
 
 def load_laws(theta1, p, xp=np):
