@@ -388,6 +388,45 @@ def test_pool_decision():
     assert not use_pool(1, 100.0, 8, start_s=3.0)  # one item left
 
 
+def _blas_threads(_=None) -> int:
+    from threadpoolctl import threadpool_info
+
+    counts = [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+    return max(counts) if counts else -1
+
+
+def test_a_stage_runs_on_the_blas_threads_it_declares(scene, tmp_path):
+    """``Stage.blas_threads``: 1 inside the stage and in the threads it starts (the
+    speed sweep's), the library's own count again after it and in a stage that
+    declares none. The drivetrain stages declare 1."""
+    from threadpoolctl import threadpool_limits
+
+    from gearbox.pipeline.stages import STAGES
+
+    def sweep(c):
+        with ThreadPoolExecutor(2) as ex:
+            return (_blas_threads(), *ex.map(_blas_threads, range(2)))
+
+    with threadpool_limits(limits=2, user_api="blas"):  # as on a 2-core machine
+        assert _blas_threads() == 2, "numpy's BLAS is not one threadpoolctl can limit"
+        stages = {
+            "design": Stage("design", sweep, reads=(), blas_threads=1),
+            "ltca": Stage("ltca", lambda c: _blas_threads(), reads=(), depends=("design",)),
+        }
+        run = run_pipeline(scene, ["ltca"], stages=stages, cache=False)
+        assert run["design"] == (1, 1, 1)
+        assert run["ltca"] == 2
+        assert _blas_threads() == 2
+    for name in ("dynamics", "spectra", "waterfall", "campbell", "fmu"):
+        assert STAGES[name].blas_threads == 1, name
+    assert STAGES["ltca"].blas_threads is None
+
+
+def test_pool_workers_run_on_one_blas_thread():
+    """Each process of the default pool has a core of its own: one BLAS thread."""
+    assert map_items(_blas_threads, [0, 1], jobs=2) == [1, 1]
+
+
 def test_sweep_from_inside_a_stage_uses_the_run_executor(scene, tmp_path):
     seen = []
 

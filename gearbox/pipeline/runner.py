@@ -21,7 +21,7 @@ from .cache import Cache, CacheMiss, stage_key
 from .jaxcache import jax_cache
 from .stage import Stage, StageContext, StageUnavailable, read_values, restricted_scene
 from .summary import RunSummary, StageRecord
-from .sweep import map_items
+from .sweep import blas_limit, map_items
 
 __all__ = ["PipelineRun", "plan", "preview", "run_pipeline"]
 
@@ -277,7 +277,8 @@ def run_pipeline(
                 progress=progress,
             )
             try:
-                result = st.compute(ctx)
+                with blas_limit(st.blas_threads):
+                    result = st.compute(ctx)
             except StageUnavailable as exc:
                 record(
                     StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc))

@@ -65,6 +65,12 @@ class Stage:
         planned stage before anything is computed; raises ``InputError``.
     cacheable : bool
         Whether results are stored in the on-disk cache.
+    blas_threads : int, optional
+        Threads of the BLAS library (OpenBLAS, MKL) while ``compute`` runs, threads it
+        starts included (:func:`gearbox.pipeline.sweep.blas_limit`); None leaves the library's own count. The
+        drivetrain stages take 1: their linear algebra is many small products, which a
+        BLAS thread pool does not speed up while its threads spin between calls on cores
+        the sweep's own threads and the output worker need (docs/pipeline.md).
     doc : str
         One line for ``--help`` and the report.
     """
@@ -79,6 +85,7 @@ class Stage:
     code: tuple[str, ...] = ()
     validate: Callable[[Scene], None] | None = None
     cacheable: bool = True
+    blas_threads: int | None = None
     doc: str = ""
 
     def reads_for(self, scene: Scene) -> tuple[str, ...]:

@@ -60,6 +60,7 @@ def _on_tables(name, compute, validate, doc, *code) -> Stage:
         route=dynamics.drive_depends,
         code=("gearbox.drivetrain", "gearbox.meshtable", *code),
         validate=validate,
+        blas_threads=1,
         doc=doc,
     )
 
@@ -137,6 +138,7 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             dynamics.compute_spectra,
             depends=("dynamics",),
             code=("gearbox.spectrum",),
+            blas_threads=1,
             doc="Order spectra of mesh force, DTE and bearing forces.",
         ),
         "waterfall": dataclasses.replace(

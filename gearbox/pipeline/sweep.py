@@ -24,6 +24,7 @@ of this process instead: no start, the solver compiled once.
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import time
@@ -31,7 +32,14 @@ from collections.abc import Callable, Iterable
 from concurrent.futures import Executor, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from typing import Any
 
-__all__ = ["POOL_START_S", "POOL_WARMUP_S", "default_jobs", "map_items", "use_pool"]
+__all__ = [
+    "POOL_START_S",
+    "POOL_WARMUP_S",
+    "blas_limit",
+    "default_jobs",
+    "map_items",
+    "use_pool",
+]
 
 #: Assumed cost (s) of starting the worker processes of the default pool, importing
 #: gearbox and jax in them: 2.3-3.4 s measured for 2 workers on the development
@@ -74,12 +82,28 @@ def use_pool(
     return pooled < here
 
 
+def blas_limit(threads: int | None):
+    """A context in which the BLAS libraries loaded in this process (OpenBLAS, MKL,
+    BLIS) run on at most ``threads`` threads, set back on leaving
+    (``threadpoolctl.threadpool_limits``); None: a context that changes nothing. The
+    limit is the process's: threads started inside it share it."""
+    if threads is None:
+        return contextlib.nullcontext()
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=int(threads), user_api="blas")
+
+
 def _worker_init() -> None:
     """Keep jax in each worker on the CPU unless ``JAX_PLATFORMS`` says otherwise:
     several processes each claiming a GPU's memory fail (seen on a 16-core GPU
     machine: every worker's CUDA start ran out of memory), and single small runs
-    gain nothing from a GPU."""
+    gain nothing from a GPU. And one BLAS thread per worker: the pool has a worker per
+    core already."""
     os.environ.setdefault("JAX_PLATFORMS", "cpu")
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")
 
 
 def _pool(jobs: int) -> ProcessPoolExecutor:
