@@ -487,10 +487,13 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "model's mean torque (between the tables' torque levels the loaded law's "
             "tangent), linear about it (docs/drivetrain.md section 3); 'loaded': through "
             "every torque level of the tables, so that a dynamic load far from the mean "
-            "meets the stiffness of its own load (section 3d). Every solver and the FMU "
-            "carry both; with simulation.solver = 'exudyn' the loaded law runs on exudyn's "
-            "Python user functions (its symbolic ones carry the tangent law only).",
-            ("tangent", "loaded"),
+            "meets the stiffness of its own load (section 3d); 'auto': each run with the "
+            "tangent law, repeated with the loaded law where its mesh force's range takes "
+            "the loaded TCA's tangent stiffness more than 10 % from the law's constant one "
+            "(the FMU takes the loaded law). Every solver and the FMU carry both; with "
+            "simulation.solver = 'exudyn' the loaded law runs on exudyn's Python user "
+            "functions (its symbolic ones carry the tangent law only).",
+            ("tangent", "loaded", "auto"),
         ),
         "backlash_mm": _f(0.1, "Circumferential backlash along the line of action (mm).", 0, 10),
         "mesh_friction_coefficient": _f(

@@ -405,3 +405,119 @@ def test_the_report_says_where_the_force_range_outruns_the_tangent_law(tables):
         assert warned is (rpm < 3500.0 and law == "tangent"), (rpm, law, spans[rpm, law])
     assert max(map(abs, spans[3500.0, "tangent"])) < LAW_SPAN_WARN
     assert min(spans[1833.0, "tangent"]) < -2 * LAW_SPAN_WARN
+
+
+def test_auto_runs_the_loaded_law_where_the_tangent_law_runs_out(tables):
+    """``drivetrain.mesh_law = "auto"`` on the default drive (240 mesh cycles): at 1833
+    rpm the tangent law's run reaches beyond ``LAW_SPAN`` (the loaded TCA's stiffness at
+    its least force 25 % below the law's), so the sweep point is the run of the loaded
+    law, the same as with ``mesh_law = "loaded"`` (its metrics to 1e-12), the tangent
+    run's reach beside it; at 3500 rpm (reach 4.8 %) it is the tangent law's run. The
+    waterfall section names each run's law and warns with the tangent law only."""
+    from gearbox.drivetrain.simulate import LAW_SPAN, law_reach
+    from gearbox.pipeline.adapters import dynamics as dy
+    from gearbox.report.dynamics import render_waterfall
+    from gearbox.report.sections import stage_view
+
+    table, _ = tables
+    speeds = (1833.0, 3500.0)
+
+    def point(law, rpm):
+        s = scene(mesh_law=law).replaced(simulation={"settled_mesh_cycles": 240})
+        model = dy.model_at(s, table, rpm)
+        torque = dy.propeller_law_torque(s, rpm)
+        loaded = dy.loaded_twin(s, table, rpm)
+        assert (loaded is not None) is (law == "auto")
+        return dy.sweep_point(
+            (model, dy.solvers_of(s), dict(s["simulation"]), rpm, torque, table, loaded)
+        )
+
+    pts = {(law, n): point(law, n) for law in ("tangent", "loaded", "auto") for n in speeds}
+    reach = {n: law_reach(pts["tangent", n].metrics) for n in speeds}
+    assert reach[1833.0] > LAW_SPAN > reach[3500.0], reach
+    slow, fast = pts["auto", 1833.0], pts["auto", 3500.0]
+    assert (slow.mesh_law, fast.mesh_law) == ("loaded", "tangent")
+    assert slow.metrics["tangent_law_reach"] == reach[1833.0]
+    assert "tangent_law_reach" not in fast.metrics
+    keys = ("mesh_force_mesh_order_amplitude_N", "mesh_force_dynamic_rms_N", "mesh_force_max_N")
+    for got, want in ((slow, pts["loaded", 1833.0]), (fast, pts["tangent", 3500.0])):
+        for k in keys:
+            assert got.metrics[k] == pytest.approx(want.metrics[k], rel=1e-12), k
+    # the laws' runs differ where auto chose: a choice that did something
+    assert (
+        slow.metrics["mesh_force_dynamic_rms_N"]
+        != pts["tangent", 1833.0].metrics["mesh_force_dynamic_rms_N"]
+    )
+    for law in ("tangent", "auto"):
+        sw = dy.SpeedSweep(np.array(speeds), tuple(pts[law, n] for n in speeds))
+        sec = render_waterfall(sw, stage_view(scene(mesh_law=law), "waterfall", sw, "k"))
+        warned = any("tangent mesh law at 1 of 2 speeds (1833 rpm)" in w.text for w in sec.warnings)
+        assert warned is (law == "tangent"), [w.text for w in sec.warnings]
+        assert ("mesh law of the run" in sec.body) is (law == "auto")
+    assert f"loaded (tangent: {100 * reach[1833.0]:.0f} %)" in sec.body
+
+
+def test_gearbox_simulate_with_auto_takes_the_law_the_run_needs(tmp_path, capsys):
+    """``gearbox simulate`` on a scene with ``mesh_law = "auto"`` (the analytical table,
+    60 mesh cycles): at 1833 rpm on the propeller law (220 N m) the tangent law's run
+    reaches beyond ``LAW_SPAN`` (17 %), and the run printed is the loaded law's, with the
+    same numbers as on a scene with the loaded law; at 3500 rpm the tangent law's."""
+    import json
+
+    from gearbox.cli import main
+    from gearbox.drivetrain.simulate import LAW_SPAN
+    from gearbox.pipeline.adapters.dynamics import _at_speed
+    from gearbox.report.build import scene_toml
+
+    out = {}
+    for rpm in (1833.0, 3500.0):
+        for law in ("auto", "loaded", "tangent"):
+            path = tmp_path / f"{law}-{rpm:.0f}.toml"
+            path.write_text(scene_toml(_at_speed(scene(mesh_law=law), rpm)))
+            assert main(["simulate", str(path), "--mesh-cycles", "60", "--json"]) == 0
+            out[law, rpm] = json.loads(capsys.readouterr().out)
+    slow = out["auto", 1833.0]
+    assert slow["mesh_law"] == "loaded" and slow["tangent_law_reach"] > LAW_SPAN
+    assert out["auto", 3500.0]["mesh_law"] == "tangent"
+    assert "tangent_law_reach" not in out["auto", 3500.0]
+    for rpm, law in ((1833.0, "loaded"), (3500.0, "tangent")):
+        for k in ("mesh_force_mesh_order_amplitude_N", "mesh_force_max_N"):
+            assert out["auto", rpm][k] == pytest.approx(out[law, rpm][k], rel=1e-12)
+
+
+def test_the_pipeline_with_auto_takes_each_runs_law_and_the_fmu_the_loaded_law(tmp_path):
+    """`gearbox run`'s drivetrain stages with ``mesh_law = "auto"`` (12 positions, 3
+    sweep speeds, 120 mesh cycles): every sweep point ran the loaded law exactly where
+    its tangent law's run reached beyond ``LAW_SPAN`` (at least one does, one does not),
+    the operating point's run is the sweep's point at its speed, and the FMU carries the
+    loaded law (its no-load deflections in its resources)."""
+    import io
+    import zipfile
+
+    from gearbox.drivetrain.simulate import LAW_SPAN, law_reach
+    from gearbox.fmu.build import find_c_compiler
+
+    s = scene(mesh_law="auto").replaced(
+        ltca={"positions": 12}, simulation={"sweep_speeds": 3, "settled_mesh_cycles": 120}
+    )
+    wanted = ["dynamics", "waterfall", "campbell"]
+    if find_c_compiler() is not None:
+        wanted.append("fmu")
+    run = run_pipeline(s, wanted, cache=tmp_path / "cache")
+    assert run.summary.ok, run.summary.table()
+    laws = []
+    for p in run["waterfall"].points:
+        m = p.metrics
+        if p.mesh_law == "loaded":
+            assert m["tangent_law_reach"] > LAW_SPAN, p.speed_rpm
+        else:
+            assert law_reach(m) <= LAW_SPAN and "tangent_law_reach" not in m, p.speed_rpm
+        laws.append(p.mesh_law)
+    assert set(laws) == {"tangent", "loaded"}, laws
+    op = run["dynamics"]
+    last = run["waterfall"].points[-1]
+    assert last.speed_rpm == op.speed_rpm and last.mesh_law == op.model.mesh_law
+    assert last.metrics["mesh_force_max_N"] == op.metrics["mesh_force_max_N"]
+    if "fmu" in wanted:
+        names = zipfile.ZipFile(io.BytesIO(run["fmu"].data)).namelist()
+        assert "resources/mesh_secant.txt" in names, names

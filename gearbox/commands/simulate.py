@@ -94,11 +94,12 @@ def modes_summary(scene, model, table) -> dict:
 
 def summary(scene, args) -> tuple[dict, object, object, object]:
     """(summary dict, model, TimeSeries or None, table)."""
+    from ..drivetrain.model import DrivetrainModel
     from ..drivetrain.simulate import (
         default_solver,
         friction_metrics,
-        law_metrics,
         mesh_force_metrics,
+        run_with_auto_law,
         simulate,
     )
     from ..errors import InputError, Problem
@@ -114,22 +115,35 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
         raise InputError(Problem("--rtol", rtol, "must be in (0, 1)"))
     if name == "diffrax" and args.rtol is None:
         rtol = None  # fixed steps from the model's frequencies; --rtol asks for adaptive ones
-    solver = default_solver(name, rtol, model.mesh_law)
     cycles = args.mesh_cycles if args.mesh_cycles is not None else sim["settled_mesh_cycles"]
     if args.periodic and args.mesh_cycles is None and model.common_period_mesh_cycles():
         cycles = model.common_period_mesh_cycles()  # one whole common period
     if cycles < 1:
         raise InputError(Problem("--mesh-cycles", cycles, "must be >= 1"))
-    ts = simulate(
-        model,
-        solver,
-        settle_time=sim["settle_time_s"],
-        mesh_cycles=cycles,
-        samples_per_cycle=sim["samples_per_mesh_cycle"],
-        start="periodic" if args.periodic else "operating_point",
-    )
+
+    def run_on(m):
+        ts = simulate(
+            m,
+            default_solver(name, rtol, m.mesh_law),
+            settle_time=sim["settle_time_s"],
+            mesh_cycles=cycles,
+            samples_per_cycle=sim["samples_per_mesh_cycle"],
+            start="periodic" if args.periodic else "operating_point",
+        )
+        return ts, mesh_force_metrics(ts, m)
+
+    loaded = None
+    if scene["drivetrain"]["mesh_law"] == "auto":  # the loaded law where the run needs it
+        try:
+            loaded = DrivetrainModel.from_scene(
+                scene, table, speed_rpm=args.speed_rpm, mesh_law="loaded"
+            )
+        except InputError:  # tables the loaded law cannot take: the tangent law's run
+            pass
+    model, ts, metrics = run_with_auto_law(run_on, model, table, loaded)
     out.update(
         {
+            "mesh_law": model.mesh_law,
             "solver": name,
             "rtol": rtol,
             "status": ts.status,
@@ -142,8 +156,7 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
             "common_period_mesh_cycles": ts.attrs.get("common_period_mesh_cycles"),
             "periodicity_residual": ts.attrs.get("periodicity_residual"),
             "shooting_converged": ts.attrs.get("shooting_converged"),
-            **(metrics := mesh_force_metrics(ts, model)),
-            **law_metrics(model, table, metrics),
+            **metrics,
             **friction_metrics(ts),
         }
     )

@@ -518,10 +518,14 @@ class DrivetrainModel:
         speed_rpm: float | None = None,
         trace_turns=None,
         level_records=None,
+        mesh_law: str | None = None,
     ) -> DrivetrainModel:
         """Model of a scene's ``[drivetrain]`` with a mesh table (analytical if None).
 
-        speed_rpm overrides ``drivetrain.engine_speed_rpm``. ``trace_turns``: the
+        speed_rpm overrides ``drivetrain.engine_speed_rpm``; mesh_law overrides
+        ``drivetrain.mesh_law``, whose ``"auto"`` builds the tangent law (a run then
+        repeats with the loaded law where it needs it,
+        :func:`gearbox.drivetrain.simulate.run_with_auto_law`). ``trace_turns``: the
         scene's measured traces on the table's loaded TCA
         (:func:`gearbox.ltca.pitch.trace_turns`), needed when
         ``drivetrain.pitch_deviations`` is on and ``[pitch]`` sets traces;
@@ -558,7 +562,7 @@ class DrivetrainModel:
             mesh_damping_ratio=d["mesh_damping_ratio"],
             backlash=d["backlash_mm"] * 1e-3,
             mesh_harmonics=d["mesh_harmonics"],
-            mesh_law=d["mesh_law"],
+            mesh_law=mesh_law or ("tangent" if d["mesh_law"] == "auto" else d["mesh_law"]),
             bearing_dofs=d["bearing_dofs"],
             pinion_bearing_stiffness=d["pinion_bearing_stiffness_N_per_m"],
             gear_bearing_stiffness=d["gear_bearing_stiffness_N_per_m"],

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from ..drivetrain.simulate import LAW_SPAN, law_reach
 from ..errors import InputError
 from .html import ReportWarning, Section, esc, figure, fmt, new_figure, table
 
@@ -48,11 +49,10 @@ def _contact_warnings(source: str, metrics, where: str) -> list[ReportWarning]:
 
 
 #: Share by which the loaded TCA's mean tangent stiffness over a run's mesh force range
-#: may depart from the tangent mesh law's constant one before the report says so (a
-#: choice: on the default scene at 2000 rpm, -19.6 / +8.1 %, the loaded law moves the
-#: second mesh order by 6 % and the dynamic RMS by 5 %; at 3500 rpm, -4.8 / +1.1 %, the
-#: mesh order by 0.9 %; docs/drivetrain.md section 3d).
-LAW_SPAN_WARN = 0.10
+#: may depart from the tangent mesh law's constant one before the report says so: the
+#: reach at which ``drivetrain.mesh_law = "auto"`` takes the loaded law
+#: (:data:`gearbox.drivetrain.simulate.LAW_SPAN`, docs/drivetrain.md section 3d).
+LAW_SPAN_WARN = LAW_SPAN
 
 
 def law_span(metrics) -> tuple[float, float]:
@@ -64,15 +64,9 @@ def law_span(metrics) -> tuple[float, float]:
     )
 
 
-def _beyond(metrics) -> float:
-    """The larger of the two :func:`law_span` values in magnitude, 0 when not recorded."""
-    span = [abs(v) for v in law_span(metrics) if math.isfinite(v)]
-    return max(span, default=0.0)
-
-
 def _law_warning(source: str, metrics, where: str, law: str) -> list[ReportWarning]:
     lo, hi = law_span(metrics)
-    if law != "tangent" or _beyond(metrics) <= LAW_SPAN_WARN:
+    if law != "tangent" or law_reach(metrics) <= LAW_SPAN_WARN:
         return []
     return [
         ReportWarning(
@@ -81,7 +75,7 @@ def _law_warning(source: str, metrics, where: str, law: str) -> list[ReportWarni
             f"{metrics['mesh_force_min_N']:.0f} to {metrics['mesh_force_max_N']:.0f} N, "
             f"where the loaded TCA's tangent stiffness reads {100 * lo:+.0f} to "
             f"{100 * hi:+.0f} % of the law's constant one; drivetrain.mesh_law = "
-            "'loaded' follows it",
+            "'loaded' follows it ('auto' where a run needs it)",
         )
     ]
 
@@ -309,6 +303,16 @@ def _span_text(metrics) -> str:
     return f"{100 * lo:+.1f} / {100 * hi:+.1f}"
 
 
+def _law_text(p) -> str:
+    """The mesh law of a sweep point's run; with ``mesh_law = "auto"`` the tangent law's
+    reach that sent it to the loaded law."""
+    law = getattr(p, "mesh_law", "tangent")
+    reach = p.metrics.get("tangent_law_reach")
+    if law == "loaded" and reach is not None and math.isfinite(reach):
+        return f"loaded (tangent: {100 * reach:.0f} %)"
+    return law
+
+
 def render_waterfall(sw, run) -> Section:
     """Waterfall map of the mesh force and a table per speed."""
     from ..spectrum.plotting import plot_waterfall
@@ -316,7 +320,10 @@ def render_waterfall(sw, run) -> Section:
     warnings = []
     rows = []
     friction = any("mesh_efficiency" in p.metrics for p in sw.points)
-    spans = any(_beyond(p.metrics) > 0 for p in sw.points)
+    spans = any(law_reach(p.metrics) > 0 for p in sw.points)
+    # the law of each run, when they are not all the tangent law's (mesh_law 'loaded' or
+    # 'auto'; a point cached before the field existed reads 'tangent')
+    laws = any(getattr(p, "mesh_law", "tangent") != "tangent" for p in sw.points)
     for p in sw.points:
         m = p.metrics
         ok = p.status == "success"
@@ -332,6 +339,7 @@ def render_waterfall(sw, run) -> Section:
                 m.get("dynamic_factor", ""),
                 *(eff if friction else ()),
                 *((_span_text(m),) if spans else ()),
+                *((_law_text(p),) if laws else ()),
                 100 * m.get("contact_loss_fraction", 0.0),
                 p.nfev,
                 p.wall_time,
@@ -342,9 +350,13 @@ def render_waterfall(sw, run) -> Section:
                 ReportWarning("waterfall", f"{p.speed_rpm:.0f} rpm: simulation status {p.status}")
             )
         warnings += _contact_warnings("waterfall", m, f"at {p.speed_rpm:.0f} rpm")
-    wide = [p for p in sw.points if _beyond(p.metrics) > LAW_SPAN_WARN]
-    if wide and run.scene["drivetrain"]["mesh_law"] == "tangent":
-        worst = max(wide, key=lambda p: _beyond(p.metrics))
+    wide = [
+        p
+        for p in sw.points
+        if getattr(p, "mesh_law", "tangent") == "tangent" and law_reach(p.metrics) > LAW_SPAN_WARN
+    ]
+    if wide:
+        worst = max(wide, key=lambda p: law_reach(p.metrics))
         lo, hi = law_span(worst.metrics)
         warnings.append(
             ReportWarning(
@@ -354,7 +366,7 @@ def render_waterfall(sw, run) -> Section:
                 + f" rpm): the mesh force's range takes the loaded TCA's tangent "
                 f"stiffness beyond {100 * LAW_SPAN_WARN:.0f} % of the law's constant one "
                 f"({100 * lo:+.0f} to {100 * hi:+.0f} % at {worst.speed_rpm:.0f} rpm); "
-                "drivetrain.mesh_law = 'loaded' follows it",
+                "drivetrain.mesh_law = 'loaded' follows it, 'auto' at those speeds",
             )
         )
     parts = [
@@ -400,6 +412,7 @@ def render_waterfall(sw, run) -> Section:
                 "dynamic factor (max / mean force)",
                 *(("mesh efficiency (%, friction)",) if friction else ()),
                 *(("loaded TCA stiffness at least / largest force (%)",) if spans else ()),
+                *(("mesh law of the run",) if laws else ()),
                 "contact loss (% of record)",
                 "RHS evaluations",
                 "wall time (s)",

@@ -32,8 +32,6 @@ __all__ = [
 #: Scene entries a section reads besides its stage's result; they enter its cache key.
 SECTION_READS: dict[str, tuple[str, ...]] = {
     "ltca": ("load.operating_torque_Nm", "drivetrain.engine_speed_rpm"),
-    # whether the tangent law's stiffness-span warning applies (report.dynamics)
-    "waterfall": ("drivetrain.mesh_law",),
     # the line load of ISO 6336-1's resonance range (report.dynamics.line_load)
     "campbell": (
         "pair.normal_module_mm",

@@ -11,7 +11,6 @@ the torques of the sweep; :func:`validate_torques` says so before anything runs.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -114,30 +113,49 @@ def _at_speed(scene: Scene, speed_rpm: float) -> Scene:
     return Scene(MappingProxyType(data), scene.path)
 
 
-def model_at(scene: Scene, table, speed_rpm: float | None = None, approach=None):
+def model_at(scene: Scene, table, speed_rpm: float | None = None, approach=None, mesh_law=None):
     """:class:`gearbox.drivetrain.DrivetrainModel` at ``speed_rpm`` (default: operating);
     ``approach``: the ``approach`` stage's result when the stage runs on it (the exact
-    level records or the traces' turns, :func:`drive_depends`)."""
+    level records or the traces' turns, :func:`drive_depends`); ``mesh_law``: instead
+    of ``drivetrain.mesh_law`` (whose ``"auto"`` builds the tangent law)."""
     drivetrain = require("gearbox.drivetrain", "DrivetrainModel")
     if speed_rpm is not None:
         scene = _at_speed(scene, speed_rpm)
-    kw = {}
+    kw = {"mesh_law": mesh_law}
     if approach is not None:
-        kw = {"trace_turns": approach.turns, "level_records": approach.levels}
+        kw |= {"trace_turns": approach.turns, "level_records": approach.levels}
     return drivetrain.DrivetrainModel.from_scene(scene, table, **kw)
 
 
-def solver_of(scene: Scene):
+def loaded_twin(scene: Scene, table, speed_rpm: float | None = None, approach=None):
+    """With ``drivetrain.mesh_law = "auto"``: the drive at ``speed_rpm`` with the loaded
+    law, to repeat a tangent-law run on (``run_with_auto_law``); None for the other laws,
+    or when the tables cannot take the loaded law (one torque level, an LTE that does
+    not grow with the torque): the runs then keep the tangent law."""
+    if scene["drivetrain"]["mesh_law"] != "auto":
+        return None
+    try:
+        return model_at(scene, table, speed_rpm, approach, mesh_law="loaded")
+    except InputError:
+        return None
+
+
+def solver_of(scene: Scene, mesh_law: str | None = None):
     """The solver object named by ``simulation.solver``: scipy with ``simulation.rtol``;
     diffrax with fixed steps (``DiffraxSolver()``, as ``gearbox simulate`` without
     ``--rtol``), whose runs that lose contact are repeated with adaptive steps
     (``DiffraxSolver.contact_rtol``); exudyn's fixed-step RK67, on its Python user
-    functions with ``drivetrain.mesh_law = "loaded"`` (its symbolic ones carry the
-    tangent law only)."""
+    functions for the loaded law (its symbolic ones carry the tangent law only).
+    ``mesh_law``: the law of the model it runs, default ``drivetrain.mesh_law``."""
     sim = require("gearbox.drivetrain.simulate", "default_solver")
     s = scene["simulation"]
     rtol = None if s["solver"] == "diffrax" else s["rtol"]
-    return sim.default_solver(s["solver"], rtol, scene["drivetrain"]["mesh_law"])
+    return sim.default_solver(s["solver"], rtol, mesh_law or scene["drivetrain"]["mesh_law"])
+
+
+def solvers_of(scene: Scene) -> dict[str, Any]:
+    """:func:`solver_of` for each mesh law a run may take: ``{law: solver}``."""
+    return {law: solver_of(scene, law) for law in ("tangent", "loaded")}
 
 
 def contact_metrics(series) -> dict[str, float]:
@@ -192,14 +210,26 @@ def law_metrics(model, table, metrics: Mapping[str, float]) -> dict[str, float]:
     return require("gearbox.drivetrain.simulate", "law_metrics").law_metrics(model, table, metrics)
 
 
+def _settled(model, solvers: Mapping[str, Any], sim: Mapping[str, Any], table, loaded=None):
+    """``(model, series, metrics)``: the settled run of ``model`` with its law metrics;
+    with ``loaded`` (:func:`loaded_twin`) repeated on it where the run reaches beyond
+    the tangent law (``gearbox.drivetrain.simulate.run_with_auto_law``). ``solvers``:
+    :func:`solvers_of`."""
+    auto = require("gearbox.drivetrain.simulate", "run_with_auto_law").run_with_auto_law
+    return auto(lambda m: _simulate(m, solvers[m.mesh_law], sim), model, table, loaded)
+
+
 def compute_dynamics(ctx: StageContext) -> OperatingPoint:
-    """Settled response at the operating point (gearbox.drivetrain.simulate)."""
+    """Settled response at the operating point (gearbox.drivetrain.simulate); with
+    ``drivetrain.mesh_law = "auto"`` on the loaded law where the tangent law's run
+    reaches beyond it (the point's ``model`` is the one run)."""
     linear = require("gearbox.drivetrain.linear", "modes")
     scene = ctx.scene
     table = ctx.inputs["tables"]
-    model = model_at(scene, table, approach=ctx.inputs.get("approach"))
-    ts, metrics = _simulate(model, solver_of(scene), scene["simulation"])
-    metrics = dict(metrics) | law_metrics(model, table, metrics)
+    approach = ctx.inputs.get("approach")
+    model = model_at(scene, table, approach=approach)
+    loaded = loaded_twin(scene, table, approach=approach)
+    model, ts, metrics = _settled(model, solvers_of(scene), scene["simulation"], table, loaded)
     t0, n0 = operating_torque(scene)
     return OperatingPoint(n0, t0, model, ts, metrics, linear.modes(model))
 
@@ -310,7 +340,8 @@ def compute_spectra(ctx: StageContext) -> Spectra:
 
 @dataclass(frozen=True)
 class SweepPoint:
-    """One speed of a sweep: spectra per channel, metrics, solver status and work."""
+    """One speed of a sweep: spectra per channel, metrics, solver status and work, and
+    the mesh law of its run (``"tangent"`` or ``"loaded"``)."""
 
     speed_rpm: float
     torque_Nm: float
@@ -319,6 +350,7 @@ class SweepPoint:
     metrics: Mapping[str, float]
     nfev: int
     wall_time: float
+    mesh_law: str = "tangent"
 
 
 def _point(model, ts, metrics, speed_rpm: float, torque: float) -> SweepPoint:
@@ -338,13 +370,16 @@ def _point(model, ts, metrics, speed_rpm: float, torque: float) -> SweepPoint:
         dict(metrics) | {"linear_mesh_order_amplitude_N": lin},
         int(ts.nfev),
         float(ts.wall_time),
+        model.mesh_law,
     )
 
 
 def sweep_point(job: tuple) -> SweepPoint:
-    """Simulate one speed and keep its spectra (module level: runs in worker processes)."""
-    model, solver, sim, speed_rpm, torque = job
-    ts, metrics = _simulate(model, solver, sim)
+    """Simulate one speed and keep its spectra (module level: runs in worker processes):
+    ``job`` = (model, solvers, simulation settings, speed, torque, tables, loaded twin
+    or None), as :func:`_settled` takes them."""
+    model, solvers, sim, speed_rpm, torque, table, loaded = job
+    model, ts, metrics = _settled(model, solvers, sim, table, loaded)
     return _point(model, ts, metrics, speed_rpm, torque)
 
 
@@ -391,15 +426,15 @@ def waterfall_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
     return req, ()
 
 
-def _reused_point(op, model, speed_rpm: float, torque: float) -> SweepPoint | None:
-    """The sweep point at ``speed_rpm`` from the operating point's run, when that run
-    is the same simulation (same speed and torque; same scene, tables and settings,
-    since both stages read them); else None."""
+def _reused_point(op, speed_rpm: float, torque: float) -> SweepPoint | None:
+    """The sweep point at ``speed_rpm`` from the operating point's run (its model, the
+    one run), when that run is the same simulation (same speed and torque; same scene,
+    tables and settings, since both stages read them); else None."""
     if op is None or not math.isclose(op.speed_rpm, speed_rpm, rel_tol=1e-12):
         return None
     if not math.isclose(op.torque_Nm, torque, rel_tol=1e-9):
         return None
-    return _point(model, op.series, op.metrics, speed_rpm, torque)
+    return _point(op.model, op.series, op.metrics, speed_rpm, torque)
 
 
 def compute_waterfall(ctx: StageContext) -> SpeedSweep:
@@ -409,26 +444,28 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
     scene = ctx.scene
     table = ctx.inputs["tables"]
     speeds = sweep_speeds(scene)
-    solver = solver_of(scene)
+    solvers = solvers_of(scene)
     approach = ctx.inputs.get("approach")
     sim = dict(scene["simulation"])
     jobs = [
-        (model_at(scene, table, n, approach), solver, sim, n, propeller_law_torque(scene, n))
+        (
+            model_at(scene, table, n, approach),
+            solvers,
+            sim,
+            n,
+            propeller_law_torque(scene, n),
+            table,
+            loaded_twin(scene, table, n, approach),
+        )
         for n in speeds
     ]
     op = ctx.inputs.get("dynamics")
-    reused = {i: _reused_point(op, j[0], j[3], j[4]) for i, j in enumerate(jobs)}
+    reused = {i: _reused_point(op, j[3], j[4]) for i, j in enumerate(jobs)}
     reused = {i: p for i, p in reused.items() if p is not None}
     todo = [j for i, j in enumerate(jobs) if i not in reused]
-    run = iter(ctx.map(sweep_point, todo, threads=getattr(solver, "name", "") in THREADED))
+    threads = getattr(solvers["tangent"], "name", "") in THREADED
+    run = iter(ctx.map(sweep_point, todo, threads=threads))
     points = tuple(reused[i] if i in reused else next(run) for i in range(len(jobs)))
-    # the operating point's run brings its own (from its model, equal but for the last bits)
-    points = tuple(
-        p
-        if "law_stiffness_at_min_force" in p.metrics
-        else dataclasses.replace(p, metrics=dict(p.metrics) | law_metrics(j[0], table, p.metrics))
-        for p, j in zip(points, jobs, strict=True)
-    )
     waterfalls = {}
     for name in SPECTRUM_CHANNELS:
         ok = [p for p in points if name in p.spectra]

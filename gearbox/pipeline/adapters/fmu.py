@@ -12,7 +12,7 @@ from typing import Any
 from ...commands._common import write_atomic
 from ..stage import StageContext
 from ._require import require
-from .dynamics import model_at
+from .dynamics import loaded_twin, model_at
 
 __all__ = ["FmuArtifact", "compute_fmu"]
 
@@ -33,10 +33,15 @@ class FmuArtifact:
 
 
 def compute_fmu(ctx: StageContext) -> FmuArtifact:
-    """Generate, compile (gcc, warnings as errors) and zip the drivetrain FMU."""
+    """Generate, compile (gcc, warnings as errors) and zip the drivetrain FMU. With
+    ``drivetrain.mesh_law = "auto"`` on the loaded law (the FMU's load is the importer's
+    to change), where the tables can take it."""
     fmu = require("gearbox.fmu", "build_fmu", "drivetrain_fmu")
     table = ctx.inputs["tables"]
-    model = model_at(ctx.scene, table, approach=ctx.inputs.get("approach"))
+    approach = ctx.inputs.get("approach")
+    model = loaded_twin(ctx.scene, table, approach=approach) or model_at(
+        ctx.scene, table, approach=approach
+    )
     with tempfile.TemporaryDirectory(prefix="gearbox-fmu-") as tmp:
         b = fmu.build_fmu(fmu.drivetrain_fmu(model, table), tmp)
         data = Path(b.fmu).read_bytes()
