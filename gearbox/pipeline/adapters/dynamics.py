@@ -353,10 +353,12 @@ class SweepPoint:
     mesh_law: str = "tangent"
 
 
-def _point(model, ts, metrics, speed_rpm: float, torque: float) -> SweepPoint:
+def _point(model, ts, metrics, speed_rpm: float, torque: float, law: str = "") -> SweepPoint:
     """A sweep point from a settled run ``ts`` of ``model`` and its metrics, with the
     mesh order's amplitude from the model about the operating point beside them
-    (``linear_mesh_order_amplitude_N``, :func:`gearbox.drivetrain.linear.order_responses`)."""
+    (``linear_mesh_order_amplitude_N``, :func:`gearbox.drivetrain.linear.order_responses`);
+    ``law``: the mesh law of the run when it is not ``model``'s (the loaded twin's run
+    of ``mesh_law = "auto"``, whose linearisation is ``model``'s)."""
     linear = require("gearbox.drivetrain.linear", "order_responses")
     spectra = spectra_of(ts, _orders(model)) if ts.success and ts.time.size > 1 else {}
     lin = linear.order_responses(model, sideband_harmonics=0).peaks(float(model.pinion_teeth))[
@@ -370,7 +372,7 @@ def _point(model, ts, metrics, speed_rpm: float, torque: float) -> SweepPoint:
         dict(metrics) | {"linear_mesh_order_amplitude_N": lin},
         int(ts.nfev),
         float(ts.wall_time),
-        model.mesh_law,
+        law or model.mesh_law,
     )
 
 
@@ -379,8 +381,8 @@ def sweep_point(job: tuple) -> SweepPoint:
     ``job`` = (model, solvers, simulation settings, speed, torque, tables, loaded twin
     or None), as :func:`_settled` takes them."""
     model, solvers, sim, speed_rpm, torque, table, loaded = job
-    model, ts, metrics = _settled(model, solvers, sim, table, loaded)
-    return _point(model, ts, metrics, speed_rpm, torque)
+    ran, ts, metrics = _settled(model, solvers, sim, table, loaded)
+    return _point(model, ts, metrics, speed_rpm, torque, ran.mesh_law)
 
 
 @dataclass(frozen=True)
@@ -426,15 +428,16 @@ def waterfall_depends(scene: Scene) -> tuple[tuple[str, ...], tuple[str, ...]]:
     return req, ()
 
 
-def _reused_point(op, speed_rpm: float, torque: float) -> SweepPoint | None:
-    """The sweep point at ``speed_rpm`` from the operating point's run (its model, the
-    one run), when that run is the same simulation (same speed and torque; same scene,
-    tables and settings, since both stages read them); else None."""
+def _reused_point(op, model, speed_rpm: float, torque: float) -> SweepPoint | None:
+    """The sweep point at ``speed_rpm`` from the operating point's run (with the law
+    that run took), when that run is the same simulation (same speed and torque; same
+    scene, tables and settings, since both stages read them); else None. ``model``: the
+    sweep's own at that speed, for the linear analysis, as at every other speed."""
     if op is None or not math.isclose(op.speed_rpm, speed_rpm, rel_tol=1e-12):
         return None
     if not math.isclose(op.torque_Nm, torque, rel_tol=1e-9):
         return None
-    return _point(op.model, op.series, op.metrics, speed_rpm, torque)
+    return _point(model, op.series, op.metrics, speed_rpm, torque, op.model.mesh_law)
 
 
 def compute_waterfall(ctx: StageContext) -> SpeedSweep:
@@ -460,7 +463,7 @@ def compute_waterfall(ctx: StageContext) -> SpeedSweep:
         for n in speeds
     ]
     op = ctx.inputs.get("dynamics")
-    reused = {i: _reused_point(op, j[3], j[4]) for i, j in enumerate(jobs)}
+    reused = {i: _reused_point(op, j[0], j[3], j[4]) for i, j in enumerate(jobs)}
     reused = {i: p for i, p in reused.items() if p is not None}
     todo = [j for i, j in enumerate(jobs) if i not in reused]
     threads = getattr(solvers["tangent"], "name", "") in THREADED
