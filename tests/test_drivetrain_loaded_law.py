@@ -377,8 +377,9 @@ def test_the_report_says_where_the_force_range_outruns_the_tangent_law(tables):
     the tangent law, not with the loaded law, and not at 3500 rpm."""
     from gearbox.drivetrain.linear import modes
     from gearbox.drivetrain.model import law_stiffness_ratio
+    from gearbox.drivetrain.simulate import LAW_SPAN
     from gearbox.pipeline.adapters import dynamics as dy
-    from gearbox.report.dynamics import LAW_SPAN_WARN, render_dynamics
+    from gearbox.report.dynamics import render_dynamics
     from gearbox.report.sections import stage_view
 
     table, _ = tables
@@ -403,8 +404,8 @@ def test_the_report_says_where_the_force_range_outruns_the_tangent_law(tables):
         sec = render_dynamics(op, stage_view(s, "dynamics", op, "k"))
         warned = any("tangent mesh law" in w.text for w in sec.warnings)
         assert warned is (rpm < 3500.0 and law == "tangent"), (rpm, law, spans[rpm, law])
-    assert max(map(abs, spans[3500.0, "tangent"])) < LAW_SPAN_WARN
-    assert min(spans[1833.0, "tangent"]) < -2 * LAW_SPAN_WARN
+    assert max(map(abs, spans[3500.0, "tangent"])) < LAW_SPAN
+    assert min(spans[1833.0, "tangent"]) < -2 * LAW_SPAN
 
 
 def test_auto_runs_the_loaded_law_where_the_tangent_law_runs_out(tables):
@@ -521,3 +522,19 @@ def test_the_pipeline_with_auto_takes_each_runs_law_and_the_fmu_the_loaded_law(t
     if "fmu" in wanted:
         names = zipfile.ZipFile(io.BytesIO(run["fmu"].data)).namelist()
         assert "resources/mesh_secant.txt" in names, names
+
+
+def test_auto_keeps_the_tangent_law_where_the_tables_cannot_take_the_loaded_one():
+    """``loaded_twin``: with one torque level the loaded law cannot be built (InputError),
+    so ``auto`` has no twin and its runs keep the tangent law; other laws have none."""
+    from gearbox.drivetrain.simulate import loaded_twin
+
+    one = scene(mesh_law="auto").replaced(load={"torques_Nm": [802.0]})
+    with pytest.raises(InputError):
+        DrivetrainModel.from_scene(one, mesh_law="loaded")
+    assert loaded_twin(one, lambda law: DrivetrainModel.from_scene(one, mesh_law=law)) is None
+    two = scene(mesh_law="auto")
+    twin = loaded_twin(two, lambda law: DrivetrainModel.from_scene(two, mesh_law=law))
+    assert twin is not None and twin.mesh_law == "loaded"
+    assert DrivetrainModel.from_scene(two).mesh_law == "tangent"
+    assert loaded_twin(scene(mesh_law="tangent"), lambda law: 1 / 0) is None

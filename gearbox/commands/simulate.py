@@ -98,6 +98,7 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
     from ..drivetrain.simulate import (
         default_solver,
         friction_metrics,
+        loaded_twin,
         mesh_force_metrics,
         run_with_auto_law,
         simulate,
@@ -132,14 +133,12 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
         )
         return ts, mesh_force_metrics(ts, m)
 
-    loaded = None
-    if scene["drivetrain"]["mesh_law"] == "auto":  # the loaded law where the run needs it
-        try:
-            loaded = DrivetrainModel.from_scene(
-                scene, table, speed_rpm=args.speed_rpm, mesh_law="loaded"
-            )
-        except InputError:  # tables the loaded law cannot take: the tangent law's run
-            pass
+    loaded = loaded_twin(  # mesh_law "auto": the loaded law where the run needs it
+        scene,
+        lambda law: DrivetrainModel.from_scene(
+            scene, table, speed_rpm=args.speed_rpm, mesh_law=law
+        ),
+    )
     model, ts, metrics = run_with_auto_law(run_on, model, table, loaded)
     out.update(
         {

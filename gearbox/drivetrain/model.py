@@ -1166,7 +1166,7 @@ def law_mean_stiffness(table: MeshTable, flank: str, lam1: float, forces) -> np.
     """Cycle means (N/m) of the loaded mesh law's tangent stiffness of ``flank`` at the
     mesh forces ``forces`` (N, any shape; the result's shape), lam1 the drive rotation
     radius of :func:`loaded_law_samples`, which raises InputError where the law cannot
-    take the table. One bisection for all forces and positions."""
+    take the table. One solve (:func:`loaded_law_point`) for all forces and positions."""
     rows, levels = loaded_law_samples(table, flank, lam1)
     forces = np.asarray(forces, dtype=float)
     flat, P = forces.ravel(), rows.shape[1]

@@ -31,6 +31,7 @@ __all__ = [
     "friction_metrics",
     "law_metrics",
     "law_reach",
+    "loaded_twin",
     "mesh_force_metrics",
     "mesh_force_metrics_arrays",
     "record_times",
@@ -110,9 +111,8 @@ def law_metrics(model: DrivetrainModel, table, metrics) -> dict[str, float]:
 #: TCA's mean tangent stiffness at a run's least or largest mesh force (:func:`law_metrics`)
 #: may depart from the law's constant one. Beyond it the report warns of a tangent-law
 #: run, and ``drivetrain.mesh_law = "auto"`` repeats the run with the loaded law. A
-#: choice: on the default scene at 2000 rpm (-19.6 / +8.1 %) the loaded law moves the
-#: second mesh order by 6 % and the dynamic RMS by 5 %; at 3500 rpm (-4.8 / +1.1 %) the
-#: mesh order by 0.9 %.
+#: choice; docs/drivetrain.md §3d gives what the loaded law moves on the default scene
+#: on either side of it.
 LAW_SPAN = 0.10
 
 
@@ -122,6 +122,22 @@ def law_reach(metrics) -> float:
     (or finite)."""
     vals = (metrics.get("law_stiffness_at_min_force"), metrics.get("law_stiffness_at_max_force"))
     return max((abs(float(v)) for v in vals if v is not None and math.isfinite(v)), default=0.0)
+
+
+def loaded_twin(scene, build):
+    """With ``drivetrain.mesh_law = "auto"``: ``build("loaded")``, the drive with the
+    loaded law that :func:`run_with_auto_law` repeats a run on; None for the other laws,
+    or where the tables cannot take the loaded law (``build`` raises InputError: one
+    torque level, an LTE that does not grow with the torque), whose runs then keep the
+    tangent law. ``build(mesh_law)``: the model with that law."""
+    from ..errors import InputError
+
+    if scene["drivetrain"]["mesh_law"] != "auto":
+        return None
+    try:
+        return build("loaded")
+    except InputError:
+        return None
 
 
 def run_with_auto_law(run, model: DrivetrainModel, table, loaded=None):

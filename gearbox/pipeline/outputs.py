@@ -132,7 +132,7 @@ def _waterfall(sw, folder: Path) -> list[Path]:
             "speed_rpm": p.speed_rpm,
             "torque_Nm": p.torque_Nm,
             "status": p.status,
-            "mesh_law": getattr(p, "mesh_law", "tangent"),
+            "mesh_law": p.mesh_law,
             "metrics": dict(p.metrics),
             "nfev": p.nfev,
             "wall_time_s": p.wall_time,

@@ -101,9 +101,7 @@ def _worker_init() -> None:
     gain nothing from a GPU. And one BLAS thread per worker: the pool has a worker per
     core already."""
     os.environ.setdefault("JAX_PLATFORMS", "cpu")
-    from threadpoolctl import threadpool_limits
-
-    threadpool_limits(limits=1, user_api="blas")
+    blas_limit(1)  # applies at once; never lifted in the worker
 
 
 def _pool(jobs: int) -> ProcessPoolExecutor:

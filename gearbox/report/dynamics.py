@@ -48,13 +48,6 @@ def _contact_warnings(source: str, metrics, where: str) -> list[ReportWarning]:
     return out
 
 
-#: Share by which the loaded TCA's mean tangent stiffness over a run's mesh force range
-#: may depart from the tangent mesh law's constant one before the report says so: the
-#: reach at which ``drivetrain.mesh_law = "auto"`` takes the loaded law
-#: (:data:`gearbox.drivetrain.simulate.LAW_SPAN`, docs/drivetrain.md section 3d).
-LAW_SPAN_WARN = LAW_SPAN
-
-
 def law_span(metrics) -> tuple[float, float]:
     """The loaded TCA's mean tangent stiffness at a run's least and largest mesh force
     over the model's, less 1 (NaN when not recorded)."""
@@ -66,7 +59,7 @@ def law_span(metrics) -> tuple[float, float]:
 
 def _law_warning(source: str, metrics, where: str, law: str) -> list[ReportWarning]:
     lo, hi = law_span(metrics)
-    if law != "tangent" or law_reach(metrics) <= LAW_SPAN_WARN:
+    if law != "tangent" or law_reach(metrics) <= LAW_SPAN:
         return []
     return [
         ReportWarning(
@@ -306,7 +299,7 @@ def _span_text(metrics) -> str:
 def _law_text(p) -> str:
     """The mesh law of a sweep point's run; with ``mesh_law = "auto"`` the tangent law's
     reach that sent it to the loaded law."""
-    law = getattr(p, "mesh_law", "tangent")
+    law = p.mesh_law
     reach = p.metrics.get("tangent_law_reach")
     if law == "loaded" and reach is not None and math.isfinite(reach):
         return f"loaded (tangent: {100 * reach:.0f} %)"
@@ -322,8 +315,8 @@ def render_waterfall(sw, run) -> Section:
     friction = any("mesh_efficiency" in p.metrics for p in sw.points)
     spans = any(law_reach(p.metrics) > 0 for p in sw.points)
     # the law of each run, when they are not all the tangent law's (mesh_law 'loaded' or
-    # 'auto'; a point cached before the field existed reads 'tangent')
-    laws = any(getattr(p, "mesh_law", "tangent") != "tangent" for p in sw.points)
+    # 'auto'); the report warns where the tangent law's runs reach beyond LAW_SPAN
+    laws = any(p.mesh_law != "tangent" for p in sw.points)
     for p in sw.points:
         m = p.metrics
         ok = p.status == "success"
@@ -350,11 +343,7 @@ def render_waterfall(sw, run) -> Section:
                 ReportWarning("waterfall", f"{p.speed_rpm:.0f} rpm: simulation status {p.status}")
             )
         warnings += _contact_warnings("waterfall", m, f"at {p.speed_rpm:.0f} rpm")
-    wide = [
-        p
-        for p in sw.points
-        if getattr(p, "mesh_law", "tangent") == "tangent" and law_reach(p.metrics) > LAW_SPAN_WARN
-    ]
+    wide = [p for p in sw.points if p.mesh_law == "tangent" and law_reach(p.metrics) > LAW_SPAN]
     if wide:
         worst = max(wide, key=lambda p: law_reach(p.metrics))
         lo, hi = law_span(worst.metrics)
@@ -364,7 +353,7 @@ def render_waterfall(sw, run) -> Section:
                 f"tangent mesh law at {len(wide)} of {len(sw.points)} speeds ("
                 + ", ".join(f"{p.speed_rpm:.0f}" for p in wide)
                 + f" rpm): the mesh force's range takes the loaded TCA's tangent "
-                f"stiffness beyond {100 * LAW_SPAN_WARN:.0f} % of the law's constant one "
+                f"stiffness beyond {100 * LAW_SPAN:.0f} % of the law's constant one "
                 f"({100 * lo:+.0f} to {100 * hi:+.0f} % at {worst.speed_rpm:.0f} rpm); "
                 "drivetrain.mesh_law = 'loaded' follows it, 'auto' at those speeds",
             )

@@ -131,13 +131,10 @@ def loaded_twin(scene: Scene, table, speed_rpm: float | None = None, approach=No
     """With ``drivetrain.mesh_law = "auto"``: the drive at ``speed_rpm`` with the loaded
     law, to repeat a tangent-law run on (``run_with_auto_law``); None for the other laws,
     or when the tables cannot take the loaded law (one torque level, an LTE that does
-    not grow with the torque): the runs then keep the tangent law."""
-    if scene["drivetrain"]["mesh_law"] != "auto":
-        return None
-    try:
-        return model_at(scene, table, speed_rpm, approach, mesh_law="loaded")
-    except InputError:
-        return None
+    not grow with the torque): the runs then keep the tangent law
+    (``gearbox.drivetrain.simulate.loaded_twin``)."""
+    twin = require("gearbox.drivetrain.simulate", "loaded_twin").loaded_twin
+    return twin(scene, lambda law: model_at(scene, table, speed_rpm, approach, mesh_law=law))
 
 
 def solver_of(scene: Scene, mesh_law: str | None = None):
