@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidDrivetrain
-#define MODEL_GUID "{ea0c953b-186c-6e17-ce78-cd82cfafe851}"
+#define MODEL_GUID "{06c907e1-b43c-baf4-e2e5-80538e65cb50}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

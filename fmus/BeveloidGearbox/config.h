@@ -3,7 +3,7 @@
 #define config_h
 
 #define MODEL_IDENTIFIER BeveloidGearbox
-#define MODEL_GUID "{1caded71-d2cb-2900-0e4a-b365c0c1cef9}"
+#define MODEL_GUID "{ff8b3710-6063-b654-5463-f6b71cde90a5}"
 
 /* capability flags (the same as in modelDescription.xml) */
 #define GBX_MODEL_EXCHANGE 1

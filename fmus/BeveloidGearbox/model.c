@@ -138,7 +138,7 @@ static const int GBX_STATE_OF_DOF[4] = {-1, 0, 1, -1};
  * resources/mesh_secant.txt, the LTE x_j and the tangent stiffnesses k_j of the levels,
  * these limited as loaded_law_samples does) fitted and gridded like k_f, the levels'
  * forces F_j = T_j / |lambda_1,drive|; k_f, e_f and LTE_f are the law's tangent at
- * engine.mean_torque (loaded_law_point: bisection), as with the tangent law.
+ * engine.mean_torque (law_point: a bisection), as with the tangent law.
  *
  * Build switches: GBX_WITH_ENGINE, GBX_WITH_PROPELLER (0: that shaft end is an input
  * flange), GBX_BEARINGS (bearing translations along the drive line of action),
@@ -718,7 +718,8 @@ static double law_force(double x, const double *r, int stride, const double *F, 
 }
 
 /* deflection *x (m) and slope *k (N/m) of the law at the force fn (N): bisection from
- * x_u, as gearbox.drivetrain.model.loaded_law_point */
+ * x_u to the last bit (gearbox.drivetrain.model.loaded_law_point takes Newton's method;
+ * both meet the force to the law's rounding) */
 static void law_point(const double *r, int stride, const double *F, int J, double fn, double *x,
                       double *k) {
     double lo = r[0], hi, top = fn - F[J - 1];
