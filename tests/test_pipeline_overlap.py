@@ -60,6 +60,36 @@ def test_worker_writes_the_same_files_and_draws_the_same_sections(tmp_path):
     assert set(got.worker) == set(wanted) - {"report"} and here.worker == ()
 
 
+def test_files_the_worker_has_not_begun_are_claimed_and_written_here(tmp_path):
+    """Stages handed over while the worker is still starting: the main process claims
+    all their files (once: a second claim gets none), the worker draws their sections
+    and leaves the files, write_run writes them here, byte for byte the files of a
+    run without the worker. A stage the worker has finished is not claimed."""
+    scene = short_scene()
+    names = ("design", "tables", "dynamics")
+    run = run_pipeline(scene, (*names, "report"), cache=False)
+    a, b = tmp_path / "worker", tmp_path / "here"
+    with OutputWorker(a, None, files=names, report=True) as worker:
+        for n in names:
+            worker.submit(scene, n, run.results[n], None)
+        # the worker draws a stage's section before it claims the stage's files, and it
+        # is still importing matplotlib: it has begun none of them
+        assert set(worker.claim_files()) == set(names)
+        assert worker.claim_files() == ()
+        got = write_run(run, a, worker=worker)
+    write_run(run, b)
+    assert files_of(a) == files_of(b)
+    assert {"dynamics.csv", "design.json", "tables.csv"} <= set(files_of(a))
+    assert set(got.worker) == set(names)  # their sections were drawn there
+    assert set(got.sections) >= set(names) and float(got.sections["dynamics"]) > 0.0
+
+    with OutputWorker(tmp_path / "late", None, files=["design"], report=False) as worker:
+        worker.submit(scene, "design", run.results["design"], None)
+        done = worker.take("design")
+        assert done is not None and done.files is not None  # the worker wrote them
+        assert worker.claim_files() == ()
+
+
 def test_what_fails_in_the_worker_is_kept_and_handed_back(tmp_path):
     """A result its writer and renderer cannot handle: both errors come back (the main
     process then writes and draws again, and reports the failure as it would)."""

@@ -439,7 +439,7 @@ def test_second_run_with_another_propeller_says_what_came_from_the_cache(tmp_pat
 
     html = (out2 / "report.html").read_text()
     line = html[html.index('id="run-line"') : html.index("</p>", html.index('id="run-line"'))]
-    assert "4 stage(s) computed (dynamics, spectra, waterfall, campbell)" in line
+    assert "4 stage(s) computed (campbell, dynamics, spectra, waterfall)" in line  # run order
     assert "5 from the cache (design, tca, ltca, pitch, tables;" in line
     assert "report sections from the cache: design, tca, ltca, pitch, tables." in line
     stages = html[html.index("<h3>Stages</h3>") : html.index("<h3>Versions</h3>")]

@@ -199,6 +199,13 @@ def _write_stage(name: str, result: Any, folder: Path) -> list[Path]:
     return []
 
 
+def _timed_files(run, name: str, folder: Path) -> tuple[list[Path], bool, float]:
+    """:func:`_stage_files` and the seconds it took."""
+    t0 = time.perf_counter()
+    got, hit = _stage_files(run, name, folder)
+    return got, hit, time.perf_counter() - t0
+
+
 def _stage_files(run, name: str, folder: Path) -> tuple[list[Path], bool]:
     """Write one stage's files; ``(paths, from_cache)`` (:func:`stage_files`)."""
     key = run.cached_key(name) if hasattr(run, "cached_key") else None
@@ -271,18 +278,23 @@ def write_run(run, folder: str | Path, *, worker=None) -> Written:
     copied: list[str] = []
     drawn: dict[str, str] = {}
     prepared = {}
+    here: dict[str, tuple[list[Path], bool, float]] = {}
     if worker is not None:
+        # the files the worker has not begun are written here, while it draws
+        for name in worker.claim_files():
+            if run.results.get(name) is not None:
+                here[name] = _timed_files(run, name, folder)
         prepared = {n: p for n in run.results if (p := worker.take(n)) is not None}
     for name in run.summary.requested:
         if run.results.get(name) is None:
             continue
         done = prepared[name].files if name in prepared else None
-        if done is not None:
+        if name in here:
+            got, hit, seconds[name] = here[name]
+        elif done is not None:
             got, hit, seconds[name] = done
         else:
-            t0 = time.perf_counter()
-            got, hit = _stage_files(run, name, folder)
-            seconds[name] = time.perf_counter() - t0
+            got, hit, seconds[name] = _timed_files(run, name, folder)
         files += got
         if hit:
             copied.append(name)

@@ -63,7 +63,34 @@ def _leave_at_once() -> None:
     exit_now(0)
 
 
-def _init_worker() -> None:
+#: Stages whose files the main process can claim from the worker (the stage graph has
+#: fewer; beyond them the worker writes the files unclaimed).
+FILE_SLOTS = 64
+
+#: In the worker: the claims on the stages' files it shares with the main process.
+_claims = None
+
+
+def _claim(claims, slot: int) -> bool:
+    """Take file slot ``slot`` for this process: True when no one had it (the one who
+    takes it writes those files; the other leaves them). False as well when the flags'
+    lock cannot be had within seconds (a worker killed while it held it): the main
+    process then waits for the worker's answer, and writes the files when none comes."""
+    lock = claims.get_lock()
+    if not lock.acquire(timeout=5.0):
+        return False
+    try:
+        if claims[slot]:
+            return False
+        claims[slot] = 1
+        return True
+    finally:
+        lock.release()
+
+
+def _init_worker(claims=None) -> None:
+    global _claims
+    _claims = claims
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's
     atexit.register(_leave_at_once)
     # import what every stage needs now, while the main process starts its stages
@@ -79,27 +106,29 @@ def _ready() -> None:
 
 
 def _prepare(payload: bytes) -> Prepared:
-    """In the worker: the files and the section(s) of one stage."""
+    """In the worker: the section(s) of one stage, then its files unless the main
+    process has claimed them (it writes the files of the stages the worker has not
+    reached once its own stages are done, while the worker draws)."""
     from ..report import build, sections
     from .cache import Cache
     from .outputs import stage_files
 
-    name, result, key, scene, folder, cache_root, files, section = pickle.loads(payload)
+    name, result, key, scene, folder, cache_root, files, section, slot = pickle.loads(payload)
     cache = Cache(Path(cache_root)) if cache_root is not None else None
     out: dict[str, Any] = {}
-    if files:
-        t0 = time.perf_counter()
-        try:
-            paths, hit = stage_files(name, result, Path(folder), key, cache)
-            out["files"] = (paths, hit, time.perf_counter() - t0)
-        except Exception as exc:
-            out["files_error"] = exc
     if section:
         try:
             render = build.default_renderer(name)
             out["sections"] = sections.draw(name, render, scene, result, key or "", cache)
         except Exception as exc:
             out["section_error"] = exc
+    if files and (_claims is None or slot is None or _claim(_claims, slot)):
+        t0 = time.perf_counter()
+        try:
+            paths, hit = stage_files(name, result, Path(folder), key, cache)
+            out["files"] = (paths, hit, time.perf_counter() - t0)
+        except Exception as exc:
+            out["files_error"] = exc
     return Prepared(**out)
 
 
@@ -128,8 +157,12 @@ class OutputWorker:
         self._files = frozenset(files)
         self._report = bool(report)
         self._futures: dict[str, Future] = {}
+        ctx = multiprocessing.get_context("spawn")
+        # one flag per stage handed over: set by whichever process writes its files
+        self._claims = ctx.Array("b", FILE_SLOTS)
+        self._slots: dict[str, int] = {}
         self._pool = ProcessPoolExecutor(
-            1, mp_context=multiprocessing.get_context("spawn"), initializer=_init_worker
+            1, mp_context=ctx, initializer=_init_worker, initargs=(self._claims,)
         )
         # start the process now (the pool starts it at the first task): its imports
         # then run while the main process imports and starts its first stage
@@ -144,11 +177,27 @@ class OutputWorker:
         if not (files or section) or result is None:
             return
         root = str(self.cache.root) if self.cache is not None and key is not None else None
+        slot = self._slots.setdefault(name, len(self._slots)) if files else None
+        if slot is not None and slot >= FILE_SLOTS:
+            slot = None  # beyond the flags: the worker writes these files unclaimed
         try:
-            payload = _dumps((name, result, key, scene, str(self.folder), root, files, section))
-            self._futures[name] = self._pool.submit(_prepare, payload)
+            job = (name, result, key, scene, str(self.folder), root, files, section, slot)
+            self._futures[name] = self._pool.submit(_prepare, _dumps(job))
         except Exception:  # unpicklable result or a pool that died: done in the main process
             self._futures.pop(name, None)
+
+    def claim_files(self) -> tuple[str, ...]:
+        """The stages whose files the worker has not begun: claimed for the main
+        process, which then writes them (:func:`gearbox.pipeline.outputs.write_run`,
+        once the stages are done) while the worker draws their sections; the worker
+        leaves them."""
+        mine = []
+        for name, slot in self._slots.items():
+            fut = self._futures.get(name)
+            if slot < FILE_SLOTS and fut is not None and not fut.done():
+                if _claim(self._claims, slot):
+                    mine.append(name)
+        return tuple(mine)
 
     def take(self, name: str) -> Prepared | None:
         """What the worker made of stage ``name`` (waiting for it), or None when it was

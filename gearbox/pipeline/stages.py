@@ -127,6 +127,16 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             code=("gearbox.meshtable", "gearbox.mesh_analytical"),
             doc="Mesh tables k(theta, T), LTE, P, n (loaded TCA or analytical).",
         ),
+        # Campbell before the dynamics: it needs neither jax nor a simulation, so under
+        # `gearbox run` the output worker draws its section while the dynamics stage
+        # imports jax and simulates (docs/pipeline.md, "Files and report sections")
+        "campbell": _on_tables(
+            "campbell",
+            dynamics.compute_campbell,
+            _check_sweep,
+            "Eigenfrequencies against speed with excitation orders and crossings.",
+            "gearbox.spectrum",
+        ),
         "dynamics": _on_tables(
             "dynamics",
             dynamics.compute_dynamics,
@@ -150,13 +160,6 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
                 "gearbox.spectrum",
             ),
             route=dynamics.waterfall_depends,
-        ),
-        "campbell": _on_tables(
-            "campbell",
-            dynamics.compute_campbell,
-            _check_sweep,
-            "Eigenfrequencies against speed with excitation orders and crossings.",
-            "gearbox.spectrum",
         ),
         "fmu": _on_tables(
             "fmu",
