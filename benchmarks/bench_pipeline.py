@@ -15,7 +15,10 @@ run records in its ``run_summary.json``.
 Prints per stage the median over the repeats of the seconds spent and the status
 (computed / cached), the time spent writing each stage's files and drawing the
 report, the median wall time of both runs and the median of the per-repeat ratios
-second / first. ``--output-worker both`` runs every repeat with and without the
+second / first. It also prints the CPU seconds of each command with its output
+worker, and the second run's CPU seconds over the cores over the first run's wall
+time: the ratio no schedule of the second run's work could beat on this machine.
+``--output-worker both`` runs every repeat with and without the
 output worker of ``gearbox run`` (:mod:`gearbox.pipeline.overlap`: files and report
 sections made in a second process while later stages compute), each with its own
 fresh cache, and adds the ratios with / without for both runs.
@@ -25,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -71,14 +75,28 @@ def run_once(scene: Path, out: Path, cache: Path, extra: tuple[str, ...] = ()) -
     cmd = [sys.executable, "-m", "gearbox", "run", str(scene), "--out", str(out)]
     cmd += ["--cache", str(cache), "--no-progress", *extra]
     env = os.environ | {"PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    cpu0 = _children_cpu()
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, env=env)
     wall = time.perf_counter() - t0
+    cpu = _children_cpu() - cpu0
     if proc.returncode != 0:
         raise SystemExit(f"gearbox run failed ({proc.returncode}):\n{proc.stderr[-3000:]}")
     summary = json.loads((out / "run_summary.json").read_text())
     summary["wall_s"] = wall
+    summary["cpu_s"] = cpu
     return summary
+
+
+def _children_cpu() -> float:
+    """User + system seconds of this process's ended children and theirs (the command
+    and its output worker, which it waits for), or NaN where the system keeps none."""
+    try:
+        import resource
+    except ImportError:  # Windows
+        return math.nan
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 def stage_rows(runs: list[dict]) -> dict[str, tuple[float, str]]:
@@ -135,12 +153,31 @@ def print_table(firsts: list[dict], seconds: list[dict]) -> list[float]:
     rest = [w - t for w, t in zip(walls, tot, strict=True)]
     print(f"{'outside the stages':<22} {rest[0]:9.2f} {'':<9} {rest[1]:10.2f}")
     print(f"{'whole command (wall)':<22} {walls[0]:9.2f} {'':<9} {walls[1]:10.2f}")
+    cpus = [statistics.median(r["cpu_s"] for r in runs) for runs in (firsts, seconds)]
+    print(f"{'CPU, all processes':<22} {cpus[0]:9.2f} {'':<9} {cpus[1]:10.2f}")
+    cores = _cores()
+    floors = [c / cores for c in cpus]
+    print(f"{f'CPU / {cores} cores':<22} {floors[0]:9.2f} {'':<9} {floors[1]:10.2f}")
     ratios = [s["wall_s"] / f["wall_s"] for f, s in zip(firsts, seconds, strict=True)]
     print(
         f"\nsecond / first: median {statistics.median(ratios):.3f} "
         f"(repeats: {', '.join(f'{r:.3f}' for r in ratios)})"
     )
+    # no schedule of the second run's work on these cores ends before its CPU seconds
+    # over the cores: the ratio it could reach with every core busy all the time
+    bound = [s["cpu_s"] / cores / f["wall_s"] for f, s in zip(firsts, seconds, strict=True)]
+    print(
+        f"second run's CPU / {cores} cores / first run's wall: median "
+        f"{statistics.median(bound):.3f} (repeats: {', '.join(f'{r:.3f}' for r in bound)})"
+    )
     return ratios
+
+
+def _cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # macOS, Windows
+        return os.cpu_count() or 1
 
 
 #: ``--output-worker`` choices -> the variants run, each with its extra CLI options.
