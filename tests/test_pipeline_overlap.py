@@ -90,6 +90,30 @@ def test_files_the_worker_has_not_begun_are_claimed_and_written_here(tmp_path):
         assert worker.claim_files() == ()
 
 
+def test_a_worker_that_dies_leaves_its_work_to_the_main_process(tmp_path):
+    """The worker killed (SIGKILL) before it answers: write_run writes every file and
+    draws every section here, the same as a run without the worker, and counts none
+    as the worker's."""
+    import os
+    import signal
+
+    scene = short_scene()
+    names = ("design", "dynamics")
+    run = run_pipeline(scene, (*names, "report"), cache=False)
+    a, b = tmp_path / "worker", tmp_path / "here"
+    with OutputWorker(a, None, files=names, report=True) as worker:
+        for n in names:
+            worker.submit(scene, n, run.results[n], None)
+        for pid in list(worker._pool._processes):
+            os.kill(pid, signal.SIGKILL)
+        got = write_run(run, a, worker=worker)
+    write_run(run, b)
+    assert files_of(a) == files_of(b) and "dynamics.csv" in files_of(a)
+    html_a, html_b = (f.joinpath("report.html").read_text() for f in (a, b))
+    assert SECTIONS.findall(html_a) == SECTIONS.findall(html_b)
+    assert got.worker == ()
+
+
 def test_what_fails_in_the_worker_is_kept_and_handed_back(tmp_path):
     """A result its writer and renderer cannot handle: both errors come back (the main
     process then writes and draws again, and reports the failure as it would)."""
