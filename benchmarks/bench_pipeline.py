@@ -155,7 +155,9 @@ def print_table(firsts: list[dict], seconds: list[dict]) -> list[float]:
     print(f"{'whole command (wall)':<22} {walls[0]:9.2f} {'':<9} {walls[1]:10.2f}")
     cpus = [statistics.median(r["cpu_s"] for r in runs) for runs in (firsts, seconds)]
     print(f"{'CPU, all processes':<22} {cpus[0]:9.2f} {'':<9} {cpus[1]:10.2f}")
-    cores = _cores()
+    from gearbox.pipeline.overlap import available_cores
+
+    cores = available_cores()
     floors = [c / cores for c in cpus]
     print(f"{f'CPU / {cores} cores':<22} {floors[0]:9.2f} {'':<9} {floors[1]:10.2f}")
     ratios = [s["wall_s"] / f["wall_s"] for f, s in zip(firsts, seconds, strict=True)]
@@ -171,13 +173,6 @@ def print_table(firsts: list[dict], seconds: list[dict]) -> list[float]:
         f"{statistics.median(bound):.3f} (repeats: {', '.join(f'{r:.3f}' for r in bound)})"
     )
     return ratios
-
-
-def _cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # macOS, Windows
-        return os.cpu_count() or 1
 
 
 #: ``--output-worker`` choices -> the variants run, each with its extra CLI options.

@@ -63,10 +63,6 @@ def _leave_at_once() -> None:
     exit_now(0)
 
 
-#: Stages whose files the main process can claim from the worker (the stage graph has
-#: fewer; beyond them the worker writes the files unclaimed).
-FILE_SLOTS = 64
-
 #: In the worker: the claims on the stages' files it shares with the main process.
 _claims = None
 
@@ -122,7 +118,7 @@ def _prepare(payload: bytes) -> Prepared:
             out["sections"] = sections.draw(name, render, scene, result, key or "", cache)
         except Exception as exc:
             out["section_error"] = exc
-    if files and (_claims is None or slot is None or _claim(_claims, slot)):
+    if files and _claim(_claims, slot):
         t0 = time.perf_counter()
         try:
             paths, hit = stage_files(name, result, Path(folder), key, cache)
@@ -158,9 +154,9 @@ class OutputWorker:
         self._report = bool(report)
         self._futures: dict[str, Future] = {}
         ctx = multiprocessing.get_context("spawn")
-        # one flag per stage handed over: set by whichever process writes its files
-        self._claims = ctx.Array("b", FILE_SLOTS)
-        self._slots: dict[str, int] = {}
+        # one flag per stage whose files are wanted: set by whichever process writes them
+        self._slots = {name: i for i, name in enumerate(sorted(self._files))}
+        self._claims = ctx.Array("b", max(len(self._slots), 1))
         self._pool = ProcessPoolExecutor(
             1, mp_context=ctx, initializer=_init_worker, initargs=(self._claims,)
         )
@@ -177,9 +173,7 @@ class OutputWorker:
         if not (files or section) or result is None:
             return
         root = str(self.cache.root) if self.cache is not None and key is not None else None
-        slot = self._slots.setdefault(name, len(self._slots)) if files else None
-        if slot is not None and slot >= FILE_SLOTS:
-            slot = None  # beyond the flags: the worker writes these files unclaimed
+        slot = self._slots.get(name)
         try:
             job = (name, result, key, scene, str(self.folder), root, files, section, slot)
             self._futures[name] = self._pool.submit(_prepare, _dumps(job))
@@ -194,7 +188,7 @@ class OutputWorker:
         mine = []
         for name, slot in self._slots.items():
             fut = self._futures.get(name)
-            if slot < FILE_SLOTS and fut is not None and not fut.done():
+            if fut is not None and not fut.done():
                 if _claim(self._claims, slot):
                     mine.append(name)
         return tuple(mine)
