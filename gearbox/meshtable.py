@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from ._pickling import PicklesReadOnly
 from .errors import InputError, Problems
 
 __all__ = [
@@ -220,7 +221,7 @@ def fourier_eval(a0, a, b, teeth, theta, xp=np):
 
 
 @dataclass(frozen=True)
-class MeshTable:
+class MeshTable(PicklesReadOnly):
     """Mesh tables over one mesh cycle x torque levels x flanks (SI).
 
     pinion_teeth, gear_teeth: N_1, N_2.

@@ -20,6 +20,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
+from ._pickling import PicklesReadOnly
 from .errors import InputError, Problems
 
 __all__ = ["SCHEMA", "SCHEMA_VERSION", "Field", "Scene", "load_scene", "scene_from_dict"]
@@ -754,7 +755,7 @@ def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
 
 
 @dataclass(frozen=True)
-class Scene:
+class Scene(PicklesReadOnly):
     """A validated scene: every section with defaults filled in (scene units).
 
     ``scene["pair"]["offset_mm"]`` reads a value; ``scene.path`` is the file it came

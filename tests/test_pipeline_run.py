@@ -341,18 +341,39 @@ def test_fmu_stage_writes_a_valid_fmu(marine, tmp_path):
     assert fmpy_validate.validate_fmu(str(fmu)) == []
 
 
-@pytest.mark.slow
-def test_speed_sweep_on_a_dask_cluster(marine):
-    """The documented cluster path: a Dask client's executor takes the sweep."""
-    distributed = pytest.importorskip("distributed")
-    # a speed range without the operating speed: no point is the operating point's run
-    scene = marine.replaced(
+def two_speeds(scene):
+    """A two-speed sweep without the operating speed (no point is the operating point's
+    run) on the analytical tables."""
+    return scene.replaced(
         outputs={"mesh_tables": "analytical"},
         simulation={"sweep_speeds": 2, "speed_sweep_rpm": [1000.0, 3000.0]},
     )
+
+
+@pytest.mark.slow
+def test_speed_sweep_on_a_process_pool(marine):
+    """``jobs=2`` (``gearbox run --jobs 2``): the sweep's items (models, mesh tables with
+    their read-only mappings) reach worker processes by pickle, and the points come back
+    as those of the same sweep run in this process."""
+    scene = two_speeds(marine)
+    pooled = run_pipeline(scene, ["waterfall"], cache=False, jobs=2)
+    assert pooled.summary.ok, pooled.summary.table()
+    here = run_pipeline(scene, ["waterfall"], cache=False, jobs=1)
+    for p, q in zip(pooled["waterfall"].points, here["waterfall"].points, strict=True):
+        assert (p.status, p.speed_rpm, p.nfev) == ("success", q.speed_rpm, q.nfev)
+        # the same compiled fixed-step run on the same machine: equal to rounding
+        assert p.metrics == pytest.approx(q.metrics, rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.slow
+def test_speed_sweep_on_a_dask_cluster(marine):
+    """The documented cluster path: a Dask client's executor takes the sweep, its items
+    pickled to a worker process as a cluster's are."""
+    distributed = pytest.importorskip("distributed")
+    scene = two_speeds(marine)
     with (
         distributed.LocalCluster(
-            n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+            n_workers=1, threads_per_worker=2, processes=True, dashboard_address=None
         ) as cluster,
         distributed.Client(cluster) as client,
     ):

@@ -11,6 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from .._pickling import PicklesReadOnly
+
 __all__ = ["TimeSeries", "SolverFailure"]
 
 
@@ -37,7 +39,7 @@ class SolverFailure:
 
 
 @dataclass(frozen=True)
-class TimeSeries:
+class TimeSeries(PicklesReadOnly):
     """Channels sampled at ``time`` (s), shape (n_t,); each channel shape (n_t,).
 
     units: channel -> unit string. status: 'success' or the failure kind; failure

@@ -26,6 +26,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from .._pickling import PicklesReadOnly
 from ..commands._common import write_atomic
 from ..errors import InputError, Problems
 from .build import FmuBuild, build_fmu
@@ -126,7 +127,7 @@ _UNITS = {
 
 
 @dataclass(frozen=True)
-class CosimResult:
+class CosimResult(PicklesReadOnly):
     """Channels of a co-simulation sampled at every communication step.
 
     time: ndarray, shape (n_t,) (s); channels: name -> ndarray, shape (n_t,), SI, named

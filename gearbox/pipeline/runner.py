@@ -15,6 +15,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
+from .._pickling import PicklesReadOnly
 from ..errors import InputError, Problem
 from ..scene import Scene
 from .cache import Cache, CacheMiss, stage_key
@@ -32,7 +33,7 @@ FINAL_OUTPUTS = ("report",)
 
 
 @dataclass(frozen=True)
-class PipelineRun:
+class PipelineRun(PicklesReadOnly):
     """The outcome of :func:`run_pipeline`.
 
     ``results`` maps each stage that produced a result to it; ``keys`` maps every
