@@ -3,6 +3,7 @@ jax's persistent cache under <cache>/jax for the run, the solver's executables w
 <cache>/executables, and the fixed-step program free of Python callbacks (jax stores no
 executable that calls back into Python)."""
 
+import logging
 import os
 import subprocess
 import sys
@@ -113,6 +114,26 @@ def test_executable_store_round_trip_and_bad_entry(tmp_path):
     np.testing.assert_array_equal(np.asarray(c3(x)), np.asarray(c1(x)))
     jaxcache.ExecutableStore(tmp_path).get(("k", 2), compile_)
     assert len(calls) == 3 and len(list(tmp_path.glob("*.exe"))) == 2
+
+
+def test_executable_with_host_callbacks_is_not_stored_nor_warned_of(tmp_path, caplog):
+    """A program that calls back into Python (as diffrax's adaptive runs do, through
+    equinox's step checks) does not serialise: compiled each time, no file, no
+    warning. A folder that cannot be written is warned of."""
+    host = jax.jit(lambda x: jax.pure_callback(np.sin, jax.ShapeDtypeStruct(x.shape, x.dtype), x))
+    x = jax.numpy.arange(3.0)
+    with caplog.at_level(logging.DEBUG, logger="gearbox.pipeline"):
+        got = jaxcache.ExecutableStore(tmp_path).get(("cb",), lambda: host.lower(x).compile())
+    np.testing.assert_allclose(np.asarray(got(x)), np.sin(np.arange(3.0)))
+    assert not list(tmp_path.glob("*.exe"))
+    assert [r.levelno for r in caplog.records if "not stored" in r.message] == [logging.DEBUG]
+    caplog.clear()
+    blocked = tmp_path / "a_file"
+    blocked.write_text("")  # the store's folder is a file: nothing can be written there
+    plain = jax.jit(lambda x: x + 1.0)
+    with caplog.at_level(logging.WARNING, logger="gearbox.pipeline"):
+        jaxcache.ExecutableStore(blocked).get(("p",), lambda: plain.lower(x).compile())
+    assert any("not stored" in r.message for r in caplog.records)
 
 
 RUN = """

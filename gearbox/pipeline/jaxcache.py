@@ -179,17 +179,26 @@ class ExecutableStore:
             return None
 
     def save(self, key, compiled) -> None:
-        """Store ``compiled`` for ``key`` (written to a temporary file, then renamed)."""
+        """Store ``compiled`` for ``key`` (written to a temporary file, then renamed).
+        An executable that calls back into Python (diffrax's adaptive runs, which a
+        run that loses contact takes, check their steps through host callbacks) does
+        not serialise: it is compiled in every process, as jax's own cache does with
+        it, without a warning (logged at debug level); a file that cannot be written
+        is warned of."""
         path = self._path(key)
         try:
             from jax.experimental.serialize_executable import serialize
 
             blob = pickle.dumps(serialize(compiled), protocol=pickle.HIGHEST_PROTOCOL)
+        except Exception as exc:  # host callbacks: local functions do not pickle
+            _log.debug("jax executable not stored (%s: %s)", type(exc).__name__, exc)
+            return
+        try:
             path.parent.mkdir(parents=True, exist_ok=True)
             tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
             tmp.write_bytes(blob)
             os.replace(tmp, path)
-        except Exception as exc:  # a full disk, an executable jax cannot serialise
+        except OSError as exc:  # a full disk, a folder not writable
             _log.warning("jax executable not stored (%s: %s)", type(exc).__name__, exc)
 
 
