@@ -31,6 +31,9 @@ class InputError(ValueError):
         if isinstance(problems, Problem):
             problems = [problems]
         self.problems = list(problems)
+        if not self.problems:  # a problem with no key path (a file that does not read)
+            super().__init__(context)
+            return
         lines = [
             f"{context} ({len(self.problems)} problem{'s' if len(self.problems) != 1 else ''}):"
         ]

@@ -97,7 +97,9 @@ def test_offset_without_solution_names_the_offset_and_range(tmp_path, capsys):
 
 def test_missing_file_is_an_input_error(capsys):
     assert main(["design", "no/such/scene.toml"]) == 2
-    assert "cannot read scene" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "cannot read scene no/such/scene.toml: No such file or directory" in err
+    assert "problem" not in err  # no problem list (with no key path) to count
 
 
 @pytest.mark.parametrize("case", ["01", "02", "03", "04"])
@@ -163,3 +165,30 @@ def test_import_gearbox_loads_a_public_name_when_first_used():
         for module, name in re.findall(r"from (\.[\w.]+) import (\w+) as \w+", source)
     )
     assert typed == gearbox._EXPORTS
+
+
+@pytest.mark.parametrize(
+    "verb",
+    [
+        ["run"],
+        ["ltca"],
+        ["tca"],
+        ["simulate"],
+        ["sweep"],
+        ["fmu", "build"],
+        ["cosim"],
+    ],
+)
+def test_an_output_folder_that_cannot_be_written_fails_before_computing(verb, tmp_path, capsys):
+    """``--out`` below a plain file: exit 2 with one message naming the option, its value
+    and why, before anything is computed (no stage line, nothing in the cache)."""
+    blocker = tmp_path / "a_file"
+    blocker.write_text("kept\n")
+    out = blocker / "results"
+    cache = tmp_path / "cache"
+    extra = ["--cache", str(cache)] if verb == ["run"] else []
+    assert main([*verb, str(MODELS / "marine_drive.toml"), "--out", str(out), *extra]) == 2
+    err = capsys.readouterr().err
+    assert f"--out = '{out}': must be a folder this user can write to" in err
+    assert "Traceback" not in err and " computed (" not in err
+    assert blocker.read_text() == "kept\n" and not cache.exists()

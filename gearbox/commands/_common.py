@@ -36,6 +36,28 @@ def atomic_target(path: str | Path) -> Iterator[Path]:
         raise
 
 
+def output_folder(path: str | Path, option: str = "--out") -> Path:
+    """``path`` as the folder a command writes to, made if missing and checked to take
+    a file (one created and removed at once), before the command computes anything;
+    InputError naming ``option``, its value and the reason otherwise. Nothing already
+    there is touched."""
+    from ..errors import InputError, Problem
+
+    folder = Path(path)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(dir=folder, prefix=".gearbox-write-check.", suffix=".tmp")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise InputError(
+            Problem(option, str(folder), f"must be a folder this user can write to ({reason})"),
+            "cannot write the output",
+        ) from None
+    return folder
+
+
 def write_atomic(path: str | Path, data: str | bytes) -> Path:
     """Write a file completely or not at all: write a temporary file, then rename."""
     path = Path(path)

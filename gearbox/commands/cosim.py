@@ -46,11 +46,11 @@ def run(args) -> int:
     from ..fmu.cosim import compare_monolithic, cosim_drivetrain
     from ..fmu.models import model_from_scene
     from ..scene import load_scene
-    from ._common import dumps_json, write_atomic
+    from ._common import dumps_json, output_folder, write_atomic
 
     scene = load_scene(args.scene)
+    out = output_folder(args.out or Path("out") / scene.name / "cosim")
     model, table = model_from_scene(scene, table_path=args.table, speed_rpm=args.speed_rpm)
-    out = Path(args.out or Path("out") / scene.name / "cosim")
     res = cosim_drivetrain(
         model,
         table,

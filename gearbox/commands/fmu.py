@@ -48,9 +48,10 @@ def run(args) -> int:
         propeller_fmu,
     )
     from ..scene import load_scene
-    from ._common import dumps_json
+    from ._common import dumps_json, output_folder
 
     scene = load_scene(args.scene)
+    output_folder(args.out)
     model, table = model_from_scene(scene, table_path=args.table, speed_rpm=args.speed_rpm)
     makers = {
         "drivetrain": lambda: drivetrain_fmu(model, table),

@@ -25,24 +25,22 @@ def add_arguments(parser):
 
 
 def run(args):
-    from pathlib import Path
 
     from ..geometry import PairSpec, design_pair
     from ..ltca.analysis import LTCAOptions
     from ..ltca.table import scene_ltca
     from ..scene import load_scene
-    from ._common import dumps_json, write_atomic
+    from ._common import dumps_json, output_folder, write_atomic
 
     scene = load_scene(args.scene)
     if args.positions is not None:
         scene = scene.replaced(ltca={"positions": args.positions})
     if args.fidelity is not None:
         scene = scene.replaced(ltca={"fidelity": args.fidelity})
+    out = output_folder(args.out)
     design = design_pair(PairSpec.from_scene(scene))
     options = LTCAOptions(positions=scene["ltca"]["positions"], progress=args.progress)
     result = scene_ltca(design, scene, options=options)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     result.table.to_netcdf(out / "mesh_table.nc")
     write_atomic(out / "mesh_table.csv", result.table.to_csv())
     summary = result.summary()

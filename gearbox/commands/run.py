@@ -108,7 +108,7 @@ def run(args) -> int:
     from ..pipeline import run_pipeline
     from ..pipeline.outputs import write_run
     from ..scene import load_scene
-    from ._common import dumps_json
+    from ._common import dumps_json, output_folder
 
     if args.jobs is not None and args.jobs < 1:
         raise InputError([Problem("--jobs", args.jobs, "must be >= 1")], "invalid options")
@@ -130,6 +130,8 @@ def run(args) -> int:
             for n, k, c in rows:
                 print(f"{n:<10} {'cached' if c else 'compute':<8} {k[:12]}")
         return 0
+
+    output_folder(out)  # before any stage computes: a folder that cannot be written fails now
 
     def note(rec):  # one line per stage when there are no progress bars (logs, pipes)
         print(f"gearbox run: {rec.name} {rec.status} ({rec.seconds:.2f} s)", file=sys.stderr)

@@ -164,18 +164,17 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
 
 def run(args):
     import math
-    from pathlib import Path
 
     from ..scene import load_scene
-    from ._common import dumps_json, write_atomic
+    from ._common import dumps_json, output_folder, write_atomic
 
     scene = load_scene(args.scene)
+    d = output_folder(args.out) if args.out else None
     out, model, ts, table = summary(scene, args)
     clean = {
         k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in out.items()
     }
-    if args.out:
-        d = Path(args.out)
+    if d is not None:
         write_atomic(d / "summary.json", dumps_json(clean) + "\n")
         table.to_netcdf(d / "mesh_table.nc")
         if ts is not None:

@@ -18,18 +18,17 @@ def add_arguments(parser):
 
 def run(args):
     import io
-    from pathlib import Path
 
     from ..errors import InputError, Problem
     from ..geometry import PairSpec
     from ..geometry.sweep import PAPER_STUDIES
     from ..scene import load_scene
-    from ._common import write_atomic
+    from ._common import output_folder, write_atomic
 
     if not 2 <= args.points <= 100000:
         raise InputError(Problem("--points", args.points, "must be in [2, 100000]"))
     spec = PairSpec.from_scene(load_scene(args.scene))
-    out = Path(args.out)
+    out = output_folder(args.out)
     import matplotlib
 
     matplotlib.use("Agg")

@@ -49,18 +49,17 @@ def _path_csv(result) -> str:
 
 
 def run(args):
-    from pathlib import Path
 
     from ..geometry import PairSpec, design_pair
     from ..scene import load_scene
     from ..surface import tooth_csv, tooth_grid
     from ..tca import run_tca
-    from ._common import dumps_json, write_atomic
+    from ._common import dumps_json, output_folder, write_atomic
 
     scene = load_scene(args.scene)
+    out = output_folder(args.out)
     design = design_pair(PairSpec.from_scene(scene))
     result = run_tca(design, scene)
-    out = Path(args.out)
     summary = result.summary()
     summary = {"scene": scene.name, **summary}
     write_atomic(out / "tca_summary.json", dumps_json(summary) + "\n")
