@@ -192,3 +192,21 @@ def test_an_output_folder_that_cannot_be_written_fails_before_computing(verb, tm
     assert f"--out = '{out}': must be a folder this user can write to" in err
     assert "Traceback" not in err and " computed (" not in err
     assert blocker.read_text() == "kept\n" and not cache.exists()
+
+
+def test_a_cache_folder_that_cannot_be_written(tmp_path, capsys, monkeypatch):
+    """``--cache`` that cannot be written: exit 2 before computing. The default cache
+    folder (here ``$GEARBOX_CACHE``) that cannot be written: one warning, and the run
+    goes on without a cache."""
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    scene, out = str(MODELS / "case03.toml"), tmp_path / "out"
+    assert main(["run", scene, "--out", str(out), "--cache", str(blocker / "c")]) == 2
+    err = capsys.readouterr().err
+    assert f"--cache = '{blocker / 'c'}': must be a folder this user can write to" in err
+    assert " computed (" not in err and not (out / "run_summary.json").exists()
+    monkeypatch.setenv("GEARBOX_CACHE", str(blocker / "c"))
+    assert main(["run", scene, "--out", str(out), "--no-progress"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("running without the cache") == 1 and "Traceback" not in err
+    assert (out / "design.json").exists()

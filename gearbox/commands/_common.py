@@ -36,7 +36,9 @@ def atomic_target(path: str | Path) -> Iterator[Path]:
         raise
 
 
-def output_folder(path: str | Path, option: str = "--out") -> Path:
+def output_folder(
+    path: str | Path, option: str = "--out", context: str = "cannot write the output"
+) -> Path:
     """``path`` as the folder a command writes to, made if missing and checked to take
     a file (one created and removed at once), before the command computes anything;
     InputError naming ``option``, its value and the reason otherwise. Nothing already
@@ -53,7 +55,7 @@ def output_folder(path: str | Path, option: str = "--out") -> Path:
         reason = exc.strerror or type(exc).__name__
         raise InputError(
             Problem(option, str(folder), f"must be a folder this user can write to ({reason})"),
-            "cannot write the output",
+            context,
         ) from None
     return folder
 

@@ -98,6 +98,30 @@ def _output_worker(scene, only, cache, out, jobs, off: bool):
         return contextlib.nullcontext()
 
 
+def _usable_cache(cache):
+    """The run's cache setting, checked before any stage computes: a ``--cache`` folder
+    that cannot be written is an input error (exit 2); the default folder
+    (``$GEARBOX_CACHE``, else the user's cache folder) that cannot be written is warned
+    of once, and the run goes on without a cache (False)."""
+    import sys
+
+    from ..errors import InputError
+    from ..pipeline.cache import default_cache_dir
+    from ._common import output_folder
+
+    if cache is False:
+        return False
+    if cache is not True:
+        output_folder(cache, "--cache", "cannot write the cache")
+        return cache
+    try:
+        output_folder(default_cache_dir(), "cache folder")
+    except InputError as exc:
+        print(f"gearbox run: {exc.problems[0]}; running without the cache", file=sys.stderr)
+        return False
+    return cache
+
+
 def run(args) -> int:
     import functools
     import os
@@ -132,6 +156,7 @@ def run(args) -> int:
         return 0
 
     output_folder(out)  # before any stage computes: a folder that cannot be written fails now
+    cache = _usable_cache(cache)
 
     def note(rec):  # one line per stage when there are no progress bars (logs, pipes)
         print(f"gearbox run: {rec.name} {rec.status} ({rec.seconds:.2f} s)", file=sys.stderr)
