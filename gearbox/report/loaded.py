@@ -19,6 +19,11 @@ def _operating_index(res, run) -> int:
     return int(np.argmin(np.abs(np.asarray(res.torque) - target)))
 
 
+def _listed(items: list[str]) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
 def render_ltca(lt, run) -> Section:
     """Tables per flank and torque; pattern, stiffness, LTE and root-stress figures."""
     from ..ltca.plot import (
@@ -29,6 +34,7 @@ def render_ltca(lt, run) -> Section:
     )
 
     warnings = []
+    edges: dict[str, list[tuple[float, float]]] = {}  # flank -> (torque, edge load share)
     rows = []
     speed_rpm = run.scene["drivetrain"]["engine_speed_rpm"]  # the pinion's speed
     omega = speed_rpm * np.pi / 30.0
@@ -58,15 +64,7 @@ def render_ltca(lt, run) -> Section:
             ]
             rows.append(tuple(row))
             if r["edge_contact"]:
-                warnings.append(
-                    ReportWarning(
-                        "ltca",
-                        f"{flank} flank, {r['torque_Nm']:g} N m: edge contact "
-                        f"(up to {100 * r['max_edge_load_fraction']:.1f} % of the load on an "
-                        "edge; the pressure there is Hertz's with the flank's curvature, a "
-                        "lower bound: an edge concentrates it further, a relief removes it)",
-                    )
-                )
+                edges.setdefault(flank, []).append((r["torque_Nm"], r["max_edge_load_fraction"]))
             if not r["solver_converged"]:
                 warnings.append(
                     ReportWarning(
@@ -74,6 +72,19 @@ def render_ltca(lt, run) -> Section:
                         f"{flank} flank, {r['torque_Nm']:g} N m: contact solver did not converge",
                     )
                 )
+    # one warning per flank with edge contact, its torque levels in one line
+    for flank, hits in edges.items():
+        torques = _listed([f"{tq:g}" for tq, _ in hits])
+        shares = _listed([f"{100 * f:.1f}" for _, f in hits])
+        order = ", in that order" if len(hits) > 1 else ""
+        warnings.append(
+            ReportWarning(
+                "ltca",
+                f"{flank} flank: edge contact at {torques} N m (up to {shares} % of the load "
+                f"on an edge{order}; the pressure there is Hertz's with the flank's curvature, "
+                "a lower bound: an edge concentrates it further, a relief removes it)",
+            )
+        )
     head = [
         "flank",
         "torque (N m)",
