@@ -545,3 +545,17 @@ def test_json_files_take_numpy_values_and_write_non_finite_numbers_as_null(tmp_p
     (path,) = _json(tmp_path / "b.json", odd)
     got = json.loads(path.read_text())
     assert got == {"x": [1.0, None, None], "y": {"(1, 2)": None}, "z": [None]}
+
+
+def test_the_loaded_tca_stage_shows_its_progress(capsys):
+    """``progress=True`` (``gearbox run`` on a terminal): the loaded TCA, the longest
+    stage, shows a bar over its contact solves; without it, none."""
+    import pathlib
+
+    case = load_scene(pathlib.Path(__file__).parents[1] / "models" / "case03.toml").replaced(
+        ltca={"positions": 4, "flanks": ["drive"]}, load={"torques_Nm": [300.0]}
+    )
+    run_pipeline(case, ["ltca"], cache=False, progress=True)
+    assert "loaded TCA" in capsys.readouterr().err
+    run_pipeline(case, ["ltca"], cache=False, progress=False)
+    assert "loaded TCA" not in capsys.readouterr().err

@@ -25,9 +25,13 @@ def compute_tca(ctx: StageContext):
 
 
 def compute_ltca(ctx: StageContext):
-    """Loaded TCA over the mesh cycle, torque levels and flanks (gearbox.ltca)."""
+    """Loaded TCA over the mesh cycle, torque levels and flanks (gearbox.ltca); with the
+    run's progress bars, one per flank over its contact solves (the longest stage:
+    seconds at the fast level, minutes at the FE level)."""
     ltca = require("gearbox.ltca.table", "scene_ltca")
-    return ltca.scene_ltca(ctx.inputs["design"], ctx.scene)
+    analysis = require("gearbox.ltca.analysis", "LTCAOptions")
+    options = analysis.LTCAOptions(positions=ctx.scene["ltca"]["positions"], progress=ctx.progress)
+    return ltca.scene_ltca(ctx.inputs["design"], ctx.scene, options=options)
 
 
 def validate_ltca(scene) -> None:
