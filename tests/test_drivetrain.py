@@ -618,3 +618,25 @@ def test_dynamic_factor_of_a_known_record():
     assert m["dynamic_factor"][1] == pytest.approx(1150.0 / 900.0, rel=1e-4)  # 100 samples a period
     empty = mesh_force_metrics_arrays(t, np.full_like(t, np.nan), np.array([10.0]))
     assert np.isnan(empty["dynamic_factor"][0]) and np.isnan(empty["mesh_force_max_N"][0])
+
+
+def test_operating_point_outside_the_tables_names_the_scene_keys():
+    """A scene whose operating torque the mesh table does not hold: one message naming
+    the key that sets the torque, what it gives and the table's levels."""
+    import pathlib
+
+    from gearbox.scene import load_scene
+
+    s = load_scene(pathlib.Path(__file__).parents[1] / "models" / "marine_drive.toml")
+    with pytest.raises(InputError) as err:
+        DrivetrainModel.from_scene(s.replaced(drivetrain={"engine_speed_rpm": 50.0}))
+    (problem,) = err.value.problems
+    assert problem.path == "drivetrain.engine_power_kW" and problem.value == 294.0
+    assert "56149.9 N m on the pinion at 50 rpm" in problem.expected
+    assert "[50, 900] N m (load.torques_Nm" in problem.expected
+    data = s.to_dict()
+    del data["drivetrain"]["engine_power_kW"]
+    data["load"]["operating_torque_Nm"] = 1000.0
+    with pytest.raises(InputError) as err:
+        DrivetrainModel.from_scene(scene_from_dict(data))
+    assert [p.path for p in err.value.problems] == ["load.operating_torque_Nm"]

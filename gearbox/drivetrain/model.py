@@ -544,8 +544,22 @@ class DrivetrainModel:
         omega = rpm * math.pi / 30.0
         if d["engine_power_kW"] is not None:
             torque = d["engine_power_kW"] * 1e3 / omega
+            key, value = "drivetrain.engine_power_kW", d["engine_power_kW"]
+            how = f"gives {torque:.6g} N m on the pinion at {rpm:g} rpm"
         else:
             torque = scene["load"]["operating_torque_Nm"]
+            key, value, how = "load.operating_torque_Nm", torque, "is the pinion torque"
+        lo, hi = float(np.min(table.torque)), float(np.max(table.torque))
+        if not lo * (1 - 1e-9) <= torque <= hi * (1 + 1e-9):
+            raise InputError(
+                Problem(
+                    key,
+                    value,
+                    f"{how}, outside the mesh table's torque levels [{lo:g}, {hi:g}] N m "
+                    "(load.torques_Nm; tables are not extrapolated)",
+                ),
+                "operating point outside the mesh table",
+            )
         return cls.build(
             table,
             speed=omega,
