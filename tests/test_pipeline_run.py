@@ -492,3 +492,17 @@ def test_the_sweep_takes_the_operating_point_run(marine, tmp_path):
     lower = marine.replaced(simulation={"speed_sweep_rpm": [1000.0, 3000.0]})
     assert "dynamics" not in plan(["waterfall"], STAGES, lower)
     assert "dynamics" in plan(["waterfall"], STAGES, marine)
+
+
+def test_torque_levels_that_miss_the_run_are_each_listed_once(marine):
+    """Levels that miss the operating torque and the sweep's: two problems, each once,
+    though the dynamics, Campbell and waterfall stages all check them; nothing runs."""
+    scene = marine.replaced(
+        load={"torques_Nm": [400.0]}, simulation={"speed_sweep_rpm": [3000.0, 3500.0]}
+    )
+    with pytest.raises(InputError) as err:
+        run_pipeline(scene, ["dynamics", "campbell", "waterfall"], cache=False)
+    texts = [p.expected for p in err.value.problems]
+    assert [p.path for p in err.value.problems] == ["load.torques_Nm"] * 2, texts
+    assert texts[0].startswith("must cover the operating torque, 802.1 N m (drivetrain.engine")
+    assert texts[1].startswith("must cover the speed sweep's propeller-law torques, [589.3, 802.1]")

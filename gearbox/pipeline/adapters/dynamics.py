@@ -80,21 +80,42 @@ def validate_torques(scene: Scene, *, sweep: bool = False) -> None:
     """Raise InputError unless ``load.torques_Nm`` covers the torques the run needs."""
     tq = scene["load"]["torques_Nm"]
     lo, hi = min(tq), max(tq)
-    need = [operating_torque(scene)[0]]
-    what = "the operating torque"
-    if sweep:
-        s = scene["simulation"]["speed_sweep_rpm"]
-        need += [propeller_law_torque(scene, s[0]), propeller_law_torque(scene, s[-1])]
-        what = "the operating torque and the speed sweep's propeller-law torques"
-    a, b = min(need), max(need)
-    if a < lo * (1 - 1e-9) or b > hi * (1 + 1e-9):
-        raise InputError(
+
+    def outside(x: float) -> bool:
+        return x < lo * (1 - 1e-9) or x > hi * (1 + 1e-9)
+
+    # one problem per need, the same text from every stage that has it (the runner
+    # lists a problem once)
+    problems = []
+    t_op = operating_torque(scene)[0]
+    source = (
+        "load.operating_torque_Nm"
+        if scene["drivetrain"]["engine_power_kW"] is None
+        else "drivetrain.engine_power_kW at drivetrain.engine_speed_rpm"
+    )
+    if outside(t_op):
+        problems.append(
             Problem(
                 "load.torques_Nm",
                 list(tq),
-                f"must cover {what}, [{a:.4g}, {b:.4g}] N m (mesh tables are not extrapolated)",
+                f"must cover the operating torque, {t_op:.4g} N m ({source}; mesh tables "
+                "are not extrapolated)",
             )
         )
+    if sweep:
+        s = scene["simulation"]["speed_sweep_rpm"]
+        a, b = propeller_law_torque(scene, s[0]), propeller_law_torque(scene, s[-1])
+        if outside(a) or outside(b):
+            problems.append(
+                Problem(
+                    "load.torques_Nm",
+                    list(tq),
+                    f"must cover the speed sweep's propeller-law torques, [{a:.4g}, {b:.4g}] "
+                    f"N m at {s[0]:g} to {s[-1]:g} rpm (mesh tables are not extrapolated)",
+                )
+            )
+    if problems:
+        raise InputError(problems)
     sim = scene["simulation"]["speed_sweep_rpm"]
     if sweep and not sim[0] < sim[-1]:
         raise InputError(
