@@ -559,3 +559,46 @@ def test_the_loaded_tca_stage_shows_its_progress(capsys):
     assert "loaded TCA" in capsys.readouterr().err
     run_pipeline(case, ["ltca"], cache=False, progress=False)
     assert "loaded TCA" not in capsys.readouterr().err
+
+
+def test_a_stage_found_in_the_cache_is_not_validated_again(scene, tmp_path):
+    """Checks run for the stages that will compute; a stage whose entry is in the
+    cache passed them on the same inputs (its key holds what it reads and its checks'
+    code). A changed input makes a new key: checked again."""
+    checked: Counter = Counter()
+
+    def checking(name):
+        def check(s):
+            checked[name] += 1
+
+        return check
+
+    g = graph()
+    g["design"] = Stage("design", g["design"].compute, reads=("pair",), validate=checking("design"))
+    g["dynamics"] = Stage(
+        "dynamics",
+        g["dynamics"].compute,
+        reads=("drivetrain", "simulation"),
+        depends=("tables",),
+        validate=checking("dynamics"),
+    )
+    run_pipeline(scene, ["spectra"], stages=g, cache=tmp_path)
+    assert checked == {"design": 1, "dynamics": 1}
+    run_pipeline(scene, ["spectra"], stages=g, cache=tmp_path)  # all from the cache
+    assert checked == {"design": 1, "dynamics": 1}
+    heavier = scene.replaced(drivetrain={"propeller_inertia_kgm2": 0.5})
+    run_pipeline(heavier, ["spectra"], stages=g, cache=tmp_path)
+    assert checked == {"design": 1, "dynamics": 2}
+    # without a cache every stage is checked
+    run_pipeline(scene, ["spectra"], stages=g, cache=False)
+    assert checked == {"design": 2, "dynamics": 3}
+
+
+def test_a_stage_key_holds_its_checks_module():
+    """The checks' module enters the key (a stage in the cache is not checked again)."""
+    from gearbox.pipeline.runner import _code
+    from gearbox.pipeline.stages import STAGES
+
+    for st in STAGES.values():
+        if st.validate is not None:
+            assert st.validate.__module__ in _code(st), st.name

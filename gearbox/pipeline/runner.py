@@ -64,9 +64,15 @@ class PipelineRun(PicklesReadOnly):
 
 
 def _code(st: Stage) -> tuple[str, ...]:
-    """Modules whose source enters the key: the declared ones and the stage function's."""
-    mod = getattr(st.compute, "__module__", None)
-    return (*st.code, mod) if mod and mod not in st.code else tuple(st.code)
+    """Modules whose source enters the key: the declared ones, the stage function's and
+    its checks' (a stage found in the cache is not validated again: its key stands for
+    checks passed on the same inputs with the same code)."""
+    out = tuple(st.code)
+    for fn in (st.compute, st.validate):
+        mod = getattr(fn, "__module__", None)
+        if mod and mod not in out:
+            out += (mod,)
+    return out
 
 
 def plan(
@@ -155,16 +161,26 @@ def preview(
     names = plan(requested, stages, scene)
     validate(scene, names, stages)
     store = _as_cache(cache)
+    keys = _planned_keys(scene, names, stages)
+    return [(n, keys[n], n in _in_cache(store, keys, stages)) for n in names]
+
+
+def _planned_keys(scene: Scene, names: list[str], stages: Mapping[str, Stage]) -> dict[str, str]:
+    """Each planned stage's cache key, as if every upstream stage produced its result."""
     keys: dict[str, str] = {}
-    out = []
     for name in names:
         st = stages[name]
         req, opt = st.upstream(scene)
         upstream = {d: keys[d] for d in (*req, *opt)}
         keys[name] = stage_key(name, read_values(scene, st.reads_for(scene)), upstream, _code(st))
-        cached = bool(store is not None and st.cacheable and store.path(name, keys[name]).exists())
-        out.append((name, keys[name], cached))
-    return out
+    return keys
+
+
+def _in_cache(store: Cache | None, keys: Mapping[str, str], stages) -> set[str]:
+    """The stages whose entry under ``keys`` is in ``store`` (not yet loaded)."""
+    if store is None:
+        return set()
+    return {n for n, k in keys.items() if stages[n].cacheable and store.path(n, k).exists()}
 
 
 def run_pipeline(
@@ -216,8 +232,11 @@ def run_pipeline(
         from .stages import STAGES as stages
     requested = tuple(scene["outputs"]["requested"] if requested is None else requested)
     names = plan(requested, stages, scene)
-    validate(scene, names, stages)
     store = _as_cache(cache)
+    # A stage found in the cache passed its checks on these inputs (its key holds the
+    # scene values it reads and its code): only the others are validated.
+    cached = _in_cache(store, _planned_keys(scene, names, stages), stages)
+    validate(scene, [n for n in names if n not in cached], stages)
     started = datetime.now(UTC).isoformat(timespec="seconds")
     t_run = time.perf_counter()
     keys: dict[str, str] = {}

@@ -41,14 +41,6 @@ def _pitch_if_on(scene) -> tuple[str, ...]:
     return ("pitch",) if scene["drivetrain"]["pitch_deviations"] else ()
 
 
-def _check_torques(scene):
-    dynamics.validate_torques(scene)
-
-
-def _check_sweep(scene):
-    dynamics.validate_torques(scene, sweep=True)
-
-
 def _on_tables(name, compute, validate, doc, *code) -> Stage:
     """A drivetrain stage: reads the drive sections, runs on the mesh tables."""
     return Stage(
@@ -133,14 +125,14 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
         "campbell": _on_tables(
             "campbell",
             dynamics.compute_campbell,
-            _check_sweep,
+            dynamics.validate_sweep_torques,
             "Eigenfrequencies against speed with excitation orders and crossings.",
             "gearbox.spectrum",
         ),
         "dynamics": _on_tables(
             "dynamics",
             dynamics.compute_dynamics,
-            _check_torques,
+            dynamics.validate_operating_torque,
             "Settled drivetrain response at the operating point.",
         ),
         "spectra": Stage(
@@ -155,7 +147,7 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             _on_tables(
                 "waterfall",
                 dynamics.compute_waterfall,
-                _check_sweep,
+                dynamics.validate_sweep_torques,
                 "Speed sweep on the propeller law: order spectra against speed.",
                 "gearbox.spectrum",
             ),
@@ -164,7 +156,7 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
         "fmu": _on_tables(
             "fmu",
             fmu.compute_fmu,
-            _check_torques,
+            dynamics.validate_operating_torque,
             "The drivetrain at the operating point as an FMI 2.0 FMU (C, gcc).",
             "gearbox.fmu",
         ),

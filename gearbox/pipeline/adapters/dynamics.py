@@ -35,6 +35,8 @@ __all__ = [
     "compute_waterfall",
     "operating_torque",
     "sweep_speeds",
+    "validate_operating_torque",
+    "validate_sweep_torques",
     "validate_torques",
     "waterfall_depends",
 ]
@@ -121,6 +123,17 @@ def validate_torques(scene: Scene, *, sweep: bool = False) -> None:
         raise InputError(
             Problem("simulation.speed_sweep_rpm", list(sim), "must be [min, max], min < max")
         )
+
+
+def validate_operating_torque(scene: Scene) -> None:
+    """The checks of a stage that runs the operating point: :func:`validate_torques`."""
+    validate_torques(scene)
+
+
+def validate_sweep_torques(scene: Scene) -> None:
+    """The checks of a stage that runs the speed sweep: :func:`validate_torques` with the
+    sweep's torques."""
+    validate_torques(scene, sweep=True)
 
 
 def _at_speed(scene: Scene, speed_rpm: float) -> Scene:
