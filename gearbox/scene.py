@@ -195,6 +195,15 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "Compliance level: 'fast' (semi-analytical) or 'fe' (finite elements).",
             ("fast", "fe"),
         ),
+        "face_ends": Field(
+            "bool",
+            False,
+            "Fast level only: soften each slice towards a helical tooth's acute face end as "
+            "the FE level's tooth is (FastCompliance(helix_ends=HELIX_ENDS), docs/ltca.md "
+            "'The face ends in the compliance'). For helix angles near 30 deg or helical "
+            "faces narrower than about 5 m_n; the paper's cases are as near the FE level "
+            "without it. The FE level has the face ends in its mesh.",
+        ),
         "positions": _i(24, "Pinion positions per mesh cycle in the mesh tables.", 4, 10000),
         "grid_profile": _i(20, "Contact grid points along the profile.", 3, 2000),
         "grid_face": _i(40, "Contact grid points along the face width.", 3, 4000),

@@ -107,3 +107,33 @@ def test_spur_teeth_and_the_default_are_unchanged():
 def test_face_end_coefficients_are_checked():
     with pytest.raises(InputError, match=r"ltca\.helix_ends\.narrow"):
         replace(HELIX_ENDS, narrow=(0.5, 0.5))
+
+
+def test_scene_key_face_ends_takes_them_into_the_loaded_tca():
+    """``ltca.face_ends = true``: the scene's loaded TCA (and the pitch stage's grids)
+    take the fast level with HELIX_ENDS; the helical teeth soften, the method says so,
+    and the ltca stage's cache key changes. The FE level is not affected by it."""
+    from gearbox import load_scene
+    from gearbox.geometry import PairSpec, design_pair
+    from gearbox.ltca.beveloid import scene_compliance
+    from gearbox.ltca.compliance import compliance_for
+    from gearbox.ltca.table import scene_ltca
+    from gearbox.pipeline import STAGES
+    from gearbox.pipeline.runner import _planned_keys
+
+    base = load_scene(ROOT / "models" / "case03.toml").replaced(
+        ltca={"positions": 4, "flanks": ["drive"]}, load={"torques_Nm": [300.0]}
+    )
+    on = base.replaced(ltca={"face_ends": True})
+    assert base["ltca"]["face_ends"] is False
+    design = design_pair(PairSpec.from_scene(base))
+    assert scene_compliance(design, on).helix_ends is HELIX_ENDS
+    assert scene_compliance(design, base).helix_ends is None
+    assert compliance_for("fast", face_ends=True).helix_ends is HELIX_ENDS
+    plain, ends = (scene_ltca(design, s).table for s in (base, on))
+    assert "helical face ends" in ends.attrs["method"]
+    assert "helical face ends" not in plain.attrs["method"]
+    ratio = float(np.mean(ends.stiffness) / np.mean(plain.stiffness))
+    assert ratio < 0.995  # case 03's 20 deg pinion: softer with its face ends
+    keys = [_planned_keys(s, ["design", "ltca"], STAGES)["ltca"] for s in (base, on)]
+    assert keys[0] != keys[1]

@@ -789,7 +789,7 @@ def scene_compliance(design, scene):
         from ..surface import blanks_from_design
 
         return compliance_for("fe", blanks=blanks_from_design(design))
-    return compliance_for(fidelity)
+    return compliance_for(fidelity, face_ends=scene["ltca"]["face_ends"])
 
 
 def beveloid_ltca(

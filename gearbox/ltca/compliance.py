@@ -677,13 +677,15 @@ def describe_compliance(compliance) -> str:
     return describe() if callable(describe) else f"{compliance.name} compliance"
 
 
-def compliance_for(fidelity: str, *, blanks=None) -> Compliance:
-    """The compliance level named by ``ltca.fidelity``: ``fast`` (:class:`FastCompliance`)
-    or ``fe`` (``gearbox.fe.compliance.FECompliance``, where installed). ``blanks``:
-    ``(pinion, gear)`` generating data of a beveloid pair, which the FE level needs to
-    place beveloid grids on its teeth (parallel-axis grids carry what it needs)."""
+def compliance_for(fidelity: str, *, blanks=None, face_ends: bool = False) -> Compliance:
+    """The compliance level named by ``ltca.fidelity``: ``fast`` (:class:`FastCompliance`,
+    with ``face_ends`` (``ltca.face_ends``) the helical face ends, :data:`HELIX_ENDS`)
+    or ``fe`` (``gearbox.fe.compliance.FECompliance``, where installed; ``face_ends``
+    does not apply: its mesh holds the face ends). ``blanks``: ``(pinion, gear)``
+    generating data of a beveloid pair, which the FE level needs to place beveloid
+    grids on its teeth (parallel-axis grids carry what it needs)."""
     if fidelity == "fast":
-        return FastCompliance()
+        return FastCompliance(helix_ends=HELIX_ENDS if face_ends else None)
     p = Problems()
     if fidelity == "fe":
         try:

@@ -1433,7 +1433,7 @@ def flank_grids(design, scene, positions: int, flank: str = "drive"):
         ]
         if flank == "coast":
             grids = [_turned(g) for g in grids]
-        compliance = compliance_for(lt["fidelity"])
+        compliance = compliance_for(lt["fidelity"], face_ends=lt["face_ends"])
     else:
         side = "R" if flank == "drive" else "L"
         grids = scene_grids(design, scene, side, positions)[0]

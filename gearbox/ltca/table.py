@@ -241,6 +241,7 @@ def parallel_ltca(
     n_face: int = 40,
     scene_name: str = "",
     relief=None,
+    face_ends: bool = False,
 ) -> LTCAResult:
     """Loaded TCA and mesh table of a parallel-axis pair.
 
@@ -250,12 +251,13 @@ def parallel_ltca(
     :class:`~gearbox.ltca.modification.FlankModification` act on both flanks alike): the
     coast flank is the drive flank turned half a turn about the centre line (axial
     position w -> -w), so it is the drive flank's analysis with the modifications
-    reflected in w (only a helix slope changes) and then turned.
+    reflected in w (only a helix slope changes) and then turned. ``fidelity`` and
+    ``face_ends``: the compliance level, as :func:`compliance_for` takes them.
     """
     from .modification import as_modification, describe_pair
 
     options = options or LTCAOptions()
-    compliance = compliance_for(fidelity)
+    compliance = compliance_for(fidelity, face_ends=face_ends)
 
     def cycle(mods):
         return ltca_cycle(
@@ -325,6 +327,7 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
             n_face=lt["grid_face"],
             scene_name=scene.name,
             relief=modifications_from_scene(design, scene),
+            face_ends=lt["face_ends"],
         )
     from .beveloid import beveloid_ltca
 
