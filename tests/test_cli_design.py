@@ -210,3 +210,39 @@ def test_a_cache_folder_that_cannot_be_written(tmp_path, capsys, monkeypatch):
     err = capsys.readouterr().err
     assert err.count("running without the cache") == 1 and "Traceback" not in err
     assert (out / "design.json").exists()
+
+
+def test_the_report_alone_says_it_holds_no_stage(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert (
+        main(
+            [
+                "run",
+                str(MODELS / "case03.toml"),
+                "--only",
+                "report",
+                "--out",
+                str(out),
+                "--no-cache",
+            ]
+        )
+        == 0
+    )
+    assert "the report alone holds no stage's results" in capsys.readouterr().err
+    assert (out / "report.html").exists()
+    assert (
+        main(
+            [
+                "run",
+                str(MODELS / "case03.toml"),
+                "--only",
+                "design",
+                "report",
+                "--out",
+                str(out),
+                "--no-cache",
+            ]
+        )
+        == 0
+    )
+    assert "the report alone" not in capsys.readouterr().err

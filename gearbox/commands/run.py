@@ -156,6 +156,14 @@ def run(args) -> int:
         return 0
 
     output_folder(out)  # before any stage computes: a folder that cannot be written fails now
+    requested = args.only if args.only is not None else scene["outputs"]["requested"]
+    if set(requested) == {"report"}:
+        print(
+            "gearbox run: the report alone holds no stage's results (only the run's "
+            "provenance); name the stages beside it, e.g. --only design tca report, or "
+            "leave out --only for the scene's outputs.requested",
+            file=sys.stderr,
+        )
     cache = _usable_cache(cache)
 
     def note(rec):  # one line per stage when there are no progress bars (logs, pipes)
