@@ -413,7 +413,7 @@ def test_bad_model_data_gets_clear_errors(base):
     with pytest.raises(InputError, match="output_stiffness"):
         dataclasses.replace(m, output_stiffness=0.0)
     # Engine power that puts the pinion torque outside the table's range.
-    with pytest.raises(InputError, match="torque_Nm"):
+    with pytest.raises(InputError, match="drivetrain.engine_power_kW = 300.0: gives"):
         DrivetrainModel.from_scene(scene(engine_power_kW=300.0), table)
     # Negative inertia in the scene file is caught by the scene schema.
     with pytest.raises(InputError, match="drivetrain.gear_inertia_kgm2"):
@@ -640,3 +640,39 @@ def test_operating_point_outside_the_tables_names_the_scene_keys():
     with pytest.raises(InputError) as err:
         DrivetrainModel.from_scene(scene_from_dict(data))
     assert [p.path for p in err.value.problems] == ["load.operating_torque_Nm"]
+
+
+@pytest.mark.slow
+def test_cli_simulate_keeps_the_compiled_solver_in_the_cache(tmp_path):
+    """``gearbox simulate`` keeps the diffrax solver's compiled programs in the cache
+    folder, as ``gearbox run`` does: a second run in a new process takes them from there
+    (nothing compiled and stored again: the stored file is untouched) and gives the same
+    summary; ``--no-cache`` stores nothing."""
+    import os
+    import pathlib
+    import subprocess
+    import sys
+
+    scene = pathlib.Path(__file__).parents[1] / "models" / "marine_drive.toml"
+    cache = tmp_path / "cache"
+
+    unused = tmp_path / "unused"
+
+    def simulate(*extra):
+        cmd = [sys.executable, "-m", "gearbox", "simulate", str(scene), "--json"]
+        cmd += ["--mesh-cycles", "8", *extra]
+        env = os.environ | {"GEARBOX_CACHE": str(unused)}  # the default cache folder
+        proc = subprocess.run(cmd, capture_output=True, text=True, check=True, env=env)
+        return json.loads(proc.stdout)
+
+    first = simulate("--cache", str(cache))
+    stored = {p: p.stat().st_mtime_ns for p in (cache / "executables").glob("*.exe")}
+    assert stored
+    second = simulate("--cache", str(cache))
+    assert {p: p.stat().st_mtime_ns for p in (cache / "executables").glob("*.exe")} == stored
+    for key in ("mesh_force_max_N", "mesh_force_min_N", "mesh_force_dynamic_rms_N", "steps"):
+        assert second[key] == first[key], key
+    simulate("--no-cache")
+    assert not unused.exists()
+    simulate()  # the default folder otherwise
+    assert list((unused / "executables").glob("*.exe"))

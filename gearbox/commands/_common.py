@@ -60,6 +60,48 @@ def output_folder(
     return folder
 
 
+def add_cache_arguments(parser, what: str) -> None:
+    """``--cache DIR`` / ``--no-cache`` (read by :func:`cache_of` and :func:`usable_cache`)."""
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument(
+        "--cache",
+        metavar="DIR",
+        default=None,
+        help=f"cache folder for {what} (default $GEARBOX_CACHE, else ~/.cache/gearbox)",
+    )
+    group.add_argument("--no-cache", action="store_true", help="compute everything, store nothing")
+
+
+def cache_of(args):
+    """The cache setting of ``--cache`` / ``--no-cache``: False, a folder, or True (the
+    default folder)."""
+    return False if args.no_cache else (args.cache or True)
+
+
+def usable_cache(cache, verb: str):
+    """A cache setting (False, a folder, True for the default folder) checked before
+    anything computes: a ``--cache`` folder that cannot be written is an input error
+    (exit 2); the default folder (``$GEARBOX_CACHE``, else the user's cache folder)
+    that cannot be written is warned of once (``gearbox VERB: ...``), and the command
+    goes on without a cache (False)."""
+    import sys
+
+    from ..errors import InputError
+    from ..pipeline.cache import default_cache_dir
+
+    if cache is False:
+        return False
+    if cache is not True:
+        output_folder(cache, "--cache", "cannot write the cache")
+        return cache
+    try:
+        output_folder(default_cache_dir(), "cache folder")
+    except InputError as exc:
+        print(f"gearbox {verb}: {exc.problems[0]}; running without the cache", file=sys.stderr)
+        return False
+    return cache
+
+
 def write_atomic(path: str | Path, data: str | bytes) -> Path:
     """Write a file completely or not at all: write a temporary file, then rename."""
     path = Path(path)

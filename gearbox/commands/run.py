@@ -15,17 +15,11 @@ EXAMPLES = """\
 
 
 def add_arguments(parser):
-    from ._common import add_scene_argument
+    from ._common import add_cache_arguments, add_scene_argument
 
     add_scene_argument(parser)
     parser.add_argument("--out", metavar="DIR", help="output folder (default out/<scene name>)")
-    g = parser.add_mutually_exclusive_group()
-    g.add_argument(
-        "--cache",
-        metavar="DIR",
-        help="cache folder (default $GEARBOX_CACHE, else ~/.cache/gearbox)",
-    )
-    g.add_argument("--no-cache", action="store_true", help="compute everything, store nothing")
+    add_cache_arguments(parser, "the stages' results")
     parser.add_argument(
         "--only",
         nargs="+",
@@ -98,30 +92,6 @@ def _output_worker(scene, only, cache, out, jobs, off: bool):
         return contextlib.nullcontext()
 
 
-def _usable_cache(cache):
-    """The run's cache setting, checked before any stage computes: a ``--cache`` folder
-    that cannot be written is an input error (exit 2); the default folder
-    (``$GEARBOX_CACHE``, else the user's cache folder) that cannot be written is warned
-    of once, and the run goes on without a cache (False)."""
-    import sys
-
-    from ..errors import InputError
-    from ..pipeline.cache import default_cache_dir
-    from ._common import output_folder
-
-    if cache is False:
-        return False
-    if cache is not True:
-        output_folder(cache, "--cache", "cannot write the cache")
-        return cache
-    try:
-        output_folder(default_cache_dir(), "cache folder")
-    except InputError as exc:
-        print(f"gearbox run: {exc.problems[0]}; running without the cache", file=sys.stderr)
-        return False
-    return cache
-
-
 def run(args) -> int:
     import functools
     import os
@@ -132,7 +102,7 @@ def run(args) -> int:
     from ..pipeline import run_pipeline
     from ..pipeline.outputs import write_run
     from ..scene import load_scene
-    from ._common import dumps_json, output_folder
+    from ._common import cache_of, dumps_json, output_folder, usable_cache
 
     if args.jobs is not None and args.jobs < 1:
         raise InputError([Problem("--jobs", args.jobs, "must be >= 1")], "invalid options")
@@ -142,7 +112,7 @@ def run(args) -> int:
     os.environ.setdefault("JAX_PLATFORMS", "cpu")
     scene = load_scene(args.scene)
     out = Path(args.out) if args.out else Path("out") / scene.name
-    cache = False if args.no_cache else (args.cache or True)
+    cache = cache_of(args)
     progress = not args.no_progress and sys.stderr.isatty()
     if args.dry_run:
         from ..pipeline import preview
@@ -164,7 +134,7 @@ def run(args) -> int:
             "leave out --only for the scene's outputs.requested",
             file=sys.stderr,
         )
-    cache = _usable_cache(cache)
+    cache = usable_cache(cache, "run")
 
     def note(rec):  # one line per stage when there are no progress bars (logs, pipes)
         print(f"gearbox run: {rec.name} {rec.status} ({rec.seconds:.2f} s)", file=sys.stderr)

@@ -4,12 +4,13 @@ EXAMPLES = """  gearbox simulate models/case03.toml --json
   gearbox simulate models/case03.toml --table out/ltca/mesh_table.nc --speed-rpm 1500
   gearbox simulate models/case03.toml --periodic --json  settled periodic response (shooting)
   gearbox simulate models/case03.toml --rtol 1e-8        diffrax with adaptive steps
+  gearbox simulate models/case03.toml --no-cache         compile the solver anew
   gearbox modes models/case03.toml --json                eigenfrequencies only
 """
 
 
 def add_arguments(parser):
-    from ._common import add_scene_argument
+    from ._common import add_cache_arguments, add_scene_argument
 
     add_scene_argument(parser)
     parser.add_argument(
@@ -41,6 +42,7 @@ def add_arguments(parser):
         "--out", default=None, help="folder for timeseries.csv/.nc, summary.json, mesh_table.nc"
     )
     parser.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    add_cache_arguments(parser, "the compiled diffrax solver, as gearbox run keeps it")
 
 
 def add_model_arguments(parser) -> None:
@@ -165,12 +167,22 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
 def run(args):
     import math
 
+    from ..pipeline.cache import default_cache_dir
     from ..scene import load_scene
-    from ._common import dumps_json, output_folder, write_atomic
+    from ._common import cache_of, dumps_json, output_folder, usable_cache, write_atomic
 
     scene = load_scene(args.scene)
     d = output_folder(args.out) if args.out else None
-    out, model, ts, table = summary(scene, args)
+    cache = usable_cache(cache_of(args), "simulate")
+    if cache is False or args.modes:
+        out, model, ts, table = summary(scene, args)
+    else:  # the diffrax solver's compiled programs, in the cache folder as for gearbox run
+        from ..pipeline import jaxcache
+
+        with jaxcache.jax_cache(default_cache_dir() if cache is True else cache):
+            if (args.solver or scene["simulation"]["solver"]) == "diffrax":
+                jaxcache.attach()
+            out, model, ts, table = summary(scene, args)
     clean = {
         k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in out.items()
     }
