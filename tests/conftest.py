@@ -28,6 +28,22 @@ TOOLS = {
 MODULES = ("fmpy", "libcosimpy", "diffrax", "exudyn", "xarray", "skfem", "distributed")
 
 
+def pytest_configure(config):
+    """The tests' default cache folder (``$GEARBOX_CACHE``) is a fresh temporary one:
+    a test that runs a command without ``--cache`` neither reads nor fills the user's
+    cache. Removed when the session ends."""
+    import tempfile
+
+    config._gearbox_cache = tempfile.mkdtemp(prefix="gearbox-test-cache-")
+    os.environ["GEARBOX_CACHE"] = config._gearbox_cache
+
+
+def pytest_unconfigure(config):
+    folder = getattr(config, "_gearbox_cache", None)
+    if folder:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 def pytest_sessionstart(session):
     if not os.environ.get("GEARBOX_REQUIRE_TOOLS"):
         return
