@@ -79,3 +79,9 @@ class PicklesReadOnly:
 
     def __getstate__(self) -> dict[str, Any]:
         return {k: picklable(v) for k, v in self.__dict__.items()}
+
+    def __copy__(self):
+        # copy.copy takes the state as it is (no unpickling of the stand-ins)
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        return new

@@ -73,3 +73,14 @@ def test_pipeline_run_pickles():
     assert back.scene == scene and type(back.results) is MappingProxyType
     assert dict(back.keys) == dict(run.keys)
     assert back["design"].to_dict() == run["design"].to_dict()
+
+
+def test_copies_keep_the_read_only_mappings():
+    import copy
+
+    scene = load_scene(MARINE)
+    shallow, deep = copy.copy(scene), copy.deepcopy(scene)
+    assert shallow == scene and deep == scene
+    assert shallow.data is scene.data  # a shallow copy shares the fields
+    assert type(deep.data) is MappingProxyType and type(deep["pair"]) is MappingProxyType
+    assert deep.data is not scene.data
