@@ -185,3 +185,27 @@ def test_section_key_follows_what_the_section_reads(run, monkeypatch):
     other = dataclasses.replace(run, scene=run.scene.replaced(load={"operating_torque_Nm": 123.0}))
     assert len({k0, k1, build.section_key(other, "design")}) == 3
     assert build.section_key(run, "design") == k1  # and it is stable
+
+
+def test_a_crossing_whose_mesh_force_swing_reaches_the_mean_is_beyond_the_linear_response():
+    """The Campbell warnings quote each crossing's steady (linear) response; where the
+    mesh force's swing reaches its mean (the flanks would part), the text says so."""
+    from types import SimpleNamespace
+
+    from gearbox.report.dynamics import _response_text
+
+    def crossing(fraction):
+        r = {
+            "mesh_force_N": 1919.0 * fraction / 2.3,
+            "mesh_force_fraction": fraction,
+            "input_shaft_torque_Nm": 198.3,
+            "input_shaft_torque_fraction": 2.91,
+            "output_shaft_torque_Nm": 148.3,
+            "output_shaft_torque_fraction": 1.40,
+        }
+        return SimpleNamespace(response=r)
+
+    assert "the flanks would part" in _response_text(crossing(2.3))
+    assert "(230 %)" in _response_text(crossing(2.3))
+    assert "the flanks would part" not in _response_text(crossing(0.558))
+    assert _response_text(SimpleNamespace(response={})) == ""
