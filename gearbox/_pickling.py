@@ -12,12 +12,15 @@ object equals the original field by field, what was read-only still read-only.
 
 from __future__ import annotations
 
+import copyreg
+import io
+import pickle
 from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
-__all__ = ["PicklesReadOnly", "picklable"]
+__all__ = ["PicklesReadOnly", "dumps", "picklable"]
 
 
 def _read_only(items: dict) -> MappingProxyType:
@@ -85,3 +88,16 @@ class PicklesReadOnly:
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         return new
+
+
+def dumps(obj: Any) -> bytes:
+    """``pickle.dumps(obj)`` (highest protocol) that also takes a read-only mapping
+    anywhere in ``obj``, inside objects that do not inherit :class:`PicklesReadOnly`
+    too; it unpickles as a read-only mapping again. The cache's entries and the output
+    worker's jobs are pickled so."""
+    buf = io.BytesIO()
+    pickler = pickle.Pickler(buf, protocol=pickle.HIGHEST_PROTOCOL)
+    pickler.dispatch_table = copyreg.dispatch_table.copy()
+    pickler.dispatch_table[MappingProxyType] = lambda m: (_read_only, (dict(m),))
+    pickler.dump(obj)
+    return buf.getvalue()

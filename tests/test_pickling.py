@@ -84,3 +84,22 @@ def test_copies_keep_the_read_only_mappings():
     assert shallow.data is scene.data  # a shallow copy shares the fields
     assert type(deep.data) is MappingProxyType and type(deep["pair"]) is MappingProxyType
     assert deep.data is not scene.data
+
+
+class _Holder:
+    """An object that is no PicklesReadOnly, holding a read-only mapping."""
+
+    def __init__(self, m):
+        self.m = m
+
+
+def test_dumps_takes_read_only_mappings_in_any_object():
+    """``gearbox._pickling.dumps`` (the cache's entries, the output worker's jobs)
+    takes a read-only mapping inside any object, where the standard pickler refuses it."""
+    from gearbox._pickling import dumps
+
+    held = _Holder(MappingProxyType({"a": 1}))
+    with pytest.raises(TypeError):
+        pickle.dumps(held)
+    back = pickle.loads(dumps(held))
+    assert type(back.m) is MappingProxyType and dict(back.m) == {"a": 1}

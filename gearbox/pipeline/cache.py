@@ -17,12 +17,10 @@ upstream stages, so a change anywhere upstream changes every key downstream of i
 
 from __future__ import annotations
 
-import copyreg
 import functools
 import hashlib
 import importlib
 import importlib.util
-import io
 import json
 import os
 import pickle
@@ -30,10 +28,10 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from types import MappingProxyType
 from typing import Any
 
 from .. import __version__
+from .._pickling import dumps
 from ..commands._common import write_atomic
 
 __all__ = [
@@ -180,21 +178,6 @@ def remembered(
     return value, False
 
 
-def _mapping_proxy(d: dict) -> MappingProxyType:
-    return MappingProxyType(d)
-
-
-def _dumps(obj: Any) -> bytes:
-    """Pickle, with read-only mappings (``MappingProxyType``) stored as their dict:
-    frozen results often hold them, and the standard pickler refuses them."""
-    buf = io.BytesIO()
-    pickler = pickle.Pickler(buf, protocol=pickle.HIGHEST_PROTOCOL)
-    pickler.dispatch_table = copyreg.dispatch_table.copy()
-    pickler.dispatch_table[MappingProxyType] = lambda m: (_mapping_proxy, (dict(m),))
-    pickler.dump(obj)
-    return buf.getvalue()
-
-
 def _encode(result: Any) -> bytes:
     cls = type(result)
     if hasattr(result, "to_dict") and hasattr(cls, "from_dict"):
@@ -205,7 +188,7 @@ def _encode(result: Any) -> bytes:
         }
     else:
         body = {"form": "object", "data": result}
-    return _dumps(body)
+    return dumps(body)
 
 
 def _decode(payload: bytes) -> Any:
@@ -257,6 +240,6 @@ class Cache:
     def store(self, stage: str, key: str, result: Any, seconds: float) -> Path:
         """Write one entry atomically; ``seconds`` is the time it took to compute."""
         meta = {"stage": stage, "key": key, "seconds": float(seconds), "created": time.time()}
-        payload = _dumps((meta, _encode(result)))
+        payload = dumps((meta, _encode(result)))
         digest = hashlib.sha256(payload).hexdigest().encode()
         return write_atomic(self.path(stage, key), _MAGIC + digest + b"\n" + payload)

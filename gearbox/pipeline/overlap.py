@@ -167,7 +167,7 @@ class OutputWorker:
     def submit(self, scene, name: str, result: Any, key: str | None) -> None:
         """Queue stage ``name``'s files (when wanted) and section(s) (when the report
         is); ``key``: the stage's cache key, None when the run has no cache."""
-        from .cache import _dumps
+        from .._pickling import dumps
 
         files, section = name in self._files, self._report
         if not (files or section) or result is None:
@@ -176,7 +176,7 @@ class OutputWorker:
         slot = self._slots.get(name)
         try:
             job = (name, result, key, scene, str(self.folder), root, files, section, slot)
-            self._futures[name] = self._pool.submit(_prepare, _dumps(job))
+            self._futures[name] = self._pool.submit(_prepare, dumps(job))
         except Exception:  # unpicklable result or a pool that died: done in the main process
             self._futures.pop(name, None)
 
