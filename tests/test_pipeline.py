@@ -594,6 +594,49 @@ def test_a_stage_found_in_the_cache_is_not_validated_again(scene, tmp_path):
     assert checked == {"design": 2, "dynamics": 3}
 
 
+def test_a_stage_whose_planned_key_was_cached_is_checked_before_it_computes(scene, tmp_path):
+    """The up-front look into the cache assumes every optional upstream produces. When
+    one does not, the stage's real key differs, it computes, and its checks run first:
+    a problem they find is the stage's failure, and it does not compute."""
+    from gearbox.pipeline import StageUnavailable
+
+    present = {"extra": True}
+    calls: Counter = Counter()
+
+    def extra(ctx):
+        if not present["extra"]:
+            raise StageUnavailable("extra: switched off")
+        return Value(1.0)
+
+    def check(s):
+        if s["drivetrain"]["propeller_inertia_kgm2"] > 1.0:
+            raise InputError([Problem("drivetrain.propeller_inertia_kgm2", 2.0, "must be <= 1")])
+
+    def downstream(ctx):
+        calls["down"] += 1
+        return Value(ctx.inputs["extra"].x if "extra" in ctx.inputs else 0.0)
+
+    g = {
+        "extra": Stage("extra", extra, cacheable=False),
+        "down": Stage(
+            "down", downstream, reads=("drivetrain",), optional=("extra",), validate=check
+        ),
+    }
+    heavy = scene.replaced(drivetrain={"propeller_inertia_kgm2": 2.0})
+    with pytest.raises(InputError, match="propeller_inertia_kgm2"):
+        run_pipeline(heavy, ["down"], stages=g, cache=tmp_path)
+    # put an entry under the key planned with "extra" present, as a run with an older,
+    # laxer check would have left it
+    lax = dict(g, down=dataclasses.replace(g["down"], validate=None))
+    run_pipeline(heavy, ["down"], stages=lax, cache=tmp_path)
+    assert calls["down"] == 1
+    present["extra"] = False  # now the optional upstream gives nothing: another key
+    run = run_pipeline(heavy, ["down"], stages=g, cache=tmp_path)
+    rec = run.summary.record("down")
+    assert rec.status == "failed" and "propeller_inertia_kgm2" in rec.detail
+    assert calls["down"] == 1  # not computed unchecked
+
+
 def test_a_stage_key_holds_its_checks_module():
     """The checks' module enters the key (a stage in the cache is not checked again)."""
     from gearbox.pipeline.runner import _code

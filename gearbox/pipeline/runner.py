@@ -287,6 +287,13 @@ def run_pipeline(
                         StageRecord(name, "cached", dt, keys[name], "", meta.get("seconds", 0.0))
                     )
                     continue
+            if name in cached:  # not validated up front (its planned key was in the cache)
+                try:
+                    validate(scene, [name], stages)
+                except InputError as exc:
+                    msg = f"{type(exc).__name__}: {exc}"
+                    record(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
+                    continue
             ctx = StageContext(
                 name=name,
                 scene=restricted_scene(scene, st.reads_for(scene)),
