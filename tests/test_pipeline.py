@@ -518,6 +518,11 @@ def test_map_items_on_threads_for_compiled_runs():
         assert all(n.startswith("gearbox-sweep") for n in got[1:]), got
     assert map_items(_pid, range(4), threads=True) == [os.getpid()] * 4  # no processes
     assert map_items(_thread_name, range(3), threads=True, jobs=1) == ["MainThread"] * 3
+    # --jobs N: N threads after the first item, here, whatever the cores
+    got = map_items(_thread_name, range(6), threads=True, jobs=3)
+    assert got[0] == "MainThread" and all(n.startswith("gearbox-sweep") for n in got[1:])
+    assert len(set(got[1:])) <= 3
+    assert map_items(_pid, range(4), threads=True, jobs=2) == [os.getpid()] * 4
 
 
 def test_json_files_take_numpy_values_and_write_non_finite_numbers_as_null(tmp_path):

@@ -353,11 +353,17 @@ def two_speeds(scene):
 
 @pytest.mark.slow
 def test_speed_sweep_on_a_process_pool(marine):
-    """``jobs=2`` (``gearbox run --jobs 2``): the sweep's items (models, mesh tables with
-    their read-only mappings) reach worker processes by pickle, and the points come back
-    as those of the same sweep run in this process."""
+    """On a pool of spawned processes (as ``--jobs 2`` gives the scipy and exudyn
+    sweeps): the sweep's items (models, mesh tables with their read-only mappings)
+    reach the workers by pickle, and the points come back as those of the same sweep
+    run in this process."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
     scene = two_speeds(marine)
-    pooled = run_pipeline(scene, ["waterfall"], cache=False, jobs=2)
+    spawn = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(2, mp_context=spawn) as pool:
+        pooled = run_pipeline(scene, ["waterfall"], cache=False, executor=pool)
     assert pooled.summary.ok, pooled.summary.table()
     here = run_pipeline(scene, ["waterfall"], cache=False, jobs=1)
     for p, q in zip(pooled["waterfall"].points, here["waterfall"].points, strict=True):

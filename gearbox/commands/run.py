@@ -30,9 +30,10 @@ def add_arguments(parser):
         "--jobs",
         type=int,
         metavar="N",
-        help="worker processes for sweeps; 1: none, and no output worker either (default: "
-        "diffrax sweeps on threads, one per core; other sweeps on a pool of processes "
-        "when timing the first item says it pays)",
+        help="workers for sweeps: threads for diffrax sweeps, processes for the others; "
+        "1: none, and no output worker either (default: diffrax sweeps on one thread per "
+        "core; other sweeps on a pool of processes when timing the first item says it "
+        "pays)",
     )
     parser.add_argument(
         "--no-output-worker",

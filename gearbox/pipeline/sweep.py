@@ -19,7 +19,8 @@ only when that is expected to be faster (:func:`use_pool`): starting workers tha
 import gearbox and jax cost 2.3-3.4 s on the 2-core development machine, more than a
 short sweep takes in one process. A sweep whose items run compiled code that releases
 the GIL (``threads=True``: the diffrax runs of the speed sweep) goes to a thread pool
-of this process instead: no start, the solver compiled once.
+of this process instead (``jobs`` threads, or one per core): no start, the solver
+compiled once.
 """
 
 from __future__ import annotations
@@ -143,15 +144,17 @@ def map_items(
         Used as given for every item and not shut down.
     jobs : int, optional
         Without an executor: ``1`` runs here, one item after the other; ``N > 1``
-        runs on a new ``ProcessPoolExecutor`` of ``N`` workers, shut down on return;
-        None decides after timing the first item (module doc).
+        runs on a new ``ProcessPoolExecutor`` of ``N`` workers (with ``threads``: the
+        first item here, the rest on ``N`` threads), shut down on return; None decides
+        after timing the first item (module doc).
     progress : bool
         Show a tqdm progress bar on stderr.
     threads : bool
         ``fn`` spends its time in compiled code that releases the GIL and may run in
-        several threads at once (a compiled jax run): with ``jobs`` None and no
-        executor, the items after the first run on a thread pool of one thread per
-        core, in this process (nothing to start, nothing compiled again).
+        several threads at once (a compiled jax run): without an executor, the first
+        item runs here and the rest on a thread pool in this process (nothing to
+        start, nothing compiled again), of ``jobs`` threads or, with ``jobs`` None,
+        one per core.
     """
     items = list(items)
     from tqdm.auto import tqdm
@@ -161,17 +164,17 @@ def map_items(
         if executor is not None:
             return _submit_all(fn, items, executor, bar)
         done: list[Any] = []
-        pool_type = "process"
-        if jobs is None and items:
+        pool_type = "thread" if threads else "process"
+        if (jobs is None or (threads and jobs > 1)) and items:
             t0 = time.perf_counter()
-            done.append(fn(items[0]))
+            done.append(fn(items[0]))  # here: it compiles, if anything
             bar.update()
             first_s = time.perf_counter() - t0
-            workers = min(default_jobs(), len(items) - 1)
-            if threads and workers > 1:
-                jobs, pool_type = workers, "thread"
-            else:
+            workers = min(default_jobs() if jobs is None else jobs, len(items) - 1)
+            if not threads:
                 jobs = workers if use_pool(len(items) - 1, first_s, workers) else 1
+            else:
+                jobs = workers
         rest = items[len(done) :]
         if jobs == 1 or len(rest) <= 1:
             for x in rest:
