@@ -346,3 +346,34 @@ def test_summary_is_json_with_issue_keys(tca03):
         assert key in s
     assert set(s["unloaded_te_peak_to_peak_arcsec"]) == {"drive", "coast"}
     assert s["max_iterations"]["drive"] <= TCASettings().max_iter
+
+
+def test_te_plot_of_conjugate_flanks_is_not_drawn_to_the_noise_scale(tca03):
+    """Conjugate flanks' TE is the solver's rounding (~1e-11 arcsec): the axis keeps a
+    least span and says the flanks are conjugate; a real TE is drawn to its own scale."""
+    import dataclasses
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gearbox.tca.plot import TE_AXIS_MIN_SPAN_ARCSEC, plot_transmission_error
+
+    ax = plot_transmission_error(tca03)
+    lo, hi = ax.get_ylim()
+    assert hi - lo >= TE_AXIS_MIN_SPAN_ARCSEC
+    assert any("conjugate" in t.get_text() for t in ax.texts)
+    plt.close(ax.figure)
+
+    def wavy(fc):  # 3 arcsec of TE, as a mismatched pair would have
+        phi = fc.pinion_angle - fc.pinion_angle[0]
+        te = 3.0 / ARCSEC * np.sin(2 * np.pi * phi / np.ptp(phi))
+        return dataclasses.replace(fc, transmission_error=te)
+
+    real = dataclasses.replace(tca03, drive=wavy(tca03.drive), coast=wavy(tca03.coast))
+    ax = plot_transmission_error(real)
+    lo, hi = ax.get_ylim()
+    assert 5.9 < hi - lo < 8.0  # autoscaled about the 6 arcsec swing
+    assert not ax.texts
+    plt.close(ax.figure)
