@@ -68,6 +68,8 @@ def plot_transmission_error(result, ax=None):
     if te.size and np.ptp(te) < TE_AXIS_MIN_SPAN_ARCSEC:
         mid, half = 0.5 * (te.min() + te.max()), TE_AXIS_MIN_SPAN_ARCSEC
         ax.set_ylim(mid - half, mid + half)
+        ax.set_yticks(mid + half * np.array([-1.0, -0.5, 0.0, 0.5, 1.0]))
+        ax.yaxis.set_major_formatter(lambda v, _: f"{v:.3f}")
         ax.text(
             0.02,
             0.05,
