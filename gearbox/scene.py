@@ -581,7 +581,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         ),
         "settle_time_s": _f(
             None,
-            "Simulated time before recording (s); default from the slowest mode's decay.",
+            "Simulated time before recording (s); default 20 mesh cycles.",
             0,
             None,
         ),

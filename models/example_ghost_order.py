@@ -48,7 +48,7 @@ mesh force grows along the
 propeller law from 28 N at 1000 rpm (558 Hz) to 1865 N at 3500 rpm, where its 1955 Hz
 lie 3 % under the mesh mode (2015 Hz): two thirds of the mesh order's own line (2816
 N) from a waviness of half a micrometre. Simulated over the hunting period at 3500 rpm
-it reads 1864.68 N against the harmonic balance's 1864.81 N (-0.007 %). Run it from
+it reads 1864.68 N against the harmonic balance's 1864.81 N (the balance +0.007 %, as printed). Run it from
 the repository root::
 
     python models/example_ghost_order.py
