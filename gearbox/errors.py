@@ -7,9 +7,13 @@ valid range (the habit of FMPy's ``validate_fmu``).
 
 from __future__ import annotations
 
+import numbers
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-__all__ = ["InputError", "Problem", "Problems"]
+import numpy as np
+
+__all__ = ["InputError", "Problem", "Problems", "expect_scene", "expect_type"]
 
 
 @dataclass(frozen=True)
@@ -41,6 +45,35 @@ class InputError(ValueError):
         super().__init__("\n".join(lines))
 
 
+def _is_real(value) -> bool:
+    """A real number (Python or numpy, 0-d arrays included), not a bool."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+
+
+def expect_type(value, types, name: str, hint: str = "") -> None:
+    """Raise TypeError unless ``isinstance(value, types)``: the message names the
+    parameter, what it must be (and ``hint``, how to make one) and what it got."""
+    if isinstance(value, types):
+        return
+    want = " or ".join(t.__name__ for t in (types if isinstance(types, tuple) else (types,)))
+    got = f"{type(value).__name__} {value!r}"
+    got = got if len(got) <= 80 else got[:77] + "..."
+    raise TypeError(f"{name} must be a {want}{f' ({hint})' if hint else ''}; got {got}")
+
+
+def expect_scene(scene, name: str = "scene") -> None:
+    """Raise TypeError unless ``scene`` reads like a scene (a mapping of sections): a
+    file path, the usual slip, is named as such."""
+    import os
+
+    if isinstance(scene, str | os.PathLike):
+        raise TypeError(f"{name} must be a scene (gearbox.load_scene({str(scene)!r})), not a path")
+    if not hasattr(scene, "__getitem__"):
+        expect_type(scene, Mapping, name, "a scene: gearbox.load_scene(path)")
+
+
 @dataclass
 class Problems:
     """Collector: ``check`` records a problem when a condition fails; ``raise_if_any``."""
@@ -65,18 +98,22 @@ class Problems:
         lo_open: bool = False,
         hi_open: bool = False,
     ) -> bool:
-        """Record a problem unless ``lo <= value <= hi`` (open ends on request)."""
+        """Record a problem unless ``lo <= value <= hi`` (open ends on request); a value
+        that is not a real number (a string, None, a bool) is a problem too."""
         ok = True
-        if lo is not None:
+        if not _is_real(value):
+            ok = False
+        elif lo is not None:
             ok &= value > lo if lo_open else value >= lo
-        if hi is not None:
+        if ok and hi is not None:
             ok &= value < hi if hi_open else value <= hi
         if not ok:
             left = "(" if lo_open else "["
             right = ")" if hi_open else "]"
             lo_s = "-inf" if lo is None else f"{lo:g}"
             hi_s = "inf" if hi is None else f"{hi:g}"
-            self.add(path, value, f"must be in {left}{lo_s}, {hi_s}{right}")
+            kind = "" if _is_real(value) else "a number "
+            self.add(path, value, f"must be {kind}in {left}{lo_s}, {hi_s}{right}")
         return bool(ok)
 
     def raise_if_any(self, context: str = "invalid input") -> None:

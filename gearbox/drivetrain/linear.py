@@ -863,6 +863,23 @@ def _merge_orders(orders, sources, w, X, mesh):
     return orders[keep], tuple("+".join(n) for n in names), w[:, keep], Xs, ms
 
 
+def _check_order_arguments(speeds: np.ndarray, mesh_harmonics, sideband_harmonics) -> None:
+    from ..errors import Problems
+
+    p = Problems()
+    bad = speeds[~(np.isfinite(speeds) & (speeds > 0))]
+    p.check(
+        speeds.ndim == 1 and speeds.size > 0 and bad.size == 0,
+        "speeds",
+        bad.tolist() if bad.size else speeds.shape,
+        "must be pinion speeds in rad/s, finite and > 0 (rpm * pi / 30), a 1-D array",
+    )
+    for name, v in (("mesh_harmonics", mesh_harmonics), ("sideband_harmonics", sideband_harmonics)):
+        ok = isinstance(v, int | np.integer) and not isinstance(v, bool)
+        p.check(ok and v >= 0, name, v, "must be an integer >= 0")
+    p.raise_if_any("invalid order response arguments")
+
+
 def order_responses(
     model: DrivetrainModel, speeds=None, *, mesh_harmonics: int = 12, sideband_harmonics: int = 3
 ) -> OrderResponse:
@@ -888,9 +905,11 @@ def order_responses(
     against the harmonic balance, which meets the nonlinear simulation within 0.21 %). The excitation amplitudes are those at the
     model's torque; only the frequencies and the propeller's speed damping follow
     ``speeds``. For a speed on the propeller law, pass the model of that speed and
-    torque (:meth:`DrivetrainModel.with_speed` keeps the torque).
+    torque (:meth:`DrivetrainModel.with_speed` keeps the torque). Speeds that are not
+    finite and > 0, and harmonic counts below 0, raise one InputError naming each.
     """
     sp = np.atleast_1d(np.asarray(model.speed if speeds is None else speeds, dtype=float))
+    _check_order_arguments(sp, mesh_harmonics, sideband_harmonics)
     n = model.n_dof
     y = model.static_state()
     fl = model.drive

@@ -533,6 +533,16 @@ class DrivetrainModel:
         (:func:`gearbox.ltca.pitch.level_records`), needed instead with
         ``pitch.method = "exact"``.
         """
+        from ..errors import expect_scene, expect_type
+
+        expect_scene(scene, "DrivetrainModel.from_scene: scene")
+        if table is not None:
+            expect_type(
+                table,
+                MeshTable,
+                "DrivetrainModel.from_scene: table",
+                "MeshTable.from_netcdf(path), or the tables stage's result",
+            )
         d = scene["drivetrain"]
         if table is None:
             from ..mesh_analytical import analytical_table, pair_from_scene

@@ -64,6 +64,26 @@ def default_solver(name: str = "diffrax", rtol: float | None = None, mesh_law: s
     raise InputError(Problem("solver", name, "must be one of diffrax, scipy, exudyn"))
 
 
+def _check_run_arguments(settle_time, mesh_cycles, samples_per_cycle, start) -> None:
+    """:func:`simulate`'s own arguments: one InputError naming every bad one."""
+    from ..errors import Problems
+
+    p = Problems()
+    if settle_time is not None:
+        ok = isinstance(settle_time, int | float) and math.isfinite(settle_time)
+        p.check(ok and settle_time >= 0, "settle_time", settle_time, "must be >= 0 s, or None")
+    for name, v in (("mesh_cycles", mesh_cycles), ("samples_per_cycle", samples_per_cycle)):
+        ok = isinstance(v, int | np.integer) and not isinstance(v, bool)
+        p.check(ok and v >= 1, name, v, "must be an integer >= 1")
+    p.check(
+        start in ("operating_point", "periodic"),
+        "start",
+        start,
+        "must be 'operating_point' or 'periodic'",
+    )
+    p.raise_if_any("invalid simulation arguments")
+
+
 def record_times(
     model: DrivetrainModel, settle_time: float, mesh_cycles: int, samples_per_cycle: int
 ) -> np.ndarray:
@@ -250,18 +270,20 @@ def simulate(
     y0: np.ndarray | None = None,
     start: str = "operating_point",
 ) -> TimeSeries:
-    """Integrate ``model`` with ``solver`` (ScipySolver, DiffraxSolver, ExudynSolver).
+    """Integrate ``model`` with ``solver`` (ScipySolver, DiffraxSolver, ExudynSolver,
+    or a name for :func:`default_solver`: 'diffrax', 'scipy', 'exudyn').
 
     settle_time (s): simulated before the record; default 20 mesh cycles (the start
-    state already holds the linear periodic response). start: 'operating_point'
+    state already holds the linear periodic response). mesh_cycles, samples_per_cycle:
+    the record's length and sampling (>= 1 each). start: 'operating_point'
     (:func:`periodic_start_state`) or 'periodic' (the settled periodic response by
     shooting, :func:`gearbox.drivetrain.shooting.periodic_response`; settle_time then
-    defaults to 0). Returns the record only.
+    defaults to 0). Returns the record only. Bad arguments raise one
+    :class:`~gearbox.errors.InputError` naming each.
     """
-    if start not in ("operating_point", "periodic"):
-        from ..errors import InputError, Problem
-
-        raise InputError(Problem("start", start, "must be 'operating_point' or 'periodic'"))
+    _check_run_arguments(settle_time, mesh_cycles, samples_per_cycle, start)
+    if isinstance(solver, str):
+        solver = default_solver(solver, mesh_law=model.mesh_law)
     shoot = None
     if start == "periodic" and y0 is None:
         from .shooting import periodic_response
@@ -312,6 +334,8 @@ def simulate(
     for k in ("stepping", "contact_loss_steps"):  # the jax backend's fixed-step path
         if k in info:
             attrs[k] = info[k]
+    if name == "exudyn":  # its fixed step and build time, as simulate_exudyn gives them
+        attrs.update(step_s=info["step"], build_time_s=info["build_time"])
     if shoot is not None:
         attrs.update(
             shooting_iterations=shoot.iterations,

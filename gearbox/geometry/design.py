@@ -466,6 +466,9 @@ def design_pair(spec: PairSpec, *, with_checks: bool = True) -> PairDesign:
     Raises :class:`InputError` when the specification is invalid or eqs (18)-(19) have
     no solution (the message names the offending input and the valid range).
     """
+    from ..errors import expect_type
+
+    expect_type(spec, PairSpec, "design_pair: spec", "PairSpec.from_scene(scene)")
     spec.validate()
     if spec.design_mode == "target_fpd":
         from .target import solve_cone_angle_for_fpd

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ..errors import Problems
+from ..errors import Problems, expect_scene, expect_type
 
 __all__ = ["ToolSpec", "GearSpec", "PairSpec"]
 
@@ -90,6 +90,9 @@ class PairSpec:
 
     def validate(self) -> PairSpec:
         """Check every input; raise one InputError listing all problems."""
+        for name in ("pinion", "gear"):
+            expect_type(getattr(self, name), GearSpec, f"PairSpec.{name}", "GearSpec(teeth=...)")
+        expect_type(self.tool, ToolSpec, "PairSpec.tool", "ToolSpec()")
         p = Problems()
         p.in_range("pair.normal_module_mm", self.normal_module * 1e3, 0, None, lo_open=True)
         p.in_range(
@@ -151,6 +154,7 @@ class PairSpec:
     @classmethod
     def from_scene(cls, scene) -> PairSpec:
         """Build (and validate) from a :class:`gearbox.scene.Scene`."""
+        expect_scene(scene, "PairSpec.from_scene: scene")
         pr, pi, ge, to = scene["pair"], scene["pinion"], scene["gear"], scene["tool"]
 
         def gear(sec, solved_helix: bool):

@@ -68,12 +68,22 @@ class ParallelPair:
 
     def __post_init__(self):
         p = Problems()
-        p.in_range("normal_module", self.normal_module, 0.0, None, lo_open=True)
+        p.check(
+            isinstance(self.normal_module, int | float) and 0.0 < self.normal_module <= 0.1,
+            "normal_module",
+            self.normal_module,
+            "must be in (0, 0.1] m (SI: a 4 mm module is 0.004)",
+        )
         p.in_range("normal_pressure_angle", self.normal_pressure_angle, 0.0, 0.7, lo_open=True)
         p.in_range("helix_angle", self.helix_angle, -1.0, 1.0)
         p.in_range("teeth[0]", self.teeth[0], 8, None)
         p.in_range("teeth[1]", self.teeth[1], 8, None)
-        p.in_range("face_width", self.face_width, 0.0, None, lo_open=True)
+        p.check(
+            isinstance(self.face_width, int | float) and 0.0 < self.face_width <= 2.0,
+            "face_width",
+            self.face_width,
+            "must be in (0, 2] m (SI: a 40 mm face is 0.04)",
+        )
         p.in_range("bore_ratio", self.bore_ratio, 0.0, 0.95, lo_open=True)
         p.in_range("youngs_modulus", self.youngs_modulus, 0.0, None, lo_open=True)
         p.in_range("poisson_ratio", self.poisson_ratio, 0.0, 0.5, hi_open=True)

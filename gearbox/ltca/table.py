@@ -313,6 +313,9 @@ def is_parallel(design) -> bool:
 def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResult:
     """Loaded TCA of a scene's pair: parallel-axis pairs (shaft angle and cone angles
     0) in closed form; crossed beveloid pairs through :func:`beveloid_ltca`."""
+    from ..errors import expect_scene
+
+    expect_scene(scene, "scene_ltca: scene")
     lt = scene["ltca"]
     options = options or LTCAOptions(positions=lt["positions"])
     if is_parallel(design):

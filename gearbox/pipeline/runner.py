@@ -157,6 +157,8 @@ def preview(
     """
     if stages is None:
         from .stages import STAGES as stages
+    if isinstance(requested, str):  # one output by name
+        requested = (requested,)
     requested = tuple(scene["outputs"]["requested"] if requested is None else requested)
     names = plan(requested, stages, scene)
     validate(scene, names, stages)
@@ -201,8 +203,9 @@ def run_pipeline(
     ----------
     scene : Scene
         A validated scene (:func:`gearbox.load_scene`).
-    requested : iterable of str, optional
-        Outputs to produce; default ``scene["outputs"]["requested"]``.
+    requested : iterable of str, or str, optional
+        Outputs to produce (one name alone is one output); default
+        ``scene["outputs"]["requested"]``.
     stages : mapping, optional
         The stage graph; default :data:`gearbox.pipeline.STAGES`.
     cache : Cache, path, bool or None
@@ -230,6 +233,8 @@ def run_pipeline(
     """
     if stages is None:
         from .stages import STAGES as stages
+    if isinstance(requested, str):  # one output by name
+        requested = (requested,)
     requested = tuple(scene["outputs"]["requested"] if requested is None else requested)
     names = plan(requested, stages, scene)
     store = _as_cache(cache)

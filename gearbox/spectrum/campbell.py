@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import Problems
+from ..errors import Problems, expect_type
 
 __all__ = [
     "CampbellDiagram",
@@ -520,6 +520,7 @@ def campbell(
     """
     from scipy.optimize import brentq
 
+    expect_type(modes, Mapping, "campbell: modes", "{name: frequency, callable or table}")
     p = Problems()
     lo = hi = float("nan")
     try:

@@ -166,6 +166,11 @@ def blanks_from_design(design) -> tuple[ToothBlank, ToothBlank]:
     Uses the design's solved gear helix angle and backlash-free x_t2 and the tool
     profile of its spec (coefficients of m_n).
     """
+    if not hasattr(design, "spec"):
+        from ..errors import expect_type
+        from ..geometry import PairDesign
+
+        expect_type(design, PairDesign, "blanks_from_design: design", "design_pair(spec)")
     spec = design.spec
     tool = spec.tool
     m = spec.normal_module

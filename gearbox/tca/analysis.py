@@ -265,6 +265,15 @@ def tca_of_blanks(
     )
 
 
+def _expect_design(design, name: str) -> None:
+    """TypeError unless ``design`` is a designed pair (it has a spec and a pitch point)."""
+    if not (hasattr(design, "spec") and hasattr(design, "pitch_point")):
+        from ..errors import expect_type
+        from ..geometry import PairDesign
+
+        expect_type(design, PairDesign, name, "design_pair(PairSpec.from_scene(scene))")
+
+
 def run_tca(
     design, scene=None, *, settings: TCASettings | None = None, errors=None, pinion_angles=None
 ) -> TCAResult:
@@ -276,10 +285,17 @@ def run_tca(
     settings and its ``[assembly]`` section the assembly errors, unless ``settings``
     or ``errors`` (:class:`AssemblyErrors`) are given.
     """
+    from ..errors import expect_scene, expect_type
     from ..surface import blanks_from_design
     from .assembly import AssemblyErrors
 
+    _expect_design(design, "run_tca: design")
+    if settings is not None:
+        expect_type(settings, TCASettings, "run_tca: settings", "TCASettings(positions=...)")
+    if errors is not None:
+        expect_type(errors, AssemblyErrors, "run_tca: errors", "AssemblyErrors(offset=...)")
     if scene is not None:
+        expect_scene(scene, "run_tca: scene")
         settings = settings or TCASettings.from_scene(scene)
         errors = errors or AssemblyErrors.from_scene(scene)
     pinion, gear = blanks_from_design(design)

@@ -48,6 +48,21 @@ class AssemblyErrors:
     pinion_axial: float = 0.0
     gear_axial: float = 0.0
 
+    def __post_init__(self):
+        from ..errors import Problems, _is_real
+
+        p = Problems()
+        for name, unit in (
+            ("offset", "m"),
+            ("shaft_angle", "rad"),
+            ("pinion_axial", "m"),
+            ("gear_axial", "m"),
+        ):
+            v = getattr(self, name)
+            ok = _is_real(v) and math.isfinite(v)
+            p.check(ok, f"AssemblyErrors.{name}", v, f"must be a finite number ({unit})")
+        p.raise_if_any("invalid assembly errors")
+
     @classmethod
     def from_scene(cls, scene) -> AssemblyErrors:
         a = scene["assembly"]
