@@ -377,3 +377,17 @@ def test_te_plot_of_conjugate_flanks_is_not_drawn_to_the_noise_scale(tca03):
     assert 5.9 < hi - lo < 8.0  # autoscaled about the 6 arcsec swing
     assert not ax.texts
     plt.close(ax.figure)
+
+
+def test_a_sweep_of_many_mesh_cycles_finds_contact_at_every_position(des03, tca03):
+    """tca.mesh_cycles up to its bound 20: every position has its pairs examined (a
+    sweep of 10 cycles once read 5 of 121 positions as without contact, 20 cycles 104
+    of 200, as the examined pairs stayed those about the pitch point)."""
+    for cycles, positions in ((10.0, 121), (20.0, 200)):
+        res = run_tca(des03, settings=TCASettings(positions=positions, mesh_cycles=cycles))
+        for fc, ref in ((res.drive, tca03.drive), (res.coast, tca03.coast)):
+            assert np.all(fc.pairs_in_contact >= 1), (cycles, fc.name)
+            te = fc.transmission_error
+            assert np.all(np.isfinite(te)) and np.ptp(te) * ARCSEC < 1e-6
+            # the path's ends are refined by bisection: the same ratio as the default
+            assert fc.contact_ratio == pytest.approx(ref.contact_ratio, abs=1e-6)

@@ -40,7 +40,9 @@ __all__ = ["TCASettings", "FlankContact", "TCAResult", "run_tca", "tca_of_blanks
 
 def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     N1, N2 = pinion.teeth, gear.teeth
-    J = settings.pairs
+    # J pairs either side of the reference pair at every position: a sweep of c mesh
+    # cycles about the pitch point moves the reference pair c / 2 pitches either way
+    J = settings.pairs + int(np.ceil(0.5 * settings.mesh_cycles))
     pairs = np.arange(-J, J + 1)
     phi1c, x0 = centre_start(pinion, gear, asm, side, target)
     c = solve_contact(pinion, gear, asm, side, [phi1c], x0[None, :], max_iter=settings.max_iter)

@@ -41,7 +41,8 @@ class TCASettings:
         mesh_cycles: sweep length in mesh cycles (2 pi / N_1 each), centred on the
             pitch-point passage of tooth 0.
         marking_compound: separation that defines the contact ellipse (m).
-        pairs: J, tooth pairs examined on each side of the reference pair.
+        pairs: J, tooth pairs examined on each side of the reference pair at every
+            position (the sweep's own half width in pitches is added).
         max_iter: iteration bound of the contact solve.
     """
 
