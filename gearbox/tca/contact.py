@@ -37,6 +37,7 @@ TOL_NORMAL = 1e-11  # -
 MAX_STEP_LENGTH = 5e-3  # m, per iteration for z and u
 MAX_STEP_ANGLE = 0.05  # rad, per iteration for phi_2
 RCOND = 1e-7  # relative singular-value cut-off of the Newton step (line contact)
+MAX_HALVINGS = 8  # backtracking of a step that raised the residual
 
 
 def flank_frames(blank: ToothBlank, side: str, z, u, matrix, origin):
@@ -175,6 +176,13 @@ def solve_contact(
     n = x.shape[0]
     iters = np.zeros(n, dtype=int)
     done = np.zeros(n, dtype=bool)
+    # backtracking on the merit |F|^2 (each part over its tolerance): the step from x_prev
+    # that made it grow is halved, up to MAX_HALVINGS times, before a new Newton step
+    x_prev = x.copy()
+    step_prev = np.zeros_like(x)
+    merit_prev = np.full(n, np.inf)
+    halvings = np.zeros(n, dtype=int)
+    lim = np.array([MAX_STEP_LENGTH] * 4 + [MAX_STEP_ANGLE])
     for _ in range(max_iter):
         act = ~done
         if not act.any():
@@ -189,13 +197,31 @@ def solve_contact(
         if not upd.any():
             break
         with np.errstate(all="ignore"):
-            step = _min_norm_solve(J[upd], -F[upd])
-        # bounded steps: a limited move in each parameter keeps the iteration on the sheet
-        lim = np.array([MAX_STEP_LENGTH] * 4 + [MAX_STEP_ANGLE])
-        scale = np.max(np.abs(step) / lim, axis=1, initial=1.0)
-        step = np.where(np.isfinite(step), step / np.maximum(scale, 1.0)[:, None], 0.0)
-        x[idx[upd]] += step
-        iters[idx[upd]] += 1
+            merit = np.sum((F[:, :3] / TOL_POSITION) ** 2, axis=1) + np.sum(
+                (F[:, 3:] / TOL_NORMAL) ** 2, axis=1
+            )
+        i = idx[upd]
+        back = ~(merit[upd] < merit_prev[i]) & (halvings[i] < MAX_HALVINGS)
+        if back.any():  # the last step made it worse: go half as far from where it began
+            b = i[back]
+            step_prev[b] *= 0.5
+            x[b] = x_prev[b] + step_prev[b]
+            halvings[b] += 1
+            iters[b] += 1
+        new = ~back
+        if new.any():
+            k = i[new]
+            with np.errstate(all="ignore"):
+                step = _min_norm_solve(J[upd][new], -F[upd][new])
+            # bounded steps: a limited move in each parameter keeps the iteration on the sheet
+            scale = np.max(np.abs(step) / lim, axis=1, initial=1.0)
+            step = np.where(np.isfinite(step), step / np.maximum(scale, 1.0)[:, None], 0.0)
+            x_prev[k] = x[k]
+            merit_prev[k] = merit[upd][new]
+            step_prev[k] = step
+            halvings[k] = 0
+            x[k] += step
+            iters[k] += 1
     F, J, f1, f2 = _system(pinion, gear, asm, side, phi1, x)
     res_pos = np.linalg.norm(F[:, :3], axis=1)
     res_n = np.linalg.norm(np.cross(f1["n"], f2["n"]), axis=1)

@@ -35,9 +35,30 @@ def _angle_about(v, axis, ref):
     return math.atan2(v @ e2, v @ e1)
 
 
+def _profile_parameter_at(b: ToothBlank, side: str, radius: float) -> float:
+    """u of the flank point at radius ``radius`` in the reference section (z = 0),
+    interpolated in the involute's radius from the form circle to beyond the tip; the
+    rack's reference-plane point (:func:`_pitch_profile_parameter`) where ``radius`` is
+    not on the flank."""
+    u = np.linspace(0.0, 3.0 * b.normal_module, 121)
+    r = flank_points(b, side, np.zeros_like(u), u, involute_only=True).radius
+    ok = np.isfinite(r)
+    u, r = u[ok], r[ok]
+    if u.size < 2 or np.any(np.diff(r) <= 0) or not r[0] <= radius <= r[-1]:
+        return _pitch_profile_parameter(b)
+    return float(np.interp(radius, r, u))
+
+
 def centre_start(pinion, gear, asm, side, target):
-    """Pinion angle and starting values that put both flanks' pitch points at target."""
-    u1, u2 = _pitch_profile_parameter(pinion), _pitch_profile_parameter(gear)
+    """Pinion angle and starting values that put both flanks' points at target: in
+    each member's reference section, at the target's distance from its axis (the
+    working pitch radius, which a profile shift and the cone move off the rack's
+    reference plane)."""
+    target = np.asarray(target, dtype=float)
+    r_1 = math.hypot(*(target - asm.pinion_origin)[:2])
+    d2 = target - asm.gear_origin
+    r_2 = float(np.linalg.norm(d2 - (d2 @ asm.gear_axis) * asm.gear_axis))
+    u1, u2 = _profile_parameter_at(pinion, side, r_1), _profile_parameter_at(gear, side, r_2)
     q1 = flank_points(pinion, side, 0.0, u1).position
     p10 = asm.pinion_matrix(0.0) @ q1
     phi1 = math.atan2(target[1], target[0]) - math.atan2(p10[1], p10[0])
