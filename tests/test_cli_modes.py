@@ -100,3 +100,25 @@ def test_the_free_rotation_is_named_rigid_body_on_the_default_scene(capsys):
     assert 0 <= f[0] < 1e-6 * f[-1]
     kinds = [m["description"].split(" mode")[0] for m in out["modes"]]
     assert kinds == ["rigid-body", "shaft", "shaft", "mesh"]
+
+
+def test_a_mesh_table_of_another_pair_is_refused(tmp_path, capsys):
+    """A table made for another design (here a 12-tooth pinion) read with --table:
+    exit 2 naming the teeth (it ran with the table's mesh frequency, 400 Hz where the
+    scene's 29 teeth give 966.7 Hz at 2000 rpm)."""
+    from gearbox.drivetrain.model import DrivetrainModel
+    from gearbox.errors import InputError
+    from gearbox.mesh_analytical import analytical_table, pair_from_scene
+    from gearbox.scene import load_scene
+
+    scene = load_scene(CASE03)
+    other = scene.replaced(pinion={"teeth": 12}, pair={"offset_mm": 175.0})
+    table = analytical_table(pair_from_scene(other), [150.0, 300.0, 450.0])
+    with pytest.raises(InputError, match=r"pinion.teeth = 29: the mesh table is of a pair with 12"):
+        DrivetrainModel.from_scene(scene, table)
+    path = table.to_netcdf(tmp_path / "other.nc")
+    assert main(["modes", str(CASE03), "--table", str(path), "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "pinion.teeth" in err and "12 pinion teeth" in err and "Traceback" not in err
+    own = analytical_table(pair_from_scene(scene), [150.0, 300.0, 450.0])
+    assert main(["modes", str(CASE03), "--table", str(own.to_netcdf(tmp_path / "own.nc"))]) == 0

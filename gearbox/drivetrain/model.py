@@ -543,6 +543,21 @@ class DrivetrainModel:
                 "DrivetrainModel.from_scene: table",
                 "MeshTable.from_netcdf(path), or the tables stage's result",
             )
+            p = Problems()
+            for member in ("pinion", "gear"):
+                try:  # a pipeline stage's scene holds only what it reads: its tables
+                    want = scene[member]["teeth"]  # come from the same scene's design
+                except KeyError:
+                    continue
+                have = getattr(table, f"{member}_teeth")
+                p.check(
+                    have == want,
+                    f"{member}.teeth",
+                    want,
+                    f"the mesh table is of a pair with {have} {member} teeth: a table of "
+                    "another design (make it from this scene: gearbox ltca, or gearbox run)",
+                )
+            p.raise_if_any("mesh table and scene disagree")
         d = scene["drivetrain"]
         if table is None:
             from ..mesh_analytical import analytical_table, pair_from_scene
