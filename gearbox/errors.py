@@ -108,13 +108,18 @@ class Problems:
         if ok and hi is not None:
             ok &= value < hi if hi_open else value <= hi
         if not ok:
-            left = "(" if lo_open else "["
-            right = ")" if hi_open else "]"
-            lo_s = "-inf" if lo is None else f"{lo:g}"
-            hi_s = "inf" if hi is None else f"{hi:g}"
             kind = "" if _is_real(value) else "a number "
-            self.add(path, value, f"must be {kind}in {left}{lo_s}, {hi_s}{right}")
+            self.add(path, value, f"must be {kind}in {self.range_text(lo, hi, lo_open, hi_open)}")
         return bool(ok)
+
+    @staticmethod
+    def range_text(lo, hi, lo_open: bool = False, hi_open: bool = False) -> str:
+        """``[lo, hi]``, open ends as ``( )``; a missing bound is an open infinity."""
+        left = "(" if lo_open or lo is None else "["
+        right = ")" if hi_open or hi is None else "]"
+        lo_s = "-inf" if lo is None else f"{lo:g}"
+        hi_s = "inf" if hi is None else f"{hi:g}"
+        return f"{left}{lo_s}, {hi_s}{right}"
 
     def raise_if_any(self, context: str = "invalid input") -> None:
         if self.items:

@@ -51,6 +51,8 @@ class Field:
     hi_open: bool = False
     choices: tuple[str, ...] | None = None
     min_len: int = 0
+    max_len: int | None = None  # lists: at most this many entries
+    increasing: bool = False  # lists of numbers: strictly increasing
 
     @property
     def required(self) -> bool:
@@ -69,8 +71,20 @@ def _s(default=None, doc="", choices=None):
     return Field("str", default, doc, choices=choices)
 
 
-def _fl(default=None, doc="", lo=None, hi=None, lo_open=False, min_len=1):
-    return Field("floats", default, doc, lo, hi, lo_open, min_len=min_len)
+def _fl(
+    default=None, doc="", lo=None, hi=None, lo_open=False, min_len=1, max_len=None, increasing=False
+):
+    return Field(
+        "floats",
+        default,
+        doc,
+        lo,
+        hi,
+        lo_open,
+        min_len=min_len,
+        max_len=max_len,
+        increasing=increasing,
+    )
 
 
 def _rows(default=None, doc="", lo=None, hi=None):
@@ -170,7 +184,12 @@ SCHEMA: dict[str, dict[str, Field]] = {
     },
     "load": {
         "torques_Nm": _fl(
-            [150.0, 300.0, 450.0], "Pinion torque levels of the mesh tables (N m).", 0, None, True
+            [150.0, 300.0, 450.0],
+            "Pinion torque levels of the mesh tables (N m), increasing.",
+            0,
+            None,
+            True,
+            increasing=True,
         ),
         "operating_torque_Nm": _f(
             300.0, "Pinion torque at the operating point (N m).", 0, None, True
@@ -596,6 +615,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
             None,
             True,
             min_len=2,
+            max_len=2,
+            increasing=True,
         ),
         "sweep_speeds": _i(40, "Speeds in a sweep.", 2, 100000),
         "resonance_threshold": _f(
@@ -747,8 +768,14 @@ def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
         if not isinstance(v, list):
             probs.add(path, v, "must be a list")
             return v
-        if len(v) < f.min_len:
-            probs.add(path, v, f"must have at least {f.min_len} entries")
+        if len(v) < f.min_len or (f.max_len is not None and len(v) > f.max_len):
+            probs.add(path, v, _length_text(f))
+        elif f.increasing and kind == "floats":
+            nums = [x for x in v if isinstance(x, int | float) and not isinstance(x, bool)]
+            if len(nums) == len(v) and any(
+                b <= a for a, b in zip(nums[:-1], nums[1:], strict=True)
+            ):
+                probs.add(path, v, "must be strictly increasing")
         sub = Field(
             "float" if kind == "floats" else "str",
             None,
@@ -761,6 +788,20 @@ def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
         )
         return [_check_value(sub, f"{path}[{i}]", x, probs) for i, x in enumerate(v)]
     raise AssertionError(kind)  # pragma: no cover - schema defect
+
+
+def _range_text(lo, hi, lo_open=False, hi_open=False) -> str:
+    """``[lo, hi]`` with open ends as ``( )``; a missing bound is an open infinity
+    (scene values must be finite)."""
+    return Problems.range_text(lo, hi, lo_open, hi_open)
+
+
+def _length_text(f: Field) -> str:
+    if f.max_len == f.min_len:
+        return f"must have exactly {f.min_len} {'entry' if f.min_len == 1 else 'entries'}"
+    if f.max_len is not None:
+        return f"must have {f.min_len} to {f.max_len} entries"
+    return f"must have at least {f.min_len} {'entry' if f.min_len == 1 else 'entries'}"
 
 
 @dataclass(frozen=True)
@@ -902,9 +943,13 @@ def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene TOML file."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a byte-order mark is not TOML's
     except OSError as exc:
         raise InputError([], f"cannot read scene {p}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError(
+            [], f"scene {p} is not UTF-8 text (byte {exc.start}: {exc.reason}): TOML files are"
+        ) from None
     try:
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -951,7 +996,7 @@ def schema_markdown() -> str:
             if f.choices:
                 rng = " / ".join(f.choices)
             elif f.lo is not None or f.hi is not None:
-                rng = f"{'(' if f.lo_open else '['}{'-inf' if f.lo is None else f'{f.lo:g}'}, {'inf' if f.hi is None else f'{f.hi:g}'}{')' if f.hi_open else ']'}"
+                rng = _range_text(f.lo, f.hi, f.lo_open, f.hi_open)
             else:
                 rng = ""
             lines.append(f"| `{key}` | {f.kind} | {default} | {rng} | {f.doc} |")

@@ -70,7 +70,7 @@ def test_numbers_that_are_not_numbers_are_named():
     assert p.in_range("w", np.float64(3.0), 0, 10) and p.in_range("v", np.array(2), 0, 10)
     assert [str(q) for q in p.items] == [
         "x = '3': must be a number in [0, 10]",
-        "y = None: must be a number in [0, inf]",
+        "y = None: must be a number in [0, inf)",
         "z = True: must be a number in [0, 10]",
     ]
 

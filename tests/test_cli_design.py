@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from gearbox.cli import main
@@ -246,3 +247,78 @@ def test_the_report_alone_says_it_holds_no_stage(tmp_path, capsys):
         == 0
     )
     assert "the report alone" not in capsys.readouterr().err
+
+
+def test_the_offsets_named_for_a_design_without_solution_do_solve(tmp_path, capsys):
+    """The hint's offset interval is where eqs (18)-(19) solve: its ends and middle do,
+    just outside them does not (it once named 45.5-15234 mm for case 03, where only
+    213-662 mm solve; and a negative offset for a -60 deg pinion helix)."""
+    import re
+
+    from gearbox.geometry import PairSpec
+    from gearbox.geometry.design import solve_spec
+    from gearbox.scene import load_scene
+
+    text = (MODELS / "case03.toml").read_text().replace("offset_mm = 229.0", "offset_mm = 50.0")
+    for edit, problem in (("", "offset_mm = 50.0"), ("helix_angle_deg = -60.0", "")):
+        t = text if not edit else text.replace("helix_angle_deg = 20.0", edit)
+        (tmp_path / "s.toml").write_text(t)
+        assert main(["design", str(tmp_path / "s.toml")]) == 2
+        err = capsys.readouterr().err
+        assert problem in err
+        spans = re.findall(r"([\d.]+) <= offset_mm <= ([\d.]+)", err)
+        assert spans, err
+        s = PairSpec.from_scene(load_scene(tmp_path / "s.toml"))
+        for a, b in spans:
+            a, b = float(a) * 1e-3, float(b) * 1e-3
+            assert a > 0
+            inside = np.array([a * 1.0005, 0.5 * (a + b), b * 0.9995])
+            assert np.all(solve_spec(s, offset=inside)["ok"]), (a, b)
+        lo, hi = float(spans[0][0]) * 1e-3, float(spans[-1][1]) * 1e-3
+        assert not np.any(solve_spec(s, offset=np.array([lo * 0.99, hi * 1.01]))["ok"])
+
+
+def test_scene_lists_that_must_increase_and_files_that_are_not_text(tmp_path, capsys):
+    text = (MODELS / "case03.toml").read_text()
+    p = tmp_path / "s.toml"
+    p.write_text(
+        text.replace("torques_Nm = [150.0, 300.0, 450.0]", "torques_Nm = [450.0, 150.0, 150.0]")
+    )
+    assert main(["design", str(p)]) == 2
+    assert "load.torques_Nm = [450.0, 150.0, 150.0]: must be strictly increasing" in (
+        capsys.readouterr().err
+    )
+    p.write_text(text + "\n[simulation]\nspeed_sweep_rpm = [3000.0, 500.0, 800.0]\n")
+    assert main(["design", str(p)]) == 2
+    assert "speed_sweep_rpm = [3000.0, 500.0, 800.0]: must have exactly 2 entries" in (
+        capsys.readouterr().err
+    )
+    p.write_text(text + "\n[simulation]\nspeed_sweep_rpm = [3000.0, 500.0]\n")
+    assert main(["design", str(p)]) == 2
+    assert "must be strictly increasing" in capsys.readouterr().err
+    p.write_bytes(b"\x80\x81 not text\n")
+    assert main(["design", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert "is not UTF-8 text" in err and "Traceback" not in err
+    p.write_bytes(b"\xef\xbb\xbf" + text.encode())  # a byte-order mark: read as TOML
+    assert main(["design", str(p)]) == 0
+    capsys.readouterr()
+
+
+def test_run_exits_2_when_a_stage_finds_its_input_wrong(tmp_path, capsys):
+    """A problem a stage finds while it computes (no design for this offset) is bad
+    input: its problems on stderr, exit 2 and no traceback, as for the scene's checks."""
+    p = tmp_path / "far.toml"
+    p.write_text(
+        (MODELS / "case03.toml").read_text().replace("offset_mm = 229.0", "offset_mm = 1000.0")
+    )
+    out = tmp_path / "out"
+    rc = main(["run", str(p), "--only", "design", "tca", "--out", str(out), "--no-cache"])
+    captured = capsys.readouterr()
+    assert rc == 2
+    assert "gearbox run: design: no design exists" in captured.err
+    assert "pair.offset_mm = 1000.0" in captured.err and "Traceback" not in captured.err
+    assert "design  failed" in captured.out and "tca     skipped" in captured.out
+    summary = json.loads((out / "run_summary.json").read_text())
+    rec = {r["name"]: r for r in summary["records"]}
+    assert rec["design"]["bad_input"] is True and rec["tca"]["bad_input"] is False

@@ -169,6 +169,11 @@ def run(args) -> int:
         for f in files:
             print(f"wrote {f}")
         print(_outputs_line(written))
+    bad = [r for r in s.records if r.bad_input]
+    for r in bad:  # the problems a stage found in its inputs: exit 2, as for the scene's
+        print(f"gearbox run: {r.name}: {r.detail}", file=sys.stderr)
+    if bad:
+        return 2
     if not s.ok:
         return 1
     if args.strict and any(

@@ -303,6 +303,17 @@ def solve_spec(spec: PairSpec, *, offset=None, pinion_cone_angle=None):
     )
 
 
+def _solvable_offsets(spec: PairSpec, lo: float, hi: float, n: int = 3000):
+    """Intervals ``[(a, b), ...]`` (m) of the offsets in ``[lo, hi]`` for which eqs
+    (18)-(19) solve with a real gear helix angle (:func:`solve_spec` on a geometric grid
+    of ``n`` offsets; the ends are grid points, 0.3 % apart at the default n over
+    [E/2, 2 E] ranges)."""
+    offsets = np.geomspace(lo, hi, n)
+    ok = np.asarray(solve_spec(spec, offset=offsets)["ok"], bool)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(int), [0]])))
+    return [(offsets[a], offsets[b - 1]) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
 def _no_solution_error(spec: PairSpec) -> InputError:
     """Explain a failed xi_n solve: which offsets would have a solution."""
     pi, ge = spec.pinion, spec.gear
@@ -318,9 +329,11 @@ def _no_solution_error(spec: PairSpec) -> InputError:
         pi.cone_angle,
         ge.cone_angle,
     )
-    E = E[np.isfinite(E)]
-    if E.size:
-        rng = f"for these teeth, angles and module a solution needs roughly {E.min() * 1e3:.1f} <= offset_mm <= {E.max() * 1e3:.1f}"
+    E = E[np.isfinite(E) & (E > 0)]
+    runs = _solvable_offsets(spec, E.min() / 2, E.max() * 2) if E.size else []
+    if runs:
+        spans = " or ".join(f"{a * 1e3:.1f} <= offset_mm <= {b * 1e3:.1f}" for a, b in runs[:3])
+        rng = f"for these teeth, angles and module a solution exists for about {spans}"
         return InputError(
             Problem(
                 "pair.offset_mm", spec.offset * 1e3, f"paper eqs (18)-(19) have no solution; {rng}"

@@ -296,8 +296,8 @@ def run_pipeline(
                 try:
                     validate(scene, [name], stages)
                 except InputError as exc:
-                    msg = f"{type(exc).__name__}: {exc}"
-                    record(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))
+                    dt = time.perf_counter() - t0
+                    record(StageRecord(name, "failed", dt, keys[name], str(exc), bad_input=True))
                     continue
             ctx = StageContext(
                 name=name,
@@ -316,7 +316,11 @@ def run_pipeline(
                     StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc))
                 )
                 continue
-            except Exception as exc:  # InputError found mid-run too: recorded, run goes on
+            except InputError as exc:  # found mid-run: the problems, recorded; run goes on
+                dt = time.perf_counter() - t0
+                record(StageRecord(name, "failed", dt, keys[name], str(exc), bad_input=True))
+                continue
+            except Exception as exc:  # a fault: recorded with its traceback; run goes on
                 msg = f"{type(exc).__name__}: {exc}"
                 _log.error("stage %s failed", name, exc_info=True)  # the traceback, on stderr
                 record(StageRecord(name, "failed", time.perf_counter() - t0, keys[name], msg))

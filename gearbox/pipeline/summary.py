@@ -23,6 +23,8 @@ class StageRecord:
 
     ``seconds`` is the wall time spent on the stage in this run (s); for a cached
     stage ``saved_seconds`` is the time its stored result took to compute (s).
+    ``bad_input``: a failed stage whose inputs were found wrong while it computed (an
+    :class:`~gearbox.errors.InputError`: ``detail`` lists the problems), not a fault.
     """
 
     name: str
@@ -31,6 +33,7 @@ class StageRecord:
     key: str = ""
     detail: str = ""
     saved_seconds: float = 0.0
+    bad_input: bool = False
 
     def __post_init__(self):
         if self.status not in STATUSES:
@@ -71,6 +74,8 @@ class RunSummary:
         rows = [("stage", "status", "seconds", "detail")]
         for r in self.records:
             detail = r.detail
+            if r.bad_input:  # its first line; the problems follow the table
+                detail = detail.splitlines()[0] if detail else "bad input"
             if r.status == "cached" and r.saved_seconds:
                 detail = f"saved {r.saved_seconds:.2f} s" + (f"; {detail}" if detail else "")
             rows.append((r.name, r.status, f"{r.seconds:.2f}", detail))
