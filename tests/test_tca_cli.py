@@ -46,3 +46,38 @@ def test_tca_verb_separated_gears_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "tooth contact analysis failed" in err and "Traceback" not in err
     assert not (tmp_path / "o" / "tca_summary.json").exists()
+
+
+def test_an_interrupted_verb_leaves_the_last_complete_run(tmp_path, capsys, monkeypatch):
+    """Ctrl-C while a verb writes (here while tca draws its figures, after its CSV and
+    JSON files): the folder keeps the previous run's files, all of them, and nothing
+    half-made (the new summary beside old figures, as it was)."""
+    import pytest
+
+    import gearbox.commands.tca as tca
+
+    out = tmp_path / "tca"
+    assert main(["tca", str(MODELS / "case03.toml"), "--out", str(out), "--json"]) == 0
+    capsys.readouterr()
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    scene = tmp_path / "s.toml"
+    scene.write_text((MODELS / "case03.toml").read_text() + "\n[tca]\npositions = 7\n")
+
+    def interrupted(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(tca, "_figures", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        tca.run(tca_args(scene, out))
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # no .gearbox-partial.*
+    monkeypatch.undo()
+    assert main(["tca", str(scene), "--out", str(out), "--json"]) == 0  # and a whole new run
+    rows = [r.split(",") for r in (out / "tca_path.csv").read_text().splitlines()[1:]]
+    assert len({r[1] for r in rows if r[0] == "drive"}) == 7  # the new run's positions
+    assert set(p.name for p in out.iterdir()) == set(before)
+
+
+def tca_args(scene, out):
+    import argparse
+
+    return argparse.Namespace(scene=str(scene), out=str(out), json=True, no_figures=False)

@@ -102,6 +102,37 @@ def usable_cache(cache, verb: str):
     return cache
 
 
+@contextmanager
+def staged_files(folder: str | Path) -> Iterator[Path]:
+    """A hidden folder inside ``folder`` to write one command's files to; when the
+    block ends without an error, every file in it is moved into ``folder`` (each move
+    atomic, Ctrl-C held off while they run, a few milliseconds), and it is removed; when
+    the block raises (an error, Ctrl-C), it is removed with whatever it held. So an
+    interrupted command leaves ``folder`` as it was: the files of the last complete run,
+    not some new ones beside old ones."""
+    import shutil
+    import signal
+    import threading
+
+    folder = Path(folder)
+    stage = Path(tempfile.mkdtemp(dir=folder, prefix=".gearbox-partial."))
+    try:
+        yield stage
+        files = sorted(p for p in stage.rglob("*") if p.is_file())
+        held = threading.current_thread() is threading.main_thread()
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if held else None
+        try:
+            for f in files:
+                target = folder / f.relative_to(stage)
+                target.parent.mkdir(parents=True, exist_ok=True)
+                os.replace(f, target)
+        finally:
+            if held:
+                signal.signal(signal.SIGINT, previous)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+
+
 def write_atomic(path: str | Path, data: str | bytes) -> Path:
     """Write a file completely or not at all: write a temporary file, then rename."""
     path = Path(path)

@@ -30,7 +30,7 @@ def run(args):
     from ..ltca.analysis import LTCAOptions
     from ..ltca.table import scene_ltca
     from ..scene import load_scene
-    from ._common import dumps_json, output_folder, write_atomic
+    from ._common import dumps_json, output_folder, staged_files, write_atomic
 
     scene = load_scene(args.scene)
     if args.positions is not None:
@@ -41,15 +41,16 @@ def run(args):
     design = design_pair(PairSpec.from_scene(scene))
     options = LTCAOptions(positions=scene["ltca"]["positions"], progress=args.progress)
     result = scene_ltca(design, scene, options=options)
-    result.table.to_netcdf(out / "mesh_table.nc")
-    write_atomic(out / "mesh_table.csv", result.table.to_csv())
     summary = result.summary()
-    write_atomic(out / "ltca_summary.json", dumps_json(summary))
-    if not args.no_figures:
-        from ..ltca.plot import save_figures
+    with staged_files(out) as stage:  # all the files, or none of them
+        result.table.to_netcdf(stage / "mesh_table.nc")
+        write_atomic(stage / "mesh_table.csv", result.table.to_csv())
+        write_atomic(stage / "ltca_summary.json", dumps_json(summary))
+        if not args.no_figures:
+            from ..ltca.plot import save_figures
 
-        t = int(abs(result.table.torque - scene["load"]["operating_torque_Nm"]).argmin())
-        save_figures(result.flanks, out, t=t)
+            t = int(abs(result.table.torque - scene["load"]["operating_torque_Nm"]).argmin())
+            save_figures(result.flanks, stage, t=t)
     if args.json:
         print(dumps_json(summary))
     else:

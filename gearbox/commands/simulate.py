@@ -169,7 +169,14 @@ def run(args):
 
     from ..pipeline.cache import default_cache_dir
     from ..scene import load_scene
-    from ._common import cache_of, dumps_json, output_folder, usable_cache, write_atomic
+    from ._common import (
+        cache_of,
+        dumps_json,
+        output_folder,
+        staged_files,
+        usable_cache,
+        write_atomic,
+    )
 
     scene = load_scene(args.scene)
     d = output_folder(args.out) if args.out else None
@@ -187,11 +194,12 @@ def run(args):
         k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in out.items()
     }
     if d is not None:
-        write_atomic(d / "summary.json", dumps_json(clean) + "\n")
-        table.to_netcdf(d / "mesh_table.nc")
-        if ts is not None:
-            ts.to_csv(d / "timeseries.csv")
-            ts.to_netcdf(d / "timeseries.nc")
+        with staged_files(d) as stage:  # all the files, or none of them
+            write_atomic(stage / "summary.json", dumps_json(clean) + "\n")
+            table.to_netcdf(stage / "mesh_table.nc")
+            if ts is not None:
+                ts.to_csv(stage / "timeseries.csv")
+                ts.to_netcdf(stage / "timeseries.nc")
     if args.json:
         print(dumps_json(clean))
     else:

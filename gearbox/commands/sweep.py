@@ -23,7 +23,7 @@ def run(args):
     from ..geometry import PairSpec
     from ..geometry.sweep import PAPER_STUDIES
     from ..scene import load_scene
-    from ._common import output_folder, write_atomic
+    from ._common import output_folder, staged_files, write_atomic
 
     if not 2 <= args.points <= 100000:
         raise InputError(Problem("--points", args.points, "must be in [2, 100000]"))
@@ -36,13 +36,18 @@ def run(args):
 
     from ..geometry.plotting import plot_study
 
-    for st in PAPER_STUDIES(spec, args.points):
-        write_atomic(out / f"{st.name}.csv", st.to_csv())
-        axes = plot_study(st)
-        buf = io.BytesIO()
-        axes[0].figure.savefig(buf, format="png", dpi=110)
-        plt.close(axes[0].figure)
-        write_atomic(out / f"{st.name}.png", buf.getvalue())
-        n_ok = int(st.ok.sum())
-        print(f"{st.name}: {n_ok}/{st.ok.size} designs solved -> {out / st.name}.csv/.png")
+    lines = []
+    with staged_files(out) as stage:  # every study's files, or none of them
+        for st in PAPER_STUDIES(spec, args.points):
+            write_atomic(stage / f"{st.name}.csv", st.to_csv())
+            axes = plot_study(st)
+            buf = io.BytesIO()
+            axes[0].figure.savefig(buf, format="png", dpi=110)
+            plt.close(axes[0].figure)
+            write_atomic(stage / f"{st.name}.png", buf.getvalue())
+            n_ok = int(st.ok.sum())
+            lines.append(
+                f"{st.name}: {n_ok}/{st.ok.size} designs solved -> {out / st.name}.csv/.png"
+            )
+    print("\n".join(lines))
     return 0

@@ -54,7 +54,7 @@ def run(args):
     from ..scene import load_scene
     from ..surface import tooth_csv, tooth_grid
     from ..tca import run_tca
-    from ._common import dumps_json, output_folder, write_atomic
+    from ._common import dumps_json, output_folder, staged_files, write_atomic
 
     scene = load_scene(args.scene)
     out = output_folder(args.out)
@@ -62,13 +62,14 @@ def run(args):
     result = run_tca(design, scene)
     summary = result.summary()
     summary = {"scene": scene.name, **summary}
-    write_atomic(out / "tca_summary.json", dumps_json(summary) + "\n")
-    write_atomic(out / "tca_path.csv", _path_csv(result))
-    grids = {"pinion": tooth_grid(result.pinion), "gear": tooth_grid(result.gear)}
-    for who, grid in grids.items():
-        write_atomic(out / f"{who}_tooth.csv", tooth_csv(grid))
-    if not args.no_figures:
-        _figures(result, grids, out, write_atomic)
+    with staged_files(out) as stage:  # all the files, or none of them
+        write_atomic(stage / "tca_summary.json", dumps_json(summary) + "\n")
+        write_atomic(stage / "tca_path.csv", _path_csv(result))
+        grids = {"pinion": tooth_grid(result.pinion), "gear": tooth_grid(result.gear)}
+        for who, grid in grids.items():
+            write_atomic(stage / f"{who}_tooth.csv", tooth_csv(grid))
+        if not args.no_figures:
+            _figures(result, grids, stage, write_atomic)
     if args.json:
         print(dumps_json(summary))
     else:

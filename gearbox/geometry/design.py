@@ -244,7 +244,8 @@ def solve_pair_arrays(
     converged = np.zeros(xi.shape, dtype=bool)
     for it in range(1, max_iter + 1):  # noqa: B007 - the count is reported
         E, _ = _offset_of(xi, m_n, alpha_n, delta, n1, n2, beta1, gamma1, gamma2)
-        g = np.log(E / offset)
+        with np.errstate(invalid="ignore", divide="ignore"):  # E <= 0: no solution, NaN
+            g = np.log(E / offset)
         h = 1e-6 * xi
         Ep, _ = _offset_of(xi + h, m_n, alpha_n, delta, n1, n2, beta1, gamma1, gamma2)
         Em, _ = _offset_of(xi - h, m_n, alpha_n, delta, n1, n2, beta1, gamma1, gamma2)
