@@ -249,7 +249,8 @@ def solve_pair_arrays(
         h = 1e-6 * xi
         Ep, _ = _offset_of(xi + h, m_n, alpha_n, delta, n1, n2, beta1, gamma1, gamma2)
         Em, _ = _offset_of(xi - h, m_n, alpha_n, delta, n1, n2, beta1, gamma1, gamma2)
-        dg = (np.log(Ep) - np.log(Em)) / (2 * h)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            dg = (np.log(Ep) - np.log(Em)) / (2 * h)
         dg = np.where(np.isfinite(dg) & (dg < 0), dg, -1.0 / xi)  # E ~ 1/xi fallback
         step = np.clip(-g / dg, -0.2 * xi, 0.2 * xi)
         step = np.where(np.isfinite(step), step, 0.0)
