@@ -7,6 +7,7 @@ valid range (the habit of FMPy's ``validate_fmu``).
 
 from __future__ import annotations
 
+import math
 import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -25,7 +26,16 @@ class Problem:
     expected: str
 
     def __str__(self) -> str:
-        return f"{self.path} = {self.value!r}: {self.expected}"
+        return f"{self.path} = {_shown(self.value)}: {self.expected}"
+
+
+def _shown(value) -> str:
+    """``repr(value)``; a float to 12 significant digits first, so that a value taken
+    from the scene's units and back (mm -> m -> mm) reads as given (1e-06, not
+    1.0000000000000002e-06)."""
+    if isinstance(value, float) and math.isfinite(value):
+        return repr(float(f"{value:.12g}"))
+    return repr(value)
 
 
 class InputError(ValueError):

@@ -642,6 +642,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
                 "tca",
                 "ltca",
                 "pitch",
+                "approach",
                 "tables",
                 "dynamics",
                 "spectra",

@@ -198,3 +198,16 @@ def test_line_of_action_and_pitch_point_against_table3(i, case):
     assert np.abs(n - row["line_of_action"]).max() < 2e-3, (n, row["line_of_action"])
     assert np.abs(np.array(d.pitch_point[:2]) - row["mesh_point_m"][:2]).max() < 2e-3
     assert abs(np.linalg.norm(d.line_of_action[1]) - 1) < 1e-14
+
+
+def test_a_given_gear_profile_shift_is_checked_against_the_backlash_free_one():
+    """With pair.backlash_free = true x_t2 is solved; a scene that also gives it has it
+    checked (it was ignored without a word), as the gear helix angle is."""
+    scene = load_scene("models/case03.toml")
+    solved = design_pair(PairSpec.from_scene(scene)).gear.profile_shift_xt
+    assert "gear_profile_shift_given" not in design_pair(PairSpec.from_scene(scene)).checks
+    for given, ok in ((round(solved, 4), True), (0.5, False)):
+        d = design_pair(PairSpec.from_scene(scene.replaced(gear={"profile_shift_xt": given})))
+        c = d.checks["gear_profile_shift_given"]
+        assert c.ok is ok and c.margin == pytest.approx(1e-3 - abs(given - solved))
+        assert d.gear.profile_shift_xt == solved  # the solved one is used

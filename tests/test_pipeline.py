@@ -650,3 +650,14 @@ def test_a_stage_key_holds_its_checks_module():
     for st in STAGES.values():
         if st.validate is not None:
             assert st.validate.__module__ in _code(st), st.name
+
+
+def test_the_scene_takes_every_output_the_pipeline_makes():
+    """outputs.requested's choices are the stages and the final outputs, no more, no
+    less (`--only approach` ran while the scene refused "approach")."""
+    from gearbox.pipeline.runner import FINAL_OUTPUTS
+    from gearbox.pipeline.stages import STAGES
+    from gearbox.scene import SCHEMA
+
+    choices = SCHEMA["outputs"]["requested"].choices
+    assert set(choices) == set(STAGES) | set(FINAL_OUTPUTS)

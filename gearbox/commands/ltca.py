@@ -32,6 +32,12 @@ def run(args):
     from ..scene import load_scene
     from ._common import dumps_json, output_folder, staged_files, write_atomic
 
+    if args.positions is not None and not 4 <= args.positions <= 10000:
+        from ..errors import InputError, Problem
+
+        raise InputError(
+            Problem("--positions", args.positions, "must be in [4, 10000]"), "invalid options"
+        )
     scene = load_scene(args.scene)
     if args.positions is not None:
         scene = scene.replaced(ltca={"positions": args.positions})

@@ -67,7 +67,7 @@ def model_from_args(scene, args):
     from ..meshtable import MeshTable
 
     if args.speed_rpm is not None and not (math.isfinite(args.speed_rpm) and args.speed_rpm > 0):
-        raise InputError(Problem("--speed-rpm", args.speed_rpm, "must be > 0 rpm"))
+        raise InputError(Problem("--speed-rpm", args.speed_rpm, "must be finite and > 0 rpm"))
     if args.table:
         table = MeshTable.from_netcdf(args.table)
     else:

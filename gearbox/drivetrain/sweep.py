@@ -86,7 +86,9 @@ def speed_sweep(
     r = np.asarray(rpms, dtype=float).ravel()
     p = Problems()
     p.check(r.size >= 1, "rpms", r.tolist(), "must hold at least one speed")
-    p.check(bool(np.all(np.isfinite(r) & (r > 0))), "rpms", r.tolist(), "must be > 0 rpm")
+    p.check(
+        bool(np.all(np.isfinite(r) & (r > 0))), "rpms", r.tolist(), "must be finite and > 0 rpm"
+    )
     p.check(mesh_cycles >= 1, "mesh_cycles", mesh_cycles, "must be >= 1")
     p.check(batch in ("auto", "vmap", "loop"), "batch", batch, "must be auto, vmap or loop")
     p.raise_if_any("invalid speed sweep")

@@ -923,5 +923,5 @@ def model_from_scene(scene, *, table_path=None, speed_rpm: float | None = None):
             pair_from_scene(scene), scene["load"]["torques_Nm"], scene=scene.name
         )
     if speed_rpm is not None and not (math.isfinite(speed_rpm) and speed_rpm > 0):
-        raise InputError(Problem("--speed-rpm", speed_rpm, "must be > 0 rpm"))
+        raise InputError(Problem("--speed-rpm", speed_rpm, "must be finite and > 0 rpm"))
     return DrivetrainModel.from_scene(scene, table, speed_rpm=speed_rpm), table

@@ -34,6 +34,8 @@ the tilted rack: the rack depth measured perpendicular to its pitch plane become
   helical gearing). Both gears' overlap ratios are in the detail.
 - gear helix angle: when the scene gives beta_2, it must match the solved value
   within 0.01 deg (the printed precision of the paper's Table 2).
+- gear profile shift: when the scene gives x_t2 with ``pair.backlash_free = true``
+  (which solves it), it must match the solved value within ``PROFILE_SHIFT_TOL``.
 """
 
 from __future__ import annotations
@@ -57,6 +59,9 @@ __all__ = [
 N_SECTIONS = 21
 TOPPING_MIN_SAN = 0.25
 HELIX_TOL_DEG = 0.01
+#: Tolerance of a given gear profile shift x_t2 against the backlash-free one (a
+#: printed value to 4 decimals; 1e-3 m_n is 6 um of tooth thickness at m_n 6 mm).
+PROFILE_SHIFT_TOL = 1e-3
 TOTAL_CONTACT_MIN = 2.0
 
 
@@ -165,5 +170,16 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
             "deg",
             f"given gear helix angle {math.degrees(spec.gear.helix_angle):.4f} deg vs solved "
             f"{math.degrees(d.gear.helix_angle):.4f} deg (tolerance {HELIX_TOL_DEG} deg)",
+        )
+    if spec.backlash_free and spec.gear.profile_shift_xt is not None:
+        # solved for zero backlash: a given value is a cross-check, as the helix angle
+        diff = abs(spec.gear.profile_shift_xt - d.gear.profile_shift_xt)
+        out["gear_profile_shift_given"] = Check(
+            bool(diff <= PROFILE_SHIFT_TOL),
+            PROFILE_SHIFT_TOL - diff,
+            "1",
+            f"given gear profile shift x_t2 {spec.gear.profile_shift_xt:.5f} vs solved "
+            f"{d.gear.profile_shift_xt:.5f} for zero backlash (tolerance {PROFILE_SHIFT_TOL}; "
+            "pair.backlash_free = false takes the given one)",
         )
     return out
