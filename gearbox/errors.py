@@ -45,6 +45,7 @@ class InputError(ValueError):
         if isinstance(problems, Problem):
             problems = [problems]
         self.problems = list(problems)
+        self.context = context
         if not self.problems:  # a problem with no key path (a file that does not read)
             super().__init__(context)
             return

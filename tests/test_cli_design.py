@@ -322,3 +322,28 @@ def test_run_exits_2_when_a_stage_finds_its_input_wrong(tmp_path, capsys):
     summary = json.loads((out / "run_summary.json").read_text())
     rec = {r["name"]: r for r in summary["records"]}
     assert rec["design"]["bad_input"] is True and rec["tca"]["bad_input"] is False
+
+
+def test_the_options_problems_and_the_scenes_come_in_one_message(tmp_path, capsys):
+    """A bad scene and bad options: one message with both (the options' problems hid
+    behind the scene's, or the other way round, one fix at a time)."""
+    bad = tmp_path / "bad.toml"
+    bad.write_text(
+        (MODELS / "case03.toml").read_text().replace("offset_mm = 229.0", "offset_mm = -1.0")
+    )
+    cases = (
+        (["simulate", str(bad), "--rtol", "0", "--mesh-cycles", "0"], ["--rtol", "--mesh-cycles"]),
+        (["run", str(bad), "--jobs", "0", "--only", "bogus"], ["--jobs", "--only = 'bogus'"]),
+        (["ltca", str(bad), "--out", str(tmp_path / "o"), "--positions", "3"], ["--positions"]),
+    )
+    for argv, options in cases:
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert "invalid options; invalid scene" in err, err
+        assert all(o in err for o in options) and "pair.offset_mm = -1.0" in err, err
+        assert "Traceback" not in err
+    good = str(MODELS / "case03.toml")  # options alone
+    assert main(["run", good, "--only", "bogus", "--out", str(tmp_path / "r")]) == 2
+    err = capsys.readouterr().err
+    assert "invalid options (1 problem)" in err and "--only = 'bogus': unknown output" in err
+    assert not (tmp_path / "r").exists()  # refused before anything was written

@@ -14,6 +14,27 @@ def add_scene_argument(parser) -> None:
     parser.add_argument("scene", help="scene file (TOML), e.g. models/case03.toml")
 
 
+def scene_and_options(path, option_problems):
+    """The scene at ``path``, read and validated, after the command's own options were
+    checked (``option_problems``, a list of Problem): one InputError lists the options'
+    problems and the scene's together, so that a user fixes both at once."""
+    from ..errors import InputError
+    from ..scene import load_scene
+
+    try:
+        scene = load_scene(path)
+    except InputError as exc:
+        if option_problems and exc.problems:
+            problems = [*option_problems, *exc.problems]
+            raise InputError(problems, f"invalid options; {exc.context}") from None
+        if option_problems:  # the scene did not read at all: say that, and the options
+            raise InputError(option_problems, f"{exc}; and invalid options") from None
+        raise
+    if option_problems:
+        raise InputError(option_problems, "invalid options")
+    return scene
+
+
 @contextmanager
 def atomic_target(path: str | Path) -> Iterator[Path]:
     """A temporary path beside ``path`` to write to; renamed to ``path`` when the block

@@ -26,27 +26,24 @@ def add_arguments(parser):
 
 def run(args):
 
+    from ..errors import Problem
     from ..geometry import PairSpec, design_pair
     from ..ltca.analysis import LTCAOptions
     from ..ltca.table import scene_ltca
-    from ..scene import load_scene
-    from ._common import dumps_json, output_folder, staged_files, write_atomic
+    from ._common import dumps_json, output_folder, scene_and_options, staged_files, write_atomic
 
+    options = []
     if args.positions is not None and not 4 <= args.positions <= 10000:
-        from ..errors import InputError, Problem
-
-        raise InputError(
-            Problem("--positions", args.positions, "must be in [4, 10000]"), "invalid options"
-        )
-    scene = load_scene(args.scene)
+        options.append(Problem("--positions", args.positions, "must be in [4, 10000]"))
+    scene = scene_and_options(args.scene, options)
     if args.positions is not None:
         scene = scene.replaced(ltca={"positions": args.positions})
     if args.fidelity is not None:
         scene = scene.replaced(ltca={"fidelity": args.fidelity})
     out = output_folder(args.out)
     design = design_pair(PairSpec.from_scene(scene))
-    options = LTCAOptions(positions=scene["ltca"]["positions"], progress=args.progress)
-    result = scene_ltca(design, scene, options=options)
+    ltca_options = LTCAOptions(positions=scene["ltca"]["positions"], progress=args.progress)
+    result = scene_ltca(design, scene, options=ltca_options)
     summary = result.summary()
     with staged_files(out) as stage:  # all the files, or none of them
         result.table.to_netcdf(stage / "mesh_table.nc")

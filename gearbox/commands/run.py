@@ -99,19 +99,25 @@ def run(args) -> int:
     import sys
     from pathlib import Path
 
-    from ..errors import InputError, Problem
+    from ..errors import Problem
     from ..pipeline import run_pipeline
     from ..pipeline.outputs import write_run
-    from ..scene import load_scene
-    from ._common import cache_of, dumps_json, output_folder, usable_cache
+    from ..pipeline.runner import FINAL_OUTPUTS
+    from ..pipeline.stages import STAGES
+    from ._common import cache_of, dumps_json, output_folder, scene_and_options, usable_cache
 
+    options = []
     if args.jobs is not None and args.jobs < 1:
-        raise InputError([Problem("--jobs", args.jobs, "must be >= 1")], "invalid options")
+        options.append(Problem("--jobs", args.jobs, "must be >= 1"))
+    valid = (*STAGES, *FINAL_OUTPUTS)
+    for name in args.only or ():
+        if name not in valid:
+            options.append(Problem("--only", name, f"unknown output; valid: {', '.join(valid)}"))
     # The pipeline's simulations are single small runs: on the CPU they beat a GPU
     # (a 900-mesh-cycle run took 15 s on an H200 machine's GPU, about 5 s on a
     # 2-core CPU). JAX_PLATFORMS=cuda (or any value) in the environment overrides.
     os.environ.setdefault("JAX_PLATFORMS", "cpu")
-    scene = load_scene(args.scene)
+    scene = scene_and_options(args.scene, options)
     out = Path(args.out) if args.out else Path("out") / scene.name
     cache = cache_of(args)
     progress = not args.no_progress and sys.stderr.isatty()

@@ -167,18 +167,26 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
 def run(args):
     import math
 
+    from ..errors import Problem
     from ..pipeline.cache import default_cache_dir
-    from ..scene import load_scene
     from ._common import (
         cache_of,
         dumps_json,
         output_folder,
+        scene_and_options,
         staged_files,
         usable_cache,
         write_atomic,
     )
 
-    scene = load_scene(args.scene)
+    options = []
+    if args.speed_rpm is not None and not (math.isfinite(args.speed_rpm) and args.speed_rpm > 0):
+        options.append(Problem("--speed-rpm", args.speed_rpm, "must be finite and > 0 rpm"))
+    if args.rtol is not None and not 0 < args.rtol < 1:
+        options.append(Problem("--rtol", args.rtol, "must be in (0, 1)"))
+    if args.mesh_cycles is not None and args.mesh_cycles < 1:
+        options.append(Problem("--mesh-cycles", args.mesh_cycles, "must be >= 1"))
+    scene = scene_and_options(args.scene, options)
     d = output_folder(args.out) if args.out else None
     cache = usable_cache(cache_of(args), "simulate")
     if cache is False or args.modes:
