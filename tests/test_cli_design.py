@@ -347,3 +347,18 @@ def test_the_options_problems_and_the_scenes_come_in_one_message(tmp_path, capsy
     err = capsys.readouterr().err
     assert "invalid options (1 problem)" in err and "--only = 'bogus': unknown output" in err
     assert not (tmp_path / "r").exists()  # refused before anything was written
+
+
+def test_strict_design_exits_1_when_a_check_fails(tmp_path, capsys):
+    """The checks are reported with exit 0 by default; --strict makes a failed check the
+    exit status (for scripts and CI), naming the checks."""
+    assert main(["design", str(MODELS / "case03.toml"), "--strict"]) == 0
+    capsys.readouterr()
+    p = tmp_path / "xt.toml"  # a given x_t2 that the backlash-free solve does not meet
+    p.write_text(
+        (MODELS / "case03.toml").read_text().replace("[gear]\n", "[gear]\nprofile_shift_xt = 0.5\n")
+    )
+    assert main(["design", str(p), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["all_checks_ok"] is False
+    assert main(["design", str(p), "--strict"]) == 1
+    assert "design checks failed: gear_profile_shift_given" in capsys.readouterr().err

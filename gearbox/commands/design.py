@@ -1,6 +1,7 @@
 HELP = "Design a crossed beveloid pair (paper section 2) and run the design checks."
 EXAMPLES = """  gearbox design models/case03.toml
   gearbox design models/case03.toml --json > design.json
+  gearbox design models/case03.toml --strict           exit 1 when a design check fails
 """
 
 
@@ -10,6 +11,11 @@ def add_arguments(parser):
     add_scene_argument(parser)
     parser.add_argument(
         "--json", action="store_true", help="print one JSON object instead of the table"
+    )
+    parser.add_argument(
+        "--strict",
+        action="store_true",
+        help="exit 1 when a design check fails (default: the checks are reported, exit 0)",
     )
 
 
@@ -26,4 +32,10 @@ def run(args):
     else:
         print(f"gearbox design: {scene.name}\n")
         print(design_table(design))
+    failed = [name for name, c in design.checks.items() if not c.ok]
+    if args.strict and failed:
+        import sys
+
+        print(f"gearbox design: design checks failed: {', '.join(failed)}", file=sys.stderr)
+        return 1
     return 0
