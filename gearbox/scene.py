@@ -146,7 +146,8 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "reference_section_mm": _f(
             0.0,
             "Axial position of the reference transverse section (where x_t applies), "
-            "measured from the middle of the face width towards the heel (mm).",
+            "measured from the middle of the face width towards the heel (mm); on the face: "
+            "within +-face_width_mm / 2.",
         ),
     },
     "gear": {

@@ -211,3 +211,18 @@ def test_a_given_gear_profile_shift_is_checked_against_the_backlash_free_one():
         c = d.checks["gear_profile_shift_given"]
         assert c.ok is ok and c.margin == pytest.approx(1e-3 - abs(given - solved))
         assert d.gear.profile_shift_xt == solved  # the solved one is used
+
+
+def test_the_reference_section_lies_on_the_face():
+    """pinion.reference_section_mm far off the face gave a transverse contact ratio of
+    59 reported as passing; it must lie within half the face width of the middle."""
+    from gearbox.errors import InputError
+
+    scene = load_scene("models/case03.toml")
+    for v, ok in ((20.0, True), (-20.0, True), (20.5, False), (1e6, False)):
+        s = scene.replaced(pinion={"reference_section_mm": v})
+        if ok:
+            assert design_pair(PairSpec.from_scene(s)).spec.pinion.reference_section == v * 1e-3
+        else:
+            with pytest.raises(InputError, match=r"pinion.reference_section_mm = .*\[-20, 20\]"):
+                PairSpec.from_scene(s)
