@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["InputError", "Problem", "Problems", "expect_scene", "expect_type"]
+__all__ = ["InputError", "Problem", "Problems", "expect_scene", "expect_type", "is_real"]
 
 
 @dataclass(frozen=True)
@@ -56,7 +56,7 @@ class InputError(ValueError):
         super().__init__("\n".join(lines))
 
 
-def _is_real(value) -> bool:
+def is_real(value) -> bool:
     """A real number (Python or numpy, 0-d arrays included), not a bool."""
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
@@ -111,17 +111,22 @@ class Problems:
     ) -> bool:
         """Record a problem unless ``lo <= value <= hi`` (open ends on request); a value
         that is not a real number (a string, None, a bool) is a problem too."""
-        ok = True
-        if not _is_real(value):
-            ok = False
-        elif lo is not None:
-            ok &= value > lo if lo_open else value >= lo
+        real = is_real(value)
+        ok = real
+        if ok and lo is not None:
+            ok = value > lo if lo_open else value >= lo
         if ok and hi is not None:
-            ok &= value < hi if hi_open else value <= hi
+            ok = value < hi if hi_open else value <= hi
         if not ok:
-            kind = "" if _is_real(value) else "a number "
+            kind = "" if real else "a number "
             self.add(path, value, f"must be {kind}in {self.range_text(lo, hi, lo_open, hi_open)}")
         return bool(ok)
+
+    def integer(self, path: str, value, lo: int) -> bool:
+        """Record a problem unless ``value`` is an integer (Python or numpy, not a bool)
+        of at least ``lo``."""
+        ok = isinstance(value, int | np.integer) and not isinstance(value, bool) and value >= lo
+        return self.check(bool(ok), path, value, f"must be an integer >= {lo}")
 
     @staticmethod
     def range_text(lo, hi, lo_open: bool = False, hi_open: bool = False) -> str:

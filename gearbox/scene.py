@@ -21,7 +21,7 @@ from types import MappingProxyType
 from typing import Any
 
 from ._pickling import PicklesReadOnly
-from .errors import InputError, Problems
+from .errors import InputError, Problems, is_real
 
 __all__ = ["SCHEMA", "SCHEMA_VERSION", "Field", "Scene", "load_scene", "scene_from_dict"]
 
@@ -773,10 +773,7 @@ def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
         if len(v) < f.min_len or (f.max_len is not None and len(v) > f.max_len):
             probs.add(path, v, _length_text(f))
         elif f.increasing and kind == "floats":
-            nums = [x for x in v if isinstance(x, int | float) and not isinstance(x, bool)]
-            if len(nums) == len(v) and any(
-                b <= a for a, b in zip(nums[:-1], nums[1:], strict=True)
-            ):
+            if all(map(is_real, v)) and any(b <= a for a, b in zip(v[:-1], v[1:], strict=True)):
                 probs.add(path, v, "must be strictly increasing")
         sub = Field(
             "float" if kind == "floats" else "str",
@@ -790,12 +787,6 @@ def _check_value(f: Field, path: str, v: Any, probs: Problems) -> Any:
         )
         return [_check_value(sub, f"{path}[{i}]", x, probs) for i, x in enumerate(v)]
     raise AssertionError(kind)  # pragma: no cover - schema defect
-
-
-def _range_text(lo, hi, lo_open=False, hi_open=False) -> str:
-    """``[lo, hi]`` with open ends as ``( )``; a missing bound is an open infinity
-    (scene values must be finite)."""
-    return Problems.range_text(lo, hi, lo_open, hi_open)
 
 
 def _length_text(f: Field) -> str:
@@ -998,7 +989,7 @@ def schema_markdown() -> str:
             if f.choices:
                 rng = " / ".join(f.choices)
             elif f.lo is not None or f.hi is not None:
-                rng = _range_text(f.lo, f.hi, f.lo_open, f.hi_open)
+                rng = Problems.range_text(f.lo, f.hi, f.lo_open, f.hi_open)
             else:
                 rng = ""
             lines.append(f"| `{key}` | {f.kind} | {default} | {rng} | {f.doc} |")

@@ -22,11 +22,10 @@ def add_arguments(parser):
 
 
 def run(args):
-    from ..scene import load_scene
-    from ._common import dumps_json
-    from .simulate import model_from_args, modes_summary
+    from ._common import dumps_json, scene_and_options
+    from .simulate import model_from_args, model_option_problems, modes_summary
 
-    scene = load_scene(args.scene)
+    scene = scene_and_options(args.scene, model_option_problems(args))
     model, table = model_from_args(scene, args)
     out = modes_summary(scene, model, table)
     if args.orders:

@@ -57,17 +57,24 @@ def add_model_arguments(parser) -> None:
     )
 
 
-def model_from_args(scene, args):
-    """(DrivetrainModel, MeshTable) of a scene with ``--table`` and ``--speed-rpm``."""
+def model_option_problems(args) -> list:
+    """Problems of ``--speed-rpm`` (``--table`` is checked when it is read)."""
     import math
 
+    from ..errors import Problem
+
+    if args.speed_rpm is not None and not (math.isfinite(args.speed_rpm) and args.speed_rpm > 0):
+        return [Problem("--speed-rpm", args.speed_rpm, "must be finite and > 0 rpm")]
+    return []
+
+
+def model_from_args(scene, args):
+    """(DrivetrainModel, MeshTable) of a scene with ``--table`` and ``--speed-rpm``
+    (checked before: :func:`model_option_problems`)."""
     from ..drivetrain.model import DrivetrainModel
-    from ..errors import InputError, Problem
     from ..mesh_analytical import analytical_table, pair_from_scene
     from ..meshtable import MeshTable
 
-    if args.speed_rpm is not None and not (math.isfinite(args.speed_rpm) and args.speed_rpm > 0):
-        raise InputError(Problem("--speed-rpm", args.speed_rpm, "must be finite and > 0 rpm"))
     if args.table:
         table = MeshTable.from_netcdf(args.table)
     else:
@@ -105,7 +112,6 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
         run_with_auto_law,
         simulate,
     )
-    from ..errors import InputError, Problem
 
     model, table = model_from_args(scene, args)
     out = modes_summary(scene, model, table)
@@ -113,16 +119,12 @@ def summary(scene, args) -> tuple[dict, object, object, object]:
         return out, model, None, table
     sim = scene["simulation"]
     name = args.solver or sim["solver"]
-    rtol = args.rtol if args.rtol is not None else sim["rtol"]
-    if not (0 < rtol < 1):
-        raise InputError(Problem("--rtol", rtol, "must be in (0, 1)"))
+    rtol = args.rtol if args.rtol is not None else sim["rtol"]  # both checked before
     if name == "diffrax" and args.rtol is None:
         rtol = None  # fixed steps from the model's frequencies; --rtol asks for adaptive ones
     cycles = args.mesh_cycles if args.mesh_cycles is not None else sim["settled_mesh_cycles"]
     if args.periodic and args.mesh_cycles is None and model.common_period_mesh_cycles():
         cycles = model.common_period_mesh_cycles()  # one whole common period
-    if cycles < 1:
-        raise InputError(Problem("--mesh-cycles", cycles, "must be >= 1"))
 
     def run_on(m):
         ts = simulate(
@@ -179,9 +181,7 @@ def run(args):
         write_atomic,
     )
 
-    options = []
-    if args.speed_rpm is not None and not (math.isfinite(args.speed_rpm) and args.speed_rpm > 0):
-        options.append(Problem("--speed-rpm", args.speed_rpm, "must be finite and > 0 rpm"))
+    options = model_option_problems(args)
     if args.rtol is not None and not 0 < args.rtol < 1:
         options.append(Problem("--rtol", args.rtol, "must be in (0, 1)"))
     if args.mesh_cycles is not None and args.mesh_cycles < 1:

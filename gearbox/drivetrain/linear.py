@@ -874,9 +874,8 @@ def _check_order_arguments(speeds: np.ndarray, mesh_harmonics, sideband_harmonic
         bad.tolist() if bad.size else speeds.shape,
         "must be pinion speeds in rad/s, finite and > 0 (rpm * pi / 30), a 1-D array",
     )
-    for name, v in (("mesh_harmonics", mesh_harmonics), ("sideband_harmonics", sideband_harmonics)):
-        ok = isinstance(v, int | np.integer) and not isinstance(v, bool)
-        p.check(ok and v >= 0, name, v, "must be an integer >= 0")
+    p.integer("mesh_harmonics", mesh_harmonics, 0)
+    p.integer("sideband_harmonics", sideband_harmonics, 0)
     p.raise_if_any("invalid order response arguments")
 
 

@@ -66,15 +66,14 @@ def default_solver(name: str = "diffrax", rtol: float | None = None, mesh_law: s
 
 def _check_run_arguments(settle_time, mesh_cycles, samples_per_cycle, start) -> None:
     """:func:`simulate`'s own arguments: one InputError naming every bad one."""
-    from ..errors import Problems
+    from ..errors import Problems, is_real
 
     p = Problems()
     if settle_time is not None:
-        ok = isinstance(settle_time, int | float) and math.isfinite(settle_time)
-        p.check(ok and settle_time >= 0, "settle_time", settle_time, "must be >= 0 s, or None")
-    for name, v in (("mesh_cycles", mesh_cycles), ("samples_per_cycle", samples_per_cycle)):
-        ok = isinstance(v, int | np.integer) and not isinstance(v, bool)
-        p.check(ok and v >= 1, name, v, "must be an integer >= 1")
+        ok = is_real(settle_time) and math.isfinite(settle_time) and settle_time >= 0
+        p.check(ok, "settle_time", settle_time, "must be >= 0 s, or None")
+    p.integer("mesh_cycles", mesh_cycles, 1)
+    p.integer("samples_per_cycle", samples_per_cycle, 1)
     p.check(
         start in ("operating_point", "periodic"),
         "start",

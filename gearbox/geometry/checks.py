@@ -60,7 +60,8 @@ N_SECTIONS = 21
 TOPPING_MIN_SAN = 0.25
 HELIX_TOL_DEG = 0.01
 #: Tolerance of a given gear profile shift x_t2 against the backlash-free one (a
-#: printed value to 4 decimals; 1e-3 m_n is 6 um of tooth thickness at m_n 6 mm).
+#: printed value to 4 decimals; at m_n 6 mm, 1e-3 shifts the profile by 6 um, 4.4 um
+#: of tooth thickness at 20 deg).
 PROFILE_SHIFT_TOL = 1e-3
 TOTAL_CONTACT_MIN = 2.0
 

@@ -308,8 +308,8 @@ def solve_spec(spec: PairSpec, *, offset=None, pinion_cone_angle=None):
 def _solvable_offsets(spec: PairSpec, lo: float, hi: float, n: int = 3000):
     """Intervals ``[(a, b), ...]`` (m) of the offsets in ``[lo, hi]`` for which eqs
     (18)-(19) solve with a real gear helix angle (:func:`solve_spec` on a geometric grid
-    of ``n`` offsets; the ends are grid points, 0.3 % apart at the default n over
-    [E/2, 2 E] ranges)."""
+    of ``n`` offsets; the ends are grid points, neighbours a factor (hi / lo)^(1 / (n -
+    1)) apart)."""
     offsets = np.geomspace(lo, hi, n)
     ok = np.asarray(solve_spec(spec, offset=offsets)["ok"], bool)
     edges = np.flatnonzero(np.diff(np.concatenate([[0], ok.astype(int), [0]])))

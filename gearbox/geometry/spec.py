@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ..errors import Problems, _is_real, expect_scene, expect_type
+from ..errors import Problems, expect_scene, expect_type, is_real
 
 __all__ = ["ToolSpec", "GearSpec", "PairSpec"]
 
@@ -126,7 +126,7 @@ class PairSpec:
             )
             p.in_range(f"{name}.cone_angle_deg", math.degrees(g.cone_angle), 0, 30)
             p.in_range(f"{name}.face_width_mm", g.face_width * 1e3, 0, None, lo_open=True)
-            if _is_real(g.face_width) and g.face_width > 0:
+            if is_real(g.face_width) and g.face_width > 0:
                 half = 0.5 * g.face_width * 1e3  # the section lies on the face
                 p.in_range(f"{name}.reference_section_mm", g.reference_section * 1e3, -half, half)
             if g.helix_angle is not None:

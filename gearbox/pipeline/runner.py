@@ -142,6 +142,14 @@ def _as_cache(cache: Cache | str | Path | bool | None) -> Cache | None:
     return Cache(Path(cache))
 
 
+def _requested(scene: Scene, requested) -> tuple[str, ...]:
+    """The outputs asked for: ``requested`` (one name alone is one output), or the
+    scene's ``outputs.requested``."""
+    if requested is None:
+        return tuple(scene["outputs"]["requested"])
+    return (requested,) if isinstance(requested, str) else tuple(requested)
+
+
 def preview(
     scene: Scene,
     requested: Iterable[str] | None = None,
@@ -157,9 +165,7 @@ def preview(
     """
     if stages is None:
         from .stages import STAGES as stages
-    if isinstance(requested, str):  # one output by name
-        requested = (requested,)
-    requested = tuple(scene["outputs"]["requested"] if requested is None else requested)
+    requested = _requested(scene, requested)
     names = plan(requested, stages, scene)
     validate(scene, names, stages)
     store = _as_cache(cache)
@@ -233,9 +239,7 @@ def run_pipeline(
     """
     if stages is None:
         from .stages import STAGES as stages
-    if isinstance(requested, str):  # one output by name
-        requested = (requested,)
-    requested = tuple(scene["outputs"]["requested"] if requested is None else requested)
+    requested = _requested(scene, requested)
     names = plan(requested, stages, scene)
     store = _as_cache(cache)
     # A stage found in the cache passed its checks on these inputs (its key holds the
@@ -292,13 +296,6 @@ def run_pipeline(
                         StageRecord(name, "cached", dt, keys[name], "", meta.get("seconds", 0.0))
                     )
                     continue
-            if name in cached:  # not validated up front (its planned key was in the cache)
-                try:
-                    validate(scene, [name], stages)
-                except InputError as exc:
-                    dt = time.perf_counter() - t0
-                    record(StageRecord(name, "failed", dt, keys[name], str(exc), bad_input=True))
-                    continue
             ctx = StageContext(
                 name=name,
                 scene=restricted_scene(scene, st.reads_for(scene)),
@@ -309,6 +306,8 @@ def run_pipeline(
                 progress=progress,
             )
             try:
+                if name in cached:  # not validated up front: its planned key was cached
+                    validate(scene, [name], stages)
                 with blas_limit(st.blas_threads):
                     result = st.compute(ctx)
             except StageUnavailable as exc:
@@ -316,7 +315,7 @@ def run_pipeline(
                     StageRecord(name, "unavailable", time.perf_counter() - t0, keys[name], str(exc))
                 )
                 continue
-            except InputError as exc:  # found mid-run: the problems, recorded; run goes on
+            except InputError as exc:  # its checks, or found mid-run: recorded; run goes on
                 dt = time.perf_counter() - t0
                 record(StageRecord(name, "failed", dt, keys[name], str(exc), bad_input=True))
                 continue

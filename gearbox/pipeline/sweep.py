@@ -171,10 +171,8 @@ def map_items(
             bar.update()
             first_s = time.perf_counter() - t0
             workers = min(default_jobs() if jobs is None else jobs, len(items) - 1)
-            if not threads:
-                jobs = workers if use_pool(len(items) - 1, first_s, workers) else 1
-            else:
-                jobs = workers
+            pays = threads or use_pool(len(items) - 1, first_s, workers)
+            jobs = workers if pays else 1
         rest = items[len(done) :]
         if jobs == 1 or len(rest) <= 1:
             for x in rest:

@@ -49,7 +49,7 @@ class AssemblyErrors:
     gear_axial: float = 0.0
 
     def __post_init__(self):
-        from ..errors import Problems, _is_real
+        from ..errors import Problems, is_real
 
         p = Problems()
         for name, unit in (
@@ -59,7 +59,7 @@ class AssemblyErrors:
             ("gear_axial", "m"),
         ):
             v = getattr(self, name)
-            ok = _is_real(v) and math.isfinite(v)
+            ok = is_real(v) and math.isfinite(v)
             p.check(ok, f"AssemblyErrors.{name}", v, f"must be a finite number ({unit})")
         p.raise_if_any("invalid assembly errors")
 

@@ -44,7 +44,7 @@ def plot_contact_path(result, member: str = "pinion", ax=None):
     return ax
 
 
-#: Least span of the unloaded TE's axis (arcsec on the gear): 0.66 nm at a 137 mm
+#: Least span of the unloaded TE's axis (arcsec on the gear): 1.33 nm at a 137 mm
 #: pitch radius. The TE of conjugate flanks is the solver's rounding (about 1e-11
 #: arcsec); drawn to its own scale, that noise would look like a real error.
 TE_AXIS_MIN_SPAN_ARCSEC = 2e-3
