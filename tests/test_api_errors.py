@@ -139,3 +139,19 @@ def test_run_pipeline_takes_one_output_by_name(case03):
     run = run_pipeline(case03, "design", cache=False)
     assert run.summary.requested == ("design",) and run.summary.ok
     assert [n for n, _, _ in preview(case03, "design", cache=False)] == ["design"]
+
+
+def test_fe_compliance_names_a_wrong_argument(design):
+    from gearbox.fe.compliance import FECompliance, FEOptions
+    from gearbox.surface import blanks_from_design
+
+    with pytest.raises(TypeError, match=r"FECompliance: blanks must be \(pinion, gear\) ToothBlank"):
+        FECompliance(blanks="x")
+    with pytest.raises(TypeError, match=r"FECompliance: blanks .* got tuple \(1, 2\)"):
+        FECompliance(blanks=(1, 2))
+    with pytest.raises(TypeError, match=r"FECompliance: options must be a FEOptions"):
+        FECompliance("coarse")
+    with pytest.raises(TypeError, match=r"FECompliance: teeth must be a dict"):
+        FECompliance(teeth=[1])
+    blanks = list(blanks_from_design(design))
+    assert FECompliance(FEOptions(), blanks=blanks).blanks == tuple(blanks)

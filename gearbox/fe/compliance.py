@@ -399,6 +399,21 @@ class FECompliance:
     load_dependent = True
 
     def __init__(self, options: FEOptions = FEOptions(), *, blanks=None, teeth: dict | None = None):
+        from ..errors import expect_type
+        from ..surface.blank import ToothBlank
+
+        expect_type(options, FEOptions, "FECompliance: options", "FEOptions(...)")
+        if blanks is not None:
+            pair = isinstance(blanks, tuple | list) and len(blanks) == 2
+            if not (pair and all(isinstance(b, ToothBlank) for b in blanks)):
+                got = f"{type(blanks).__name__} {blanks!r}"
+                raise TypeError(
+                    "FECompliance: blanks must be (pinion, gear) ToothBlank "
+                    f"(gearbox.surface.blanks_from_design(design)), or None; got {got[:80]}"
+                )
+            blanks = tuple(blanks)
+        if teeth is not None:
+            expect_type(teeth, dict, "FECompliance: teeth", "{gear: (first, last)}")
         self.options = options
         self.blanks = blanks
         self._teeth_hint = teeth or {}

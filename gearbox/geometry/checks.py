@@ -32,6 +32,19 @@ the tilted rack: the rack depth measured perpendicular to its pitch plane become
   overlap ratio ``eps_b = b |tan beta_b| / p_bt``; margin = ``eps_gamma - 2`` (a total
   contact ratio of at least 2 keeps two tooth pairs in mesh, the usual aim for quiet
   helical gearing). Both gears' overlap ratios are in the detail.
+- active root (per gear and flank): the mating gear's tip contact must end above the
+  root form circle (ISO 21771 d_Nf >= d_Ff; below it the tip runs onto the fillet,
+  meshing interference). In each section the mate's addendum path ``g_a`` (its own
+  transverse plane, as for the contact ratio) is carried over in base pitches,
+  ``l = g_a,mate p_bt / p_bt,mate``; the contact then ends at roll length
+  ``sqrt(r_w(z)^2 - r_b^2) - l`` from the base circle, and the form circle lies at
+  ``(r_p sin^2 a_Pj - (h_lim - X(z))) / sin a_Pj`` (0 when undercut). margin (m, along
+  the path of contact) = the difference. For parallel gears it is ISO 21771's d_Nf.
+  On the surfaces the unloaded TCA measures where the path really ends (a path that
+  ends at a root form circle is reported); the check is the conservative side: on a
+  12-tooth pinion of case 03's pair it fails for x_t1 <= 0.84, the TCA's path reaches
+  the pinion's form circle for x_t1 <= 0.76 (the check then reads about -1 mm: its
+  worst face section against the path's own end).
 - gear helix angle: when the scene gives beta_2, it must match the solved value
   within 0.01 deg (the printed precision of the paper's Table 2).
 - gear profile shift: when the scene gives x_t2 with ``pair.backlash_free = true``
@@ -94,11 +107,47 @@ def overlap_ratio(g: GearDesign) -> float:
     return g.face_width * abs(math.tan(min(g.base_helix_angle, key=abs))) / p_bt
 
 
+def form_roll(g: GearDesign, j: int, z, h_lim: float) -> np.ndarray:
+    """Roll length (m) of flank j's root form circle in sections z: where the involute
+    that the tool's straight flank generates meets the fillet, ``(r_p sin^2 a_Pj -
+    (h_lim - X(z))) / sin a_Pj`` (ISO 21771 d_Ff, per flank); 0 when undercut (the
+    involute then starts no lower than the base circle)."""
+    a_p = g.transverse_pressure_angle[j]
+    margin = g.reference_pitch_radius * math.sin(a_p) ** 2 - (h_lim - _radial_shift(g, z))
+    return np.maximum(margin, 0.0) / math.sin(a_p)
+
+
+def _active_root(name, flank, g: GearDesign, z, j, h_lim, roll_w, reach) -> Check:
+    """The mating tip's contact on gear ``g``'s flank j ends above its root form circle:
+    the roll length there, ``roll_w - reach`` (``reach``: the mate's addendum path in
+    base pitches, times this gear's base pitch), at least the form circle's."""
+    r_b = g.base_radius[j]
+    roll_f = form_roll(g, j, z, h_lim)
+    roll_n = roll_w - reach
+    margin = roll_n - roll_f
+    i = int(np.argmin(margin))
+    d_ff = 2 * math.hypot(r_b, roll_f[i])
+    if roll_n[i] >= 0:
+        ends = f"the active root diameter d_Nf {2 * math.hypot(r_b, roll_n[i]) * 1e3:.3f} mm"
+    else:
+        ends = f"{-roll_n[i] * 1e3:.3f} mm of path below the base circle"
+    mate = "gear" if name == "pinion" else "pinion"
+    return Check(
+        bool(margin[i] >= 0),
+        float(margin[i]),
+        "m",
+        f"{name} {flank} flank: the {mate}'s tip contact ends above the root form circle "
+        f"(d_Ff {d_ff * 1e3:.3f} mm), at {ends} (margin along the path of contact; "
+        f"below d_Ff the tip meets the fillet: meshing interference); worst at {_where(g, z, i)}",
+    )
+
+
 def design_checks(d: PairDesign) -> dict[str, Check]:
     """All checks of a design, name -> :class:`Check` (see module docstring)."""
     spec = d.spec
     m_n, a_n, tool = spec.normal_module, spec.normal_pressure_angle, spec.tool
     out: dict[str, Check] = {}
+    h_lims = []  # per gear: the tool's straight flank ends this far below the pitch line (m)
     for name, g in (("pinion", d.pinion), ("gear", d.gear)):
         z = sections(g)
         X = _radial_shift(g, z)
@@ -107,6 +156,7 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
             * m_n
             / math.cos(g.cone_angle)
         )
+        h_lims.append(h_lim)
         for j, flank in enumerate(("right", "left")):
             a_p = g.transverse_pressure_angle[j]
             margin = g.reference_pitch_radius * math.sin(a_p) ** 2 - (h_lim - X)
@@ -142,12 +192,23 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
     eps_b = [overlap_ratio(g) for g in d.gears]
     for j, flank in enumerate(("right", "left")):
         eps = 0.0
+        # per gear: roll length at the working pitch point and addendum path (m), base
+        # pitch (m); the mating tip's reach on each gear follows (the active root)
+        roll_w, path, p_bt = [], [], []
         for g, z in zip(d.gears, zs, strict=True):
             r_b = g.base_radius[j]
             r_a = _tip_radius(g, z, m_n, tool)
             r_w = g.working_pitch_radius + z * math.tan(g.working_cone_angle)
-            g_a = np.sqrt(np.maximum(r_a**2 - r_b**2, 0)) - np.sqrt(np.maximum(r_w**2 - r_b**2, 0))
+            l_w = np.sqrt(np.maximum(r_w**2 - r_b**2, 0))
+            g_a = np.sqrt(np.maximum(r_a**2 - r_b**2, 0)) - l_w
             eps = eps + g_a / (2 * math.pi * r_b / g.teeth)
+            roll_w.append(l_w)
+            path.append(g_a)
+            p_bt.append(2 * math.pi * r_b / g.teeth)
+        for i, (name, g) in enumerate((("pinion", d.pinion), ("gear", d.gear))):
+            out[f"{name}_active_root_{flank}"] = _active_root(
+                name, flank, g, zs[i], j, h_lims[i], roll_w[i], path[1 - i] / p_bt[1 - i] * p_bt[i]
+            )
         i = int(np.argmin(eps))
         out[f"transverse_contact_ratio_{flank}"] = Check(
             bool(eps[i] >= 1.0),

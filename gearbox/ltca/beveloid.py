@@ -792,6 +792,32 @@ def scene_compliance(design, scene):
     return compliance_for(fidelity, face_ends=scene["ltca"]["face_ends"])
 
 
+def refuse_undercut(design) -> None:
+    """InputError naming each undercut gear (its design check ``*_undercut_*`` fails):
+    the loaded TCA's contact grids and separations take the flank down to u = 0, which
+    on an undercut flank is the envelope's folded branch. On case 03's pair with a
+    12-tooth pinion undercut by 0.99 mm that gave a 24 um unloaded LTE of flanks whose
+    unloaded TCA is conjugate (TE below 1e-10 arcsec)."""
+    p = Problems()
+    for name, g in (("pinion", design.pinion), ("gear", design.gear)):
+        bad = {
+            f: c.margin
+            for f in ("right", "left")
+            if not (c := design.checks[f"{name}_undercut_{f}"]).ok
+        }
+        if bad:
+            worst = min(bad.values())
+            p.add(
+                f"{name}.profile_shift_xt",
+                round(g.profile_shift_xt, 5),
+                f"the {name} is undercut ({', '.join(f'{name}_undercut_{f}' for f in bad)}: "
+                f"{-worst * 1e3:.3f} mm below the interference point): the loaded TCA needs "
+                f"flanks without undercut; a larger profile shift or more teeth "
+                f"({name}.teeth = {g.teeth})",
+            )
+    p.raise_if_any("the loaded TCA cannot take this design")
+
+
 def beveloid_ltca(
     design,
     scene,
@@ -805,6 +831,7 @@ def beveloid_ltca(
     """
     from .table import LTCAResult, mesh_table
 
+    refuse_undercut(design)
     lt = scene["ltca"]
     options = options or LTCAOptions(positions=lt["positions"])
     P = options.positions

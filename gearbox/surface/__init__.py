@@ -19,6 +19,7 @@ from .generation import flank_jets as flank_jets
 from .generation import flank_points as flank_points
 from .generation import principal_curvatures as principal_curvatures
 from .generation import profile_range as profile_range
+from .generation import involute_start as involute_start
 from .generation import undercut_margin as undercut_margin
 from .sample import SolveFailure as SolveFailure
 from .sample import flank_grid as flank_grid
@@ -42,5 +43,6 @@ __all__ = [
     "tip_parameter",
     "tooth_csv",
     "tooth_grid",
+    "involute_start",
     "undercut_margin",
 ]

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -48,6 +49,7 @@ __all__ = [
     "principal_curvatures",
     "profile_range",
     "side_sign",
+    "involute_start",
     "undercut_margin",
 ]
 
@@ -274,6 +276,29 @@ def flank_points(blank: ToothBlank, side: str, z, u, *, involute_only: bool = Fa
         roll_angle=phi,
         on_fillet=(uu < 0.0) & (not involute_only),
     )
+
+
+def involute_start(blank: ToothBlank, side: str, z) -> np.ndarray:
+    """Lowest rack profile parameter u (m) of the flank's regular involute in sections
+    z: 0 (the tool's straight flank ends there) or, on an undercut flank, the cuspidal
+    edge u* where the envelope folds (:func:`undercut_margin`); points with 0 <= u < u*
+    lie on the folded branch, which the fillet's cut removes. The fillet cuts the
+    involute somewhat above the fold, so on an undercut flank this is a lower bound of
+    the real involute's start."""
+    z = np.atleast_1d(np.asarray(z, dtype=float))
+    (z0, z1), (u0, u1) = _fold_ends(blank, side)
+    if max(u0, u1) <= 0.0:
+        return np.zeros_like(z)
+    # the radial rack shift, and so u*, is linear in z
+    return np.maximum(u0 + (z - z0) * (u1 - u0) / (z1 - z0), 0.0)
+
+
+@lru_cache(maxsize=64)
+def _fold_ends(blank: ToothBlank, side: str) -> tuple[tuple[float, float], tuple[float, float]]:
+    ends = np.array([blank.z_toe, blank.z_heel])
+    u = -undercut_margin(blank, side, ends) * math.cos(blank.cone_angle)
+    u = u / math.cos(blank.normal_pressure_angle)
+    return (float(ends[0]), float(ends[1])), (float(u[0]), float(u[1]))
 
 
 def undercut_margin(blank: ToothBlank, side: str, z) -> np.ndarray:

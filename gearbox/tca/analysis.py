@@ -139,7 +139,7 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
         end = lim_sorted[last + 1] if last + 1 < len(order) else "beyond the examined pairs"
         ph = phi_ref[order]
         if 0 < first and last + 1 < len(order):
-            ends = refine_path_ends(
+            ends, by = refine_path_ends(
                 pinion,
                 gear,
                 asm,
@@ -152,6 +152,7 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
                 tan,
             )
             ratio = (ends[1] - ends[0]) / (2 * np.pi / N1)
+            start, end = by  # the limits at the refined ends
         else:
             ratio = float("nan")
     else:
@@ -252,6 +253,16 @@ def tca_of_blanks(
             msgs.append(
                 f"{fc.name}: {gaps} of {len(grid)} positions have no flank-flank contact "
                 f"(contact ratio {fc.contact_ratio:.3f} < 1): edge contact there"
+            )
+        roots = [lim for lim in fc.path_limits if lim.endswith(" root")]
+        if roots:
+            who = roots[0].split()[0]
+            mate = "gear" if who == "pinion" else "pinion"
+            msgs.append(
+                f"{fc.name}: the contact path ends at the {who}'s root form circle, before "
+                f"the {mate}'s tip: beyond it the {mate}'s tip meets the {who}'s fillet "
+                f"(meshing interference, design check {who}_active_root_"
+                f"{'right' if fc.side == 'R' else 'left'}); the TCA keeps to the involute flanks"
             )
         f_act = fc.fpd_angle[fc.active]
         if f_act.size and np.max(f_act) < LINE_CONTACT_FPD:

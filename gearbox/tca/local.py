@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..surface import ToothBlank, flank_jets, flank_points
+from ..surface import ToothBlank, flank_jets, flank_points, involute_start
 from .contact import solve_contact
 
 __all__ = [
@@ -14,7 +14,9 @@ __all__ = [
     "contact_ellipse",
     "far_outside",
     "flank_limits",
+    "limit_margins",
     "margin_to_limits",
+    "nearest_limit",
     "refine_path_ends",
 ]
 
@@ -79,7 +81,8 @@ def flank_limits(blank: ToothBlank, side: str, z, u, radius, who: str):
     tip = blank.tip_radius(z)
     lim = np.full(z.shape, "", dtype=object)
     tol = 1e-12
-    lim = np.where(u < -tol, f"{who} root", lim)
+    # an undercut flank starts at its envelope's fold (involute_start), not at u = 0
+    lim = np.where(u < involute_start(blank, side, z) - tol, f"{who} root", lim)
     lim = np.where(radius > tip + tol, f"{who} tip", lim)
     lim = np.where(z > blank.z_heel + tol, f"{who} heel", lim)
     lim = np.where(z < blank.z_toe - tol, f"{who} toe", lim)
@@ -89,16 +92,35 @@ def flank_limits(blank: ToothBlank, side: str, z, u, radius, who: str):
     return lim, np.stack([face, prof], axis=-1)
 
 
-def margin_to_limits(pinion, gear, side, x):
-    """Signed distance (m) of contacts x (N, 5) from the nearest flank limit (>= 0 on
-    both real flanks): face ends, form circle (u = 0, in rack-profile length) and tip cone."""
-    out = np.full(x.shape[0], np.inf)
+def limit_margins(pinion, gear, side, x) -> np.ndarray:
+    """Signed distances (m) of contacts x (N, 5) from each flank limit, shape (N, 8) in
+    the order of :data:`gearbox.tca.result.LIMITS` (pinion toe, heel, root, tip, then
+    the gear's); >= 0 on the flank. Root: rack-profile length above the involute's start
+    (:func:`gearbox.surface.involute_start`); tip: radial."""
+    cols = []
     for blank, z, u in ((pinion, x[:, 0], x[:, 1]), (gear, x[:, 2], x[:, 3])):
         r, _, _ = flank_jets(blank, side, z, u, involute_only=True)
         radius = np.hypot(r[0].val, r[1].val)
-        for m in (z - blank.z_toe, blank.z_heel - z, u, blank.tip_radius(z) - radius):
-            out = np.minimum(out, m)
-    return out
+        start = involute_start(blank, side, z)
+        cols += [z - blank.z_toe, blank.z_heel - z, u - start, blank.tip_radius(z) - radius]
+    return np.stack(cols, axis=-1)
+
+
+def margin_to_limits(pinion, gear, side, x):
+    """Signed distance (m) of contacts x (N, 5) from the nearest flank limit (>= 0 on
+    both real flanks): face ends, the involute's start (u = 0 or an undercut's fold, in
+    rack-profile length) and tip cone."""
+    return limit_margins(pinion, gear, side, x).min(axis=-1)
+
+
+def nearest_limit(pinion, gear, side, x) -> np.ndarray:
+    """Name (:data:`gearbox.tca.result.LIMITS`) of the limit nearest to each contact x
+    (N, 5): at a path's refined end, the limit the contact leaves the flanks by (the
+    first one a point beyond the end violates need not be it where two limits come
+    close: a gear tip just before the pinion's root form circle)."""
+    from .result import LIMITS
+
+    return np.asarray(LIMITS, dtype=object)[np.argmin(limit_margins(pinion, gear, side, x), axis=-1)]
 
 
 def refine_path_ends(
@@ -109,7 +131,8 @@ def refine_path_ends(
     ``phi_in``/``x_in``: active solutions next to each end, ``phi_out``/``x_out`` the
     inactive neighbours (arrays of 2). The limit margin (:func:`margin_to_limits`) is smooth in
     phi_1 along the path; the Illinois variant of regula falsi keeps the bracket and
-    converges superlinearly. Returns the two end angles (rad).
+    converges superlinearly. Returns the two end angles (rad) and the limits the path
+    leaves the flanks by there (:func:`nearest_limit` of the last solutions inside).
     """
     a, b = np.array(phi_in, float), np.array(phi_out, float)
     xa = np.array(x_in, float)
@@ -138,7 +161,7 @@ def refine_path_ends(
         b, fb = np.where(inside, b, c), np.where(inside, fb, fc)
         if np.all(np.abs(b - a) < 1e-12):
             break
-    return np.where(np.abs(fa) < np.abs(fb), a, b)
+    return np.where(np.abs(fa) < np.abs(fb), a, b), nearest_limit(pinion, gear, side, xa)
 
 
 def far_outside(blank: ToothBlank, z, u, radius):
