@@ -620,6 +620,18 @@ SCHEMA: dict[str, dict[str, Field]] = {
             increasing=True,
         ),
         "sweep_speeds": _i(40, "Speeds in a sweep.", 2, 100000),
+        "operating_range_rpm": _fl(
+            [],
+            "Engine speeds of service [min, max] (rpm): the Campbell diagram spans the "
+            "sweep's range and flags its crossings in this one as resonance risks (warned "
+            "of by resonance_threshold); [] takes the sweep's range, every crossing then "
+            "in it. A sweep wider than the service range shows the crossings beside it.",
+            0,
+            None,
+            min_len=0,
+            max_len=2,
+            increasing=True,
+        ),
         "resonance_threshold": _f(
             0.05,
             "Campbell crossings in the operating range whose steady response reaches this "
@@ -857,6 +869,10 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
                     length,
                     f"must be > 0 when ltca.{name}_{kind}_{unit} is > 0 ({amount:g})",
                 )
+
+    rng = data.get("simulation", {}).get("operating_range_rpm")
+    if isinstance(rng, list) and len(rng) == 1:
+        probs.add("simulation.operating_range_rpm", rng, "must be [min, max] (rpm), or []")
 
     pitch = data.get("pitch", {})
     applied = data.get("drivetrain", {}).get("pitch_deviations") is True

@@ -512,3 +512,25 @@ def test_torque_levels_that_miss_the_run_are_each_listed_once(marine):
     assert [p.path for p in err.value.problems] == ["load.torques_Nm"] * 2, texts
     assert texts[0].startswith("must cover the operating torque, 802.1 N m (drivetrain.engine")
     assert texts[1].startswith("must cover the speed sweep's propeller-law torques, [589.3, 802.1]")
+
+
+def test_campbell_flags_the_operating_range_inside_the_sweep(marine):
+    """simulation.operating_range_rpm narrower than the sweep: the crossings beside it
+    are listed and flagged 'no'; by default the sweep's range is the operating range."""
+    from gearbox.report.dynamics import render_campbell
+
+    base = run_pipeline(marine, ["campbell"]).results["campbell"]
+    assert base.crossings and all(c.in_operating_range for c in base.crossings)
+    lo, hi = 1500.0, 3200.0
+    narrow = marine.replaced(simulation={"operating_range_rpm": [lo, hi]})
+    run = run_pipeline(narrow, ["campbell"])
+    cd = run.results["campbell"]
+    assert [c.speed_rpm for c in cd.crossings] == [c.speed_rpm for c in base.crossings]
+    flags = [c.in_operating_range for c in cd.crossings]
+    assert flags == [lo <= c.speed_rpm <= hi for c in cd.crossings]
+    assert any(flags) and not all(flags)
+    assert all(lo <= c.speed_rpm <= hi for c in cd.risks)
+    body = render_campbell(cd, run).body
+    assert "operating range 1500 to 3200 rpm (simulation.operating_range_rpm)" in body
+    with pytest.raises(InputError, match=r"simulation.operating_range_rpm = \[1500.0\]"):
+        marine.replaced(simulation={"operating_range_rpm": [1500.0]})

@@ -536,6 +536,23 @@ def _resonance_text(cd, loads=None) -> tuple[str, list[ReportWarning]]:
     return text, warns
 
 
+def _ranges_text(cd) -> str:
+    """The diagram's speed range and the operating range its flags take."""
+    lo, hi = float(cd.speeds_rpm[0]), float(cd.speeds_rpm[-1])
+    rng = cd.operating_range_rpm
+    if rng is None:
+        return f" Speeds {lo:.0f} to {hi:.0f} rpm."
+    if np.allclose(rng, (lo, hi)):
+        return (
+            f" Speeds {lo:.0f} to {hi:.0f} rpm, the operating range (every crossing in it; "
+            "simulation.operating_range_rpm sets a narrower one)."
+        )
+    return (
+        f" Speeds {lo:.0f} to {hi:.0f} rpm (the sweep's); operating range {rng[0]:.0f} to "
+        f"{rng[1]:.0f} rpm (simulation.operating_range_rpm), shaded."
+    )
+
+
 def render_campbell(cd, run) -> Section:
     """Campbell diagram (full and low-frequency view) and the crossings, each with the
     steady response its excitation drives there when the diagram has responses."""
@@ -648,6 +665,7 @@ def render_campbell(cd, run) -> Section:
         '<p class="muted">Eigenfrequencies of the linearised drivetrain (mean mesh '
         "stiffness at the propeller-law torque of each speed) against engine speed, with "
         "the excitation orders; crossing speeds solved by root finding."
+        + esc(_ranges_text(cd))
         + esc(ratio_text)
         + note
         + "</p>"

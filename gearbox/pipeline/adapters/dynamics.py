@@ -539,7 +539,8 @@ def compute_campbell(ctx: StageContext):
             continue
         curves[f"mode {i} ({kinds[i]})"] = (grid, freqs[:, i])
     excitations = _orders(op_model)
-    diagram = spectrum.campbell(curves, excitations, (lo, hi), operating_range_rpm=(lo, hi))
+    service = tuple(scene["simulation"]["operating_range_rpm"]) or (lo, hi)
+    diagram = spectrum.campbell(curves, excitations, (lo, hi), operating_range_rpm=service)
     for c in diagram.crossings:
         models.setdefault(float(c.speed_rpm), model_at(scene, table, c.speed_rpm, approach))
     speeds = np.array(sorted(models))
