@@ -387,20 +387,28 @@ class SweepPoint:
 def _point(model, ts, metrics, speed_rpm: float, torque: float, law: str = "") -> SweepPoint:
     """A sweep point from a settled run ``ts`` of ``model`` and its metrics, with the
     mesh order's amplitude from the model about the operating point beside them
-    (``linear_mesh_order_amplitude_N``, :func:`gearbox.drivetrain.linear.order_responses`);
+    (``linear_mesh_order_amplitude_N``, :func:`gearbox.drivetrain.linear.order_responses`)
+    and the one of its order spectrum (``mesh_order_amplitude_spectrum_N``, against the
+    pinion angle; ``mesh_force_mesh_order_amplitude_N`` is the time DFT at the nominal
+    mesh frequency, which parts from it where a shaft mode swings the speed);
     ``law``: the mesh law of the run when it is not ``model``'s (the loaded twin's run
     of ``mesh_law = "auto"``, whose linearisation is ``model``'s)."""
     linear = require("gearbox.drivetrain.linear", "order_responses")
     spectra = spectra_of(ts, _orders(model)) if ts.success and ts.time.size > 1 else {}
-    lin = linear.order_responses(model, sideband_harmonics=0).peaks(float(model.pinion_teeth))[
-        "mesh_force_N"
-    ]
+    z1 = float(model.pinion_teeth)
+    lin = linear.order_responses(model, sideband_harmonics=0).peaks(z1)["mesh_force_N"]
+    extra = {"linear_mesh_order_amplitude_N": lin}
+    if "mesh_force_N" in spectra:
+        try:  # against the pinion's angle, as the waterfall (the metric: the time DFT)
+            extra["mesh_order_amplitude_spectrum_N"] = spectra["mesh_force_N"].amplitude_at(z1)
+        except InputError:
+            pass
     return SweepPoint(
         float(speed_rpm),
         float(torque),
         ts.status,
         spectra,
-        dict(metrics) | {"linear_mesh_order_amplitude_N": lin},
+        dict(metrics) | extra,
         int(ts.nfev),
         float(ts.wall_time),
         law or model.mesh_law,
