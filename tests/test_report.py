@@ -209,3 +209,17 @@ def test_a_crossing_whose_mesh_force_swing_reaches_the_mean_is_beyond_the_linear
     assert "(230 %)" in _response_text(crossing(2.3))
     assert "the flanks would part" not in _response_text(crossing(0.558))
     assert _response_text(SimpleNamespace(response={})) == ""
+
+
+def test_two_operating_torques_are_warned_of():
+    """The drive's torque from drivetrain.engine_power_kW against
+    load.operating_torque_Nm, which the loaded TCA's figures take: within 1 % quiet."""
+    from types import SimpleNamespace
+
+    from gearbox.report.dynamics import _torque_warning
+
+    scene = load_scene("models/marine_drive.toml")
+    assert scene["load"]["operating_torque_Nm"] == 802.0
+    assert _torque_warning(SimpleNamespace(torque_Nm=802.141), scene) == []
+    (w,) = _torque_warning(SimpleNamespace(torque_Nm=654.8), scene)
+    assert "654.8 N m" in w.text and "load.operating_torque_Nm = 802 N m" in w.text

@@ -158,6 +158,32 @@ def _traces(ts, model):
     return fig
 
 
+#: Share by which the drive's mean torque may differ from ``load.operating_torque_Nm``
+#: before the report says so (the scene's two operating torques).
+TORQUE_MISMATCH = 0.01
+
+
+def _torque_warning(op, scene) -> list[ReportWarning]:
+    """A warning when the drive runs at another mean torque (drivetrain.engine_power_kW
+    at drivetrain.engine_speed_rpm) than load.operating_torque_Nm, which the loaded
+    TCA's figures and the pitch deviations' analysis take."""
+    try:
+        given = float(scene["load"]["operating_torque_Nm"])
+    except (KeyError, TypeError):
+        return []
+    if abs(op.torque_Nm - given) <= TORQUE_MISMATCH * given:
+        return []
+    return [
+        ReportWarning(
+            "dynamics",
+            f"the drive runs at {op.torque_Nm:.4g} N m (drivetrain.engine_power_kW at "
+            f"drivetrain.engine_speed_rpm), the loaded TCA's figures and the pitch "
+            f"deviations' analysis at load.operating_torque_Nm = {given:.4g} N m: set "
+            "that key to the drive's torque where both should be one operating point",
+        )
+    ]
+
+
 def render_dynamics(op, run) -> Section:
     """Drivetrain parameters, linear modes, response metrics and time traces."""
     m, ts = op.model, op.series
@@ -168,6 +194,7 @@ def render_dynamics(op, run) -> Section:
         warnings.append(ReportWarning("dynamics", f"the simulation did not finish: {msg}"))
     warnings += _contact_warnings("dynamics", op.metrics, f"at {op.speed_rpm:.0f} rpm")
     warnings += _law_warning("dynamics", op.metrics, f"at {op.speed_rpm:.0f} rpm", m.mesh_law)
+    warnings += _torque_warning(op, run.scene)
     modes_rows = [
         (i, f, d.split(",")[0], 100 * e)
         for i, (f, d, e) in enumerate(

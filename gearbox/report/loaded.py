@@ -109,7 +109,8 @@ def render_ltca(lt, run) -> Section:
         f"{lt.attrs.get('fidelity', '')}. Root stress: "
         f"{esc(lt.attrs.get('root_stress', 'ISO 6336-3 slices'))}. Flank modifications: "
         f"{esc(lt.attrs.get('flank_modifications', 'none'))}. Figures at "
-        f"{first.torque[t]:g} N m, the torque level nearest to the operating torque.</p>",
+        f"{first.torque[t]:g} N m, the torque level nearest to the operating torque "
+        f"(load.operating_torque_Nm = {run.scene['load']['operating_torque_Nm']:g} N m).</p>",
         table(head, rows),
     ]
     if sliding:

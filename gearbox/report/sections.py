@@ -32,6 +32,7 @@ __all__ = [
 #: Scene entries a section reads besides its stage's result; they enter its cache key.
 SECTION_READS: dict[str, tuple[str, ...]] = {
     "ltca": ("load.operating_torque_Nm", "drivetrain.engine_speed_rpm"),
+    "dynamics": ("load.operating_torque_Nm",),  # the drive's torque set beside it
     # the line load of ISO 6336-1's resonance range (report.dynamics.line_load)
     "campbell": (
         "pair.normal_module_mm",
