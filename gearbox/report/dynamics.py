@@ -137,7 +137,7 @@ def _traces(ts, model):
     zoom = t >= t[-1] - 4 * tm
     a = ax[0, 0]
     a.plot(t[last], ts["mesh_force_N"][last] / 1e3, lw=0.6)
-    a.set(ylabel="mesh force (kN)", title="last two pinion revolutions")
+    a.set(xlabel="time (s)", ylabel="mesh force (kN)", title="last two pinion revolutions")
     a = ax[1, 0]
     a.plot(t[zoom] * 1e3, ts["mesh_force_N"][zoom] / 1e3, label="mesh force (kN)")
     a2 = a.twinx()

@@ -11,21 +11,28 @@ from .. import __version__
 
 __all__ = ["PACKAGES", "package_versions", "provenance_rows"]
 
-#: Distributions whose versions the report lists (absent ones are marked so).
+#: Distributions whose versions the report lists (absent ones are marked so): the
+#: dependencies and extras of pyproject.toml, and netCDF4, which the mesh tables'
+#: files take where it is installed (else h5netcdf).
 PACKAGES = (
     "numpy",
     "scipy",
     "matplotlib",
     "tqdm",
+    "threadpoolctl",
     "xarray",
     "h5netcdf",
+    "h5py",
     "netCDF4",
     "jax",
     "jaxlib",
+    "ml_dtypes",
     "diffrax",
     "equinox",
     "exudyn",
     "fmpy",
+    "libcosimpy",
+    "scikit-fem",
 )
 
 

@@ -152,6 +152,16 @@ def plot_waterfall(
             ax.plot(xs[i], amps[i] + i * step, lw=0.7, color="k")
         ax.set_yticks(np.arange(speeds.size) * step, [f"{s:.0f}" for s in speeds], fontsize=7)
         ax.set_ylabel("speed (rpm), lines offset")
+        unit = f" {wf.unit}" if wf.unit else ""
+        ax.text(  # the amplitude scale: one offset step
+            0.99,
+            0.99,
+            f"offset between lines: {step:.3g}{unit}",
+            transform=ax.transAxes,
+            ha="right",
+            va="top",
+            fontsize=7,
+        )
     else:
         # Cell edges along speed: midpoints between speeds.
         if speeds.size > 1:
