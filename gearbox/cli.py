@@ -79,6 +79,14 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"gearbox {args.verb}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader of the output left (``gearbox design X | head``): stop quietly, as
+        # other command-line tools do; point stdout at devnull so that the interpreter's
+        # final flush does not fail again (Python docs, "Note on SIGPIPE")
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
 
 
 def console() -> None:

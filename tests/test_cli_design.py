@@ -362,3 +362,21 @@ def test_strict_design_exits_1_when_a_check_fails(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["all_checks_ok"] is False
     assert main(["design", str(p), "--strict"]) == 1
     assert "design checks failed: gear_profile_shift_given" in capsys.readouterr().err
+
+
+def test_a_reader_that_leaves_early_gets_no_traceback():
+    """``gearbox design X | head -1``: the pipe closes under the command; it stops
+    quietly (exit 141, as a shell reports SIGPIPE) without a traceback."""
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "gearbox", "design", "models/case03.toml"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    proc.stdout.close()  # before the command writes anything
+    err = proc.stderr.read()
+    assert proc.wait(timeout=60) == 141, err
+    assert "Traceback" not in err and "BrokenPipeError" not in err
