@@ -491,7 +491,8 @@ def test_the_sweep_takes_the_operating_point_run(marine, tmp_path):
     top = sw.points[-1]
     assert top.speed_rpm == op.speed_rpm
     assert {k: top.metrics[k] for k in op.metrics} == dict(op.metrics)
-    assert set(top.metrics) - set(op.metrics) == {"linear_mesh_order_amplitude_N"}
+    extra = {"linear_mesh_order_amplitude_N", "mesh_order_amplitude_spectrum_N"}
+    assert set(top.metrics) - set(op.metrics) == extra
     assert (top.nfev, top.wall_time) == (op.series.nfev, op.series.wall_time)
     assert sw.points[0].nfev != op.series.nfev  # the others are runs of their own
     # without the operating point among the speeds, nothing is taken from it
@@ -561,3 +562,24 @@ def fmt_number(x):
     from gearbox.report.html import fmt
 
     return fmt(x)
+
+
+@pytest.mark.parametrize(
+    "change,redone",
+    [
+        ({"resonance_threshold": 0.2}, {"campbell"}),
+        ({"operating_range_rpm": [1500.0, 3000.0]}, {"campbell"}),
+        ({"sweep_speeds": 4}, {"campbell", "waterfall"}),
+        ({"settled_mesh_cycles": 90}, {"dynamics", "spectra", "waterfall"}),
+    ],
+)
+def test_each_drivetrain_stage_keys_the_simulation_entries_it_reads(marine, change, redone):
+    """A change of the Campbell diagram's flags redoes the diagram alone; one of the
+    sweep's speeds leaves the operating point's run; one of the runs' settings leaves
+    the diagram (before, each of them redid all four stages)."""
+    from gearbox.pipeline.runner import preview
+
+    names = ["dynamics", "spectra", "waterfall", "campbell"]
+    before = {n: k for n, k, _ in preview(marine, names, cache=False)}
+    after = {n: k for n, k, _ in preview(marine.replaced(simulation=change), names, cache=False)}
+    assert {n for n in names if before[n] != after[n]} == redone

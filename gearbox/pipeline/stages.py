@@ -22,6 +22,16 @@ __all__ = ["STAGES", "require"]
 
 _PAIR = ("pair", "pinion", "gear", "tool")
 _DRIVE = ("drivetrain", "simulation", "load.torques_Nm", "load.operating_torque_Nm")
+_LOADS = ("load.torques_Nm", "load.operating_torque_Nm")
+#: What of [simulation] each drivetrain stage reads, so that a change of the Campbell
+#: diagram's flags (operating range, resonance threshold) redoes that stage alone, and
+#: one of the sweep's speeds leaves the operating point's run
+_RUN = tuple(
+    f"simulation.{k}"
+    for k in ("solver", "rtol", "settle_time_s", "settled_mesh_cycles", "samples_per_mesh_cycle")
+)
+_SWEEP = ("simulation.speed_sweep_rpm", "simulation.sweep_speeds")
+_CAMPBELL = ("simulation.operating_range_rpm", "simulation.resonance_threshold")
 _PITCH_READS = (
     *_PAIR,
     "assembly",
@@ -41,12 +51,12 @@ def _pitch_if_on(scene) -> tuple[str, ...]:
     return ("pitch",) if scene["drivetrain"]["pitch_deviations"] else ()
 
 
-def _on_tables(name, compute, validate, doc, *code) -> Stage:
+def _on_tables(name, compute, validate, doc, *code, reads=_DRIVE) -> Stage:
     """A drivetrain stage: reads the drive sections, runs on the mesh tables."""
     return Stage(
         name,
         compute,
-        reads=_DRIVE,
+        reads=reads,
         reads_also=_pitch_if_on,
         depends=("tables",),
         route=dynamics.drive_depends,
@@ -128,12 +138,14 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
             dynamics.validate_sweep_torques,
             "Eigenfrequencies against speed with excitation orders and crossings.",
             "gearbox.spectrum",
+            reads=("drivetrain", *_SWEEP, *_CAMPBELL, *_LOADS),
         ),
         "dynamics": _on_tables(
             "dynamics",
             dynamics.compute_dynamics,
             dynamics.validate_operating_torque,
             "Settled drivetrain response at the operating point.",
+            reads=("drivetrain", *_RUN, *_LOADS),
         ),
         "spectra": Stage(
             "spectra",
@@ -150,6 +162,7 @@ STAGES: MappingProxyType[str, Stage] = MappingProxyType(
                 dynamics.validate_sweep_torques,
                 "Speed sweep on the propeller law: order spectra against speed.",
                 "gearbox.spectrum",
+                reads=("drivetrain", *_RUN, *_SWEEP, *_LOADS),
             ),
             route=dynamics.waterfall_depends,
         ),

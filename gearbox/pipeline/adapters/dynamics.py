@@ -118,8 +118,10 @@ def validate_torques(scene: Scene, *, sweep: bool = False) -> None:
             )
     if problems:
         raise InputError(problems)
+    if not sweep:
+        return
     sim = scene["simulation"]["speed_sweep_rpm"]
-    if sweep and not sim[0] < sim[-1]:
+    if not sim[0] < sim[-1]:
         raise InputError(
             Problem("simulation.speed_sweep_rpm", list(sim), "must be [min, max], min < max")
         )
