@@ -9,7 +9,7 @@ def add_arguments(parser):
 
     add_scene_argument(parser)
     parser.add_argument(
-        "--out", default="gearbox-out/sweep", help="output folder (default: gearbox-out/sweep)"
+        "--out", default=None, metavar="DIR", help="output folder (default out/<scene>/sweep)"
     )
     parser.add_argument(
         "--points", type=int, default=101, help="points along each curve (default 101)"
@@ -27,8 +27,11 @@ def run(args):
 
     if not 2 <= args.points <= 100000:
         raise InputError(Problem("--points", args.points, "must be in [2, 100000]"))
-    spec = PairSpec.from_scene(load_scene(args.scene))
-    out = output_folder(args.out)
+    from pathlib import Path
+
+    scene = load_scene(args.scene)
+    spec = PairSpec.from_scene(scene)
+    out = output_folder(args.out or Path("out") / scene.name / "sweep")
     import matplotlib
 
     matplotlib.use("Agg")
