@@ -870,6 +870,8 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
                     f"must be > 0 when ltca.{name}_{kind}_{unit} is > 0 ({amount:g})",
                 )
 
+    _check_tool(data, probs)
+
     rng = data.get("simulation", {}).get("operating_range_rpm")
     if isinstance(rng, list) and len(rng) == 1:
         probs.add("simulation.operating_range_rpm", rng, "must be [min, max] (rpm), or []")
@@ -882,6 +884,34 @@ def _check_relations(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> 
             True,
             "the dynamics carry the drive flank's deviations: set pitch.flank = 'drive' "
             "(it is 'coast')",
+        )
+
+
+def _check_tool(data: Mapping[str, Mapping[str, Any]], probs: Problems) -> None:
+    """The rack tooth must not be pointed: its two tip roundings (radius rho_a0) fit
+    in its tip, ``rho_a0 <= (cos a pi / 4 - sin a h_a0) / (1 - sin a)`` in units of m_n
+    (gearbox.surface.ToothBlank checks the same in metres)."""
+    a = data.get("pair", {}).get("normal_pressure_angle_deg")
+    tool = data.get("tool", {})
+    h, rho = tool.get("addendum_coefficient"), tool.get("tip_radius_coefficient")
+    if not all(isinstance(v, float) for v in (a, h, rho)) or not 0 < a < 90:
+        return
+    sa, ca = math.sin(math.radians(a)), math.cos(math.radians(a))
+    most = (ca * math.pi / 4 - sa * h) / (1 - sa)
+    if most < 0:
+        probs.add(
+            "tool.addendum_coefficient",
+            h,
+            f"must be at most {ca * math.pi / 4 / sa:.4g} at pair.normal_pressure_angle_deg = "
+            f"{a:g}: the rack tooth is pointed above that depth even without tip rounding",
+        )
+    elif rho > most:
+        probs.add(
+            "tool.tip_radius_coefficient",
+            rho,
+            f"must be in [0, {most:.4g}] with tool.addendum_coefficient = {h:g} and "
+            f"pair.normal_pressure_angle_deg = {a:g}: the rack tooth's tip roundings "
+            "would overlap (a pointed tooth)",
         )
 
 

@@ -380,3 +380,18 @@ def test_a_reader_that_leaves_early_gets_no_traceback():
     err = proc.stderr.read()
     assert proc.wait(timeout=60) == 141, err
     assert "Traceback" not in err and "BrokenPipeError" not in err
+
+
+def test_a_pointed_rack_tooth_names_the_tool_keys():
+    """The ToothBlank's check (in mm, under a key no scene has) came only at the TCA;
+    the scene now names the tool's coefficients; 0.201 m_n at 28 deg is the blank's
+    1.206 mm at m_n = 6 mm."""
+    from gearbox import load_scene
+    from gearbox.errors import InputError
+
+    scene = load_scene("models/case03.toml")
+    with pytest.raises(InputError, match=r"tool.tip_radius_coefficient = 0.25: must be in \[0, 0.201\]"):
+        scene.replaced(pair={"normal_pressure_angle_deg": 28.0})
+    with pytest.raises(InputError, match=r"tool.addendum_coefficient = 2.0: must be at most 1.36"):
+        scene.replaced(pair={"normal_pressure_angle_deg": 30.0}, tool={"addendum_coefficient": 2.0})
+    scene.replaced(pair={"normal_pressure_angle_deg": 28.0}, tool={"tip_radius_coefficient": 0.2})

@@ -89,3 +89,12 @@ def test_ltca_on_a_paper_case(tmp_path, capsys):
     assert lam2 / lam1 == pytest.approx(45 / 29, rel=0.01)
     c1, c2 = t.rotation_radii("coast", 300.0)
     assert c1 < 0 and c2 < 0
+
+
+def test_summary_keys_tell_close_torque_levels_apart():
+    """Torque levels that '%g' rounds alike kept one summary entry only."""
+    from gearbox.ltca.table import torque_keys
+
+    assert torque_keys([150.0, 300.0, 450.0]) == ["150", "300", "450"]
+    assert torque_keys([300.0, 300.0004, 300.0008]) == ["300", "300.0004", "300.0008"]
+    assert torque_keys([100000.1, 100000.4]) == ["100000.1", "100000.4"]

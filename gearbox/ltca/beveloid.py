@@ -702,6 +702,18 @@ def beveloid_grids(design, scene, field: SeparationField, positions: int, reach:
     # the active flank: profile parameters whose gear partner lies on the gear's flank
     # at some angle of the engagement
     uvalid = np.broadcast_to(field.u[None], field.separation.shape)[np.isfinite(field.separation)]
+    if uvalid.size == 0:
+        flank = "drive" if side == "R" else "coast"
+        raise InputError(
+            Problem(
+                f"ltca.flanks[{flank}]",
+                "no contact",
+                "no pinion flank point's normal meets the gear's flank at any position: "
+                "the flanks do not overlap (the design's contact ratio checks, the offset, "
+                "the profile shifts)",
+            ),
+            "the loaded TCA found no contact",
+        )
     u_lo, u_top = float(uvalid.min()), float(uvalid.max())
     has = field.line_has
     edge = field.line_edge

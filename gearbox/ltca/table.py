@@ -57,8 +57,18 @@ class LTCAResult:
         out = {"attrs": dict(self.attrs), "flanks": {}}
         for name, res in self.flanks.items():
             rows = cycle_summary(res)["torques"]
-            out["flanks"][name] = {f"{r['torque_Nm']:g}": r for r in rows}
+            out["flanks"][name] = dict(zip(torque_keys([r["torque_Nm"] for r in rows]), rows))
         return out
+
+
+def torque_keys(torques) -> list[str]:
+    """Keys of torque levels (N m) in the summary: the shortest ``%g`` form of 6 to 17
+    digits that tells every level apart (300 and 300.0004 need 7: "300", "300.0004")."""
+    for digits in range(6, 18):
+        keys = [f"{float(t):.{digits}g}" for t in torques]
+        if len(set(keys)) == len(keys):
+            return keys
+    return [repr(float(t)) for t in torques]  # pragma: no cover - equal levels
 
 
 def mesh_table(
