@@ -395,3 +395,20 @@ def test_a_pointed_rack_tooth_names_the_tool_keys():
     with pytest.raises(InputError, match=r"tool.addendum_coefficient = 2.0: must be at most 1.36"):
         scene.replaced(pair={"normal_pressure_angle_deg": 30.0}, tool={"addendum_coefficient": 2.0})
     scene.replaced(pair={"normal_pressure_angle_deg": 28.0}, tool={"tip_radius_coefficient": 0.2})
+
+
+def test_a_solved_gear_helix_beyond_60_deg_is_no_usable_design():
+    """The solved beta_2 took the TCA's blank check to name gear.helix_angle_deg, a key
+    the scene need not give; now the design names the offset."""
+    from gearbox import load_scene
+    from gearbox.errors import InputError
+    from gearbox.geometry import PairSpec, design_pair
+
+    scene = load_scene("models/case03.toml").to_dict()
+    scene["pair"] |= {"normal_module_mm": 0.05, "shaft_angle_deg": 89.9, "offset_mm": 29.896}
+    scene["pinion"]["teeth"] = 1000
+    scene["gear"].pop("helix_angle_deg", None)
+    from gearbox.scene import scene_from_dict
+
+    with pytest.raises(InputError, match=r"pair.offset_mm = 29.896: gives a gear helix angle beta_2 = 69.75 deg"):
+        design_pair(PairSpec.from_scene(scene_from_dict(scene)))

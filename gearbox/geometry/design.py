@@ -355,6 +355,9 @@ def _no_solution_error(spec: PairSpec) -> InputError:
 
 
 XT_RANGE = (-1.5, 2.5)
+#: Largest helix angle magnitude (deg) of either gear: the scene's range of
+#: pinion.helix_angle_deg and the tooth blanks' (gearbox.surface.ToothBlank)
+HELIX_LIMIT_DEG = 60.0
 
 
 def _profile_shift_error(spec: PairSpec, xt2: float) -> InputError:
@@ -495,6 +498,18 @@ def design_pair(spec: PairSpec, *, with_checks: bool = True) -> PairDesign:
         raise _no_solution_error(spec)
     w = {k: float(v) for k, v in sol.items() if k not in ("fpd_parts", "ok", "iterations")}
     xi, beta2 = w["xi_n"], w["beta2"]
+    if abs(math.degrees(beta2)) > HELIX_LIMIT_DEG:
+        raise InputError(
+            Problem(
+                "pair.offset_mm",
+                spec.offset * 1e3,
+                f"gives a gear helix angle beta_2 = {math.degrees(beta2):.2f} deg (eqs "
+                f"(18)-(19)), outside [-{HELIX_LIMIT_DEG:g}, {HELIX_LIMIT_DEG:g}] deg, the "
+                "range of a helix angle here (pair.shaft_angle_deg, the teeth and the "
+                "cone angles set it with the offset)",
+            ),
+            "no usable design",
+        )
     xt2 = backlash_free_xt2(spec, beta2, xi) if spec.backlash_free else ge.profile_shift_xt
     if spec.backlash_free and not XT_RANGE[0] <= xt2 <= XT_RANGE[1]:
         raise _profile_shift_error(spec, xt2)
