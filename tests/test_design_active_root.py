@@ -99,3 +99,19 @@ def test_undercut_pinion_tca_keeps_to_the_involute_and_ltca_refuses():
         assert s[f"measured_fpd_angle_{flank}_spread_deg"] < 1e-6
     with pytest.raises(InputError, match=r"pinion.profile_shift_xt = 0.16: the pinion is undercut"):
         beveloid_ltca(design, scene)
+
+
+def test_ltca_refuses_flanks_that_do_not_overlap():
+    """Case 04 with x_t2 = -1.5 (no backlash-free shift): transverse contact ratio below
+    0, the TCA finds no contact; the loaded TCA gave a table of tip-edge contact."""
+    from gearbox.ltca.beveloid import beveloid_ltca
+
+    scene = load_scene("models/case04.toml").replaced(
+        pair={"offset_mm": 232.435, "backlash_free": False},
+        gear={"profile_shift_xt": -1.5},
+        ltca={"flanks": ["coast"], "positions": 4},
+    )
+    design = design_pair(PairSpec.from_scene(scene))
+    assert design.checks["transverse_contact_ratio_left"].margin < -1.0
+    with pytest.raises(InputError, match=r"ltca.flanks\[coast\] = 'coast': the transverse contact ratio is -0.0"):
+        beveloid_ltca(design, scene)
