@@ -41,6 +41,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import InputError, Problem, Problems
+from ..geometry.checks import TOPPING_MIN_SAN
 from ..geometry.involute import inv
 from .analysis import LTCAOptions, ltca_cycle, root_stress_method
 from .compliance import compliance_for, describe_compliance
@@ -843,7 +844,8 @@ def scene_compliance(design, scene):
 
 
 def refuse_undercut(design) -> None:
-    """InputError naming each undercut gear (its design check ``*_undercut_*`` fails):
+    """InputError naming each undercut gear (its design check ``*_undercut_*`` fails)
+    and each gear with pointed teeth (a normal tip thickness below 0, ``*_topping``):
     the loaded TCA's contact grids and separations take the flank down to u = 0, which
     on an undercut flank is the envelope's folded branch. On case 03's pair with a
     12-tooth pinion undercut by 0.99 mm that gave a 24 um unloaded LTE of flanks whose
@@ -864,6 +866,16 @@ def refuse_undercut(design) -> None:
                 f"{-worst * 1e3:.3f} mm below the interference point): the loaded TCA needs "
                 f"flanks without undercut; a larger profile shift or more teeth "
                 f"({name}.teeth = {g.teeth})",
+            )
+        top = design.checks.get(f"{name}_topping")
+        if top is not None and top.margin + TOPPING_MIN_SAN * design.spec.normal_module < 0:
+            s_an = top.margin + TOPPING_MIN_SAN * design.spec.normal_module
+            p.add(
+                f"{name}.profile_shift_xt",
+                round(g.profile_shift_xt, 5),
+                f"the {name}'s teeth are pointed (normal tip thickness {s_an * 1e3:.3f} mm, "
+                f"design check {name}_topping): the loaded TCA needs a tooth tip; a smaller "
+                "profile shift, or the offset for another backlash-free gear shift",
             )
     p.raise_if_any("the loaded TCA cannot take this design")
 

@@ -433,8 +433,10 @@ class FastCompliance:
                             "ltca.fidelity",
                             "fast",
                             "the body's far field exceeds a slice's foundation for these "
-                            "teeth (FastCompliance(foundation='normal') keeps it in the "
-                            "slices)",
+                            "teeth: a tooth thin at its root or a large gear on a narrow "
+                            "face (the design's topping checks; docs/ltca.md, Limits); "
+                            "in Python, FastCompliance(foundation='normal') keeps the far "
+                            "field in the slices",
                         )
                     )
             out.append(c * factor)

@@ -33,6 +33,10 @@ from .grid import ContactGrid, ToothSections
 __all__ = ["ParallelPair", "parallel_grid"]
 
 
+#: Fewest teeth of either gear
+MIN_TEETH = 8
+
+
 @dataclass(frozen=True)
 class ParallelPair:
     """A parallel-axis external involute gear pair, SI.
@@ -75,9 +79,10 @@ class ParallelPair:
             "must be in (0, 0.1] m (SI: a 4 mm module is 0.004)",
         )
         p.in_range("normal_pressure_angle", self.normal_pressure_angle, 0.0, 0.7, lo_open=True)
-        p.in_range("helix_angle", self.helix_angle, -1.0, 1.0)
-        p.in_range("teeth[0]", self.teeth[0], 8, None)
-        p.in_range("teeth[1]", self.teeth[1], 8, None)
+        lim = math.radians(60.0)  # rad: the scene's +-60 deg
+        p.in_range("helix_angle", self.helix_angle, -lim, lim)
+        p.in_range("teeth[0]", self.teeth[0], MIN_TEETH, None)
+        p.in_range("teeth[1]", self.teeth[1], MIN_TEETH, None)
         p.check(
             isinstance(self.face_width, int | float) and 0.0 < self.face_width <= 2.0,
             "face_width",

@@ -167,6 +167,8 @@ def parallel_pair_from_design(design, scene) -> ParallelPair:
     """The :class:`ParallelPair` of a design with shaft angle 0 and cone angles 0, with
     the scene's assembly errors: the offset error changes the centre distance, the
     shaft-angle error is the pair's ``misalignment``; axial shifts must be 0."""
+    from .parallel import MIN_TEETH as PARALLEL_MIN_TEETH
+
     p = Problems()
     p.check(
         abs(design.shaft_angle) < 1e-12,
@@ -193,7 +195,14 @@ def parallel_pair_from_design(design, scene) -> ParallelPair:
             "must be 0 for a parallel-axis pair (the parallel path does not model the "
             "face overlap an axial shift changes)",
         )
-    p.raise_if_any("assembly errors of a parallel-axis pair")
+    for name, g in (("pinion", design.pinion), ("gear", design.gear)):
+        p.check(
+            g.teeth >= PARALLEL_MIN_TEETH,
+            f"{name}.teeth",
+            g.teeth,
+            f"must be >= {PARALLEL_MIN_TEETH} for a parallel-axis pair (its slices)",
+        )
+    p.raise_if_any("the parallel-axis path cannot take this pair")
     return ParallelPair(
         normal_module=design.normal_module,
         normal_pressure_angle=design.normal_pressure_angle,
