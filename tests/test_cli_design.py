@@ -412,3 +412,12 @@ def test_a_solved_gear_helix_beyond_60_deg_is_no_usable_design():
 
     with pytest.raises(InputError, match=r"pair.offset_mm = 29.896: gives a gear helix angle beta_2 = 69.75 deg"):
         design_pair(PairSpec.from_scene(scene_from_dict(scene)))
+
+
+def test_a_check_prints_its_value_apart_from_its_limit():
+    """A total contact ratio of 1.99953 printed as '2.000 >= 2' beside a failed check."""
+    from gearbox.geometry.checks import _beside
+
+    assert _beside(1.99953, 2.0) == "1.9995"
+    assert _beside(2.0, 2.0) == "2.000"
+    assert _beside(2.3456, 2.0) == "2.346"

@@ -97,6 +97,16 @@ def _tip_radius(g: GearDesign, z, m_n, tool):
     )
 
 
+def _beside(value: float, limit: float) -> str:
+    """``value`` to 3 decimals, more where 3 would print it equal to ``limit`` though it
+    is not (1.99953 against 2: "1.9995", not "2.000" beside a failed check)."""
+    for decimals in range(3, 10):
+        text = f"{value:.{decimals}f}"
+        if value == limit or float(text) != limit:
+            return text
+    return text
+
+
 def _where(g, z, i) -> str:
     return f"z = {z[i] * 1e3:+.1f} mm from the reference section ({'toe' if i == 0 else 'heel' if i == len(z) - 1 else 'mid'})"
 
@@ -214,14 +224,14 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
             bool(eps[i] >= 1.0),
             float(eps[i] - 1.0),
             "1",
-            f"{flank} flanks: transverse contact ratio min {eps[i]:.3f} (toe {eps[0]:.3f}, heel {eps[-1]:.3f}) >= 1",
+            f"{flank} flanks: transverse contact ratio min {_beside(eps[i], 1.0)} (toe {eps[0]:.3f}, heel {eps[-1]:.3f}) >= 1",
         )
         eps_g = float(eps[i]) + eps_b[0]
         out[f"total_contact_ratio_{flank}"] = Check(
             bool(eps_g >= TOTAL_CONTACT_MIN),
             eps_g - TOTAL_CONTACT_MIN,
             "1",
-            f"{flank} flanks: eps_gamma = eps_alpha + eps_beta(pinion) = {eps_g:.3f} >= {TOTAL_CONTACT_MIN:g} "
+            f"{flank} flanks: eps_gamma = eps_alpha + eps_beta(pinion) = {_beside(eps_g, TOTAL_CONTACT_MIN)} >= {TOTAL_CONTACT_MIN:g} "
             f"(overlap ratios: pinion {eps_b[0]:.3f}, gear {eps_b[1]:.3f})",
         )
     if spec.gear.helix_angle is not None:

@@ -278,7 +278,12 @@ def tca_of_blanks(
                 f"in {settings.max_iter} iterations (flagged 'not converged', excluded)"
             )
     r2 = gear.reference_pitch_radius
-    if np.nanmin(play) * r2 < -1e-9:
+    if not np.isfinite(play).any():  # no position has both flanks in contact
+        msgs.append(
+            "backlash not measured: no position has contact on both the drive and the "
+            "coast flank"
+        )
+    elif np.nanmin(play) * r2 < -1e-9:
         status = "interference"
         msgs.append(
             f"drive and coast flanks overlap by up to {-np.nanmin(play) * r2 * 1e6:.3f} um (circumferential, "
