@@ -62,6 +62,13 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
             if asm.errors == AssemblyErrors()
             else "check the assembly errors"
         )
+        if pinion.cone_angle == 0 == gear.cone_angle and asm.errors.shaft_angle != 0:
+            why = (
+                "the flanks are in line contact (no cone angles) and the shaft-angle error "
+                "moves their point of contact along the line, far beyond the face: the "
+                "unloaded TCA cannot place it there; the loaded TCA carries the "
+                "misalignment (assembly.shaft_angle_error_deg)"
+            )
         raise InputError(
             Problem(
                 f"tca[{SIDE_NAMES[side]}]",
