@@ -199,8 +199,16 @@ SCHEMA: dict[str, dict[str, Field]] = {
     "assembly": {
         "offset_error_mm": _f(0.0, "Error of the offset E (mm).", -5, 5),
         "shaft_angle_error_deg": _f(0.0, "Error of the shaft angle (deg).", -2, 2),
-        "pinion_axial_error_mm": _f(0.0, "Axial displacement of the pinion (mm).", -10, 10),
-        "gear_axial_error_mm": _f(0.0, "Axial displacement of the gear (mm).", -10, 10),
+        "pinion_axial_error_mm": _f(
+            0.0,
+            "Axial displacement of the pinion (mm); 0 for the loaded TCA of a parallel-axis "
+            "pair (its path does not model the face overlap a shift changes).",
+            -10,
+            10,
+        ),
+        "gear_axial_error_mm": _f(
+            0.0, "Axial displacement of the gear (mm); as the pinion's.", -10, 10
+        ),
     },
     "tca": {
         "positions": _i(61, "Pinion positions of the unloaded TCA sweep.", 4, 100000),
