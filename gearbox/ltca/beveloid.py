@@ -848,7 +848,7 @@ def refuse_undercut(design) -> None:
     and each gear with pointed teeth (a normal tip thickness below 0, ``*_topping``):
     the loaded TCA's contact grids and separations take the flank down to u = 0, which
     on an undercut flank is the envelope's folded branch. On case 03's pair with a
-    12-tooth pinion undercut by 0.99 mm that gave a 24 um unloaded LTE of flanks whose
+    12-tooth pinion undercut by 0.99 mm that gave a 28 um unloaded LTE of flanks whose
     unloaded TCA is conjugate (TE below 1e-10 arcsec)."""
     p = Problems()
     for name, g in (("pinion", design.pinion), ("gear", design.gear)):
