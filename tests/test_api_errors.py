@@ -145,7 +145,9 @@ def test_fe_compliance_names_a_wrong_argument(design):
     from gearbox.fe.compliance import FECompliance, FEOptions
     from gearbox.surface import blanks_from_design
 
-    with pytest.raises(TypeError, match=r"FECompliance: blanks must be \(pinion, gear\) ToothBlank"):
+    with pytest.raises(
+        TypeError, match=r"FECompliance: blanks must be \(pinion, gear\) ToothBlank"
+    ):
         FECompliance(blanks="x")
     with pytest.raises(TypeError, match=r"FECompliance: blanks .* got tuple \(1, 2\)"):
         FECompliance(blanks=(1, 2))

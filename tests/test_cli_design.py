@@ -390,7 +390,9 @@ def test_a_pointed_rack_tooth_names_the_tool_keys():
     from gearbox.errors import InputError
 
     scene = load_scene("models/case03.toml")
-    with pytest.raises(InputError, match=r"tool.tip_radius_coefficient = 0.25: must be in \[0, 0.201\]"):
+    with pytest.raises(
+        InputError, match=r"tool.tip_radius_coefficient = 0.25: must be in \[0, 0.201\]"
+    ):
         scene.replaced(pair={"normal_pressure_angle_deg": 28.0})
     with pytest.raises(InputError, match=r"tool.addendum_coefficient = 2.0: must be at most 1.36"):
         scene.replaced(pair={"normal_pressure_angle_deg": 30.0}, tool={"addendum_coefficient": 2.0})
@@ -410,7 +412,9 @@ def test_a_solved_gear_helix_beyond_60_deg_is_no_usable_design():
     scene["gear"].pop("helix_angle_deg", None)
     from gearbox.scene import scene_from_dict
 
-    with pytest.raises(InputError, match=r"pair.offset_mm = 29.896: gives a gear helix angle beta_2 = 69.75 deg"):
+    with pytest.raises(
+        InputError, match=r"pair.offset_mm = 29.896: gives a gear helix angle beta_2 = 69.75 deg"
+    ):
         design_pair(PairSpec.from_scene(scene_from_dict(scene)))
 
 

@@ -113,7 +113,9 @@ def test_ltca_refuses_flanks_that_do_not_overlap():
     )
     design = design_pair(PairSpec.from_scene(scene))
     assert design.checks["transverse_contact_ratio_left"].margin < -1.0
-    with pytest.raises(InputError, match=r"ltca.flanks\[coast\] = 'coast': the transverse contact ratio is -0.0"):
+    with pytest.raises(
+        InputError, match=r"ltca.flanks\[coast\] = 'coast': the transverse contact ratio is -0.0"
+    ):
         beveloid_ltca(design, scene)
 
 
@@ -122,8 +124,12 @@ def test_ltca_refuses_pointed_teeth():
     tip thickness -0.94 mm): RuntimeWarnings and a 'moment image decay' error before."""
     from gearbox.ltca.beveloid import beveloid_ltca
 
-    scene = load_scene("models/case03.toml").replaced(pair={"backlash_free": False}, gear={"profile_shift_xt": 2.5})
+    scene = load_scene("models/case03.toml").replaced(
+        pair={"backlash_free": False}, gear={"profile_shift_xt": 2.5}
+    )
     design = design_pair(PairSpec.from_scene(scene))
     assert design.checks["gear_topping"].margin + 0.25 * design.spec.normal_module < 0
-    with pytest.raises(InputError, match=r"gear.profile_shift_xt = 2.5: the gear's teeth are pointed"):
+    with pytest.raises(
+        InputError, match=r"gear.profile_shift_xt = 2.5: the gear's teeth are pointed"
+    ):
         beveloid_ltca(design, scene)

@@ -456,5 +456,7 @@ def test_a_parallel_pair_with_a_shaft_angle_error_says_why_the_tca_cannot_place_
 
     sc = scene_from_dict(scene)
     design = design_pair(PairSpec.from_scene(sc))
-    with pytest.raises(InputError, match=r"in line contact \(no cone angles\) and the shaft-angle error"):
+    with pytest.raises(
+        InputError, match=r"in line contact \(no cone angles\) and the shaft-angle error"
+    ):
         run_tca(design, sc, settings=TCASettings(positions=11))

@@ -57,7 +57,9 @@ class LTCAResult:
         out = {"attrs": dict(self.attrs), "flanks": {}}
         for name, res in self.flanks.items():
             rows = cycle_summary(res)["torques"]
-            out["flanks"][name] = dict(zip(torque_keys([r["torque_Nm"] for r in rows]), rows))
+            out["flanks"][name] = dict(
+                zip(torque_keys([r["torque_Nm"] for r in rows]), rows, strict=True)
+            )
         return out
 
 

@@ -17,9 +17,9 @@ from .blank import blanks_from_design as blanks_from_design
 from .generation import FlankPoints as FlankPoints
 from .generation import flank_jets as flank_jets
 from .generation import flank_points as flank_points
+from .generation import involute_start as involute_start
 from .generation import principal_curvatures as principal_curvatures
 from .generation import profile_range as profile_range
-from .generation import involute_start as involute_start
 from .generation import undercut_margin as undercut_margin
 from .sample import SolveFailure as SolveFailure
 from .sample import flank_grid as flank_grid

@@ -287,8 +287,7 @@ def tca_of_blanks(
     r2 = gear.reference_pitch_radius
     if not np.isfinite(play).any():  # no position has both flanks in contact
         msgs.append(
-            "backlash not measured: no position has contact on both the drive and the "
-            "coast flank"
+            "backlash not measured: no position has contact on both the drive and the coast flank"
         )
     elif np.nanmin(play) * r2 < -1e-9:
         status = "interference"

@@ -120,7 +120,9 @@ def nearest_limit(pinion, gear, side, x) -> np.ndarray:
     close: a gear tip just before the pinion's root form circle)."""
     from .result import LIMITS
 
-    return np.asarray(LIMITS, dtype=object)[np.argmin(limit_margins(pinion, gear, side, x), axis=-1)]
+    return np.asarray(LIMITS, dtype=object)[
+        np.argmin(limit_margins(pinion, gear, side, x), axis=-1)
+    ]
 
 
 def refine_path_ends(
