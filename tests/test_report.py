@@ -223,3 +223,13 @@ def test_two_operating_torques_are_warned_of():
     assert _torque_warning(SimpleNamespace(torque_Nm=802.141), scene) == []
     (w,) = _torque_warning(SimpleNamespace(torque_Nm=654.8), scene)
     assert "654.8 N m" in w.text and "load.operating_torque_Nm = 802 N m" in w.text
+
+
+def test_the_law_stiffness_ratios_are_shown_in_per_cent_with_their_meaning():
+    """They read -0.0481784 with no unit in the operating point's table."""
+    from gearbox.report.dynamics import _metric_row
+
+    key, text = _metric_row("law_stiffness_at_min_force", -0.0481784)
+    assert text == "-4.8" and "least mesh force" in key and "(%)" in key
+    assert _metric_row("law_stiffness_at_max_force", float("nan"))[1] == ""
+    assert _metric_row("mesh_force_rms_N", 12.5) == ("mesh_force_rms_N", 12.5)

@@ -184,6 +184,17 @@ def _torque_warning(op, scene) -> list[ReportWarning]:
     ]
 
 
+def _metric_row(key: str, value):
+    """A response metric as the report shows it: the law's stiffness ratios (loaded TCA
+    tangent stiffness at the run's least / largest mesh force over the law's, less 1)
+    in per cent with what they are, every other metric under its own name."""
+    if key.startswith("law_stiffness_at_") and isinstance(value, float):
+        where = "least" if key.endswith("min_force") else "largest"
+        label = f"loaded TCA stiffness at the {where} mesh force / the law's - 1 (%)"
+        return (f"{key}: {label}", f"{100 * value:+.1f}" if math.isfinite(value) else "")
+    return (key, value)
+
+
 def render_dynamics(op, run) -> Section:
     """Drivetrain parameters, linear modes, response metrics and time traces."""
     m, ts = op.model, op.series
@@ -206,7 +217,7 @@ def render_dynamics(op, run) -> Section:
             )
         )
     ]
-    metric_rows = [(k, v) for k, v in op.metrics.items()]
+    metric_rows = [_metric_row(k, v) for k, v in op.metrics.items()]
     attrs = ts.attrs
     solver_rows = [
         ("solver", attrs.get("solver", "")),
