@@ -117,14 +117,21 @@ def overlap_ratio(g: GearDesign) -> float:
     return g.face_width * abs(math.tan(min(g.base_helix_angle, key=abs))) / p_bt
 
 
+def _interference_margin(g: GearDesign, j: int, z, h_lim: float) -> np.ndarray:
+    """How far (m, radially) the interference point of flank j, ``r_p sin^2 a_Pj`` below
+    the pitch circle, lies below the end of the tool's straight flank, ``h_lim - X(z)``
+    below it, in sections z: the undercut check's margin (< 0: undercut)."""
+    a_p = g.transverse_pressure_angle[j]
+    return g.reference_pitch_radius * math.sin(a_p) ** 2 - (h_lim - _radial_shift(g, z))
+
+
 def form_roll(g: GearDesign, j: int, z, h_lim: float) -> np.ndarray:
     """Roll length (m) of flank j's root form circle in sections z: where the involute
-    that the tool's straight flank generates meets the fillet, ``(r_p sin^2 a_Pj -
-    (h_lim - X(z))) / sin a_Pj`` (ISO 21771 d_Ff, per flank); 0 when undercut (the
-    involute then starts no lower than the base circle)."""
-    a_p = g.transverse_pressure_angle[j]
-    margin = g.reference_pitch_radius * math.sin(a_p) ** 2 - (h_lim - _radial_shift(g, z))
-    return np.maximum(margin, 0.0) / math.sin(a_p)
+    that the tool's straight flank generates meets the fillet, the interference margin
+    over ``sin a_Pj`` (ISO 21771 d_Ff, per flank); 0 when undercut (the involute then
+    starts no lower than the base circle)."""
+    margin = _interference_margin(g, j, z, h_lim)
+    return np.maximum(margin, 0.0) / math.sin(g.transverse_pressure_angle[j])
 
 
 def _active_root(name, flank, g: GearDesign, z, j, h_lim, roll_w, reach) -> Check:
@@ -168,8 +175,7 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
         )
         h_lims.append(h_lim)
         for j, flank in enumerate(("right", "left")):
-            a_p = g.transverse_pressure_angle[j]
-            margin = g.reference_pitch_radius * math.sin(a_p) ** 2 - (h_lim - X)
+            margin = _interference_margin(g, j, z, h_lim)
             i = int(np.argmin(margin))
             out[f"{name}_undercut_{flank}"] = Check(
                 bool(margin[i] >= 0),

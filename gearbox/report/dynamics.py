@@ -244,7 +244,7 @@ def render_dynamics(op, run) -> Section:
         + '<p class="muted">mesh_force_mesh_order_amplitude_N: the DFT at N_1 times the '
         "nominal pinion speed over the record's time; the order spectra (Spectra section) "
         "take the pinion's angle, which the speed's own fluctuation moves: the two part "
-        "where a shaft mode swings the speed (by 5 % near one measured).</p>"
+        "where a shaft mode swings the speed (docs/spectrum.md).</p>"
         + table(["quantity", "value"], metric_rows)
         + table(["solver", "value"], solver_rows)
     )
