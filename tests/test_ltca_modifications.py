@@ -262,50 +262,131 @@ def test_lead_crowning_on_the_beveloid_pair():
 
 
 # ------------------------------------------------------------ misalignment, parallel
-def _beveloid_and_parallel(beta_deg: float, error_deg: float):
+def _beveloid_and_parallel(beta_deg: float, error_deg: float, flanks=("drive",), **ltca):
+    """The surface path's and the closed form's loaded TCA (``LTCAResult``) of the
+    29/45, m 6, b 40 mm pair with the helix angle and the shaft-angle error given."""
     from gearbox.geometry import PairSpec, design_pair
     from gearbox.ltca.beveloid import beveloid_ltca
-    from gearbox.ltca.table import parallel_pair_from_design
+    from gearbox.ltca.table import parallel_pair_from_design, scene_ltca
 
+    lt = {"positions": 12, "grid_profile": 40, "grid_face": 20, "flanks": list(flanks)}
     scene = load_scene(DATA / "ltca_parallel_helical.toml").replaced(
         pinion={"helix_angle_deg": beta_deg},
         pair={"offset_mm": 74 * 6.0 / 2 / math.cos(math.radians(beta_deg))},
-        ltca={"positions": 12, "grid_profile": 40, "grid_face": 20, "flanks": ["drive"]},
+        ltca=lt | ltca,
         load={"torques_Nm": [300.0]},
         assembly={"shaft_angle_error_deg": error_deg},
     )
     design = design_pair(PairSpec.from_scene(scene))
     pair = parallel_pair_from_design(design, scene)
     assert pair.misalignment == pytest.approx(math.radians(error_deg), rel=1e-12)
-    surface = beveloid_ltca(design, scene).flanks["drive"]
-    closed = ltca_cycle(
-        lambda f: parallel_grid(pair, f, 20),
-        [300.0],
-        options=LTCAOptions(positions=12),
-        compliance=compliance_for("fast"),
-    )
-    return surface, closed
+    return beveloid_ltca(design, scene), scene_ltca(design, scene)
+
+
+def _ramp(ute: np.ndarray) -> float:
+    """The unloaded TE's rate between the jumps of its sawtooth (m per position): the
+    median of its steps."""
+    return float(np.median(np.diff(ute)))
+
+
+def _axial_per_torque_arm(res) -> float:
+    """The line of action's component along the pinion's axis (in its driving sense)
+    over the arm of the normal load about that axis (1/m), mean over the cycle: the
+    sign of the pinion's thrust for a given torque, whatever the frame."""
+    table = res.table
+    d, o = np.asarray(table.pinion_axis)
+    P = res.flanks["drive"].mesh_point[0]
+    n = res.flanks["drive"].line_of_action[0]
+    arm = np.einsum("pi,i->p", np.cross(P - o, n), d)
+    return float(np.mean((n @ d) / arm))
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("beta_deg", [20.0, -20.0, 0.0])
 def test_misalignment_matches_the_surface_path(beta_deg):
     """A shaft-angle error of 0.03 deg on a parallel pair: the closed-form grid (first
-    order) against the generated flanks in the assembly with the same error. The
-    parallel frame is Sf turned half a turn about x, so its mesh point z is -z_f.
-    Measured: mean stiffness 0.5-1.1 % apart (1.8 % already without the error on the
-    spur pair), unloaded TE p-p 0.1 % (2.45 um), mesh point z up to 0.3 mm (of -13 mm)."""
-    surface, closed = _beveloid_and_parallel(beta_deg, 0.03)
+    order) against the generated flanks in the assembly with the same error, both
+    helix hands. Measured (20 / -20 / 0 deg): mean stiffness 0.3 / 1.1 / 0.5 % apart,
+    mean loaded TE 0.1 / 1.4 / 0.4 %, unloaded TE p-p 0.1 % (2.45 um) with the ramps of
+    its sawtooth equal (+0.245 / -0.245 um per position), mesh point z within 0.2 mm
+    (of -13 mm, the pinion's face coordinate in both), the pinion's thrust per unit
+    torque arm equal (-3.93 / +3.93 1/m). (Before, the closed form took the error with the
+    other sign, which put the load at the other face end and turned the sawtooth, and
+    modelled a left-hand pair as its mirror image, whose thrust points the other way.)"""
+    s_res, c_res = _beveloid_and_parallel(beta_deg, 0.03)
+    surface, closed = s_res.flanks["drive"], c_res.flanks["drive"]
     k_s, k_c = surface.stiffness[0].mean(), closed.stiffness[0].mean()
     assert k_c == pytest.approx(k_s, rel=0.025)
+    # both referenced to the cycle's first contact
+    assert surface.lte_unloaded.min() == pytest.approx(0.0, abs=1e-12)
+    assert closed.lte_unloaded.min() == pytest.approx(0.0, abs=1e-12)
+    assert closed.lte[0].mean() == pytest.approx(surface.lte[0].mean(), rel=0.025)
     z_s = surface.mesh_point[0][:, 2].mean()
-    z_c = -closed.mesh_point[0][:, 2].mean()
+    z_c = closed.mesh_point[0][:, 2].mean()
     assert z_s < -10e-3  # the load has moved well towards one face end
     assert z_c == pytest.approx(z_s, abs=0.5e-3)
     if beta_deg:
         te_s, te_c = np.ptp(surface.lte_unloaded), np.ptp(closed.lte_unloaded)
         assert te_s > 2e-6
         assert te_c == pytest.approx(te_s, rel=0.01)
+        ramp = _ramp(surface.lte_unloaded)
+        assert abs(ramp) > 0.2e-6 and np.sign(ramp) == np.sign(beta_deg)
+        assert _ramp(closed.lte_unloaded) == pytest.approx(ramp, rel=0.02)
+        thrust = _axial_per_torque_arm(s_res)
+        assert abs(thrust) > 1.0
+        assert _axial_per_torque_arm(c_res) == pytest.approx(thrust, rel=0.01)
+
+
+@pytest.mark.slow
+def test_coast_is_the_drive_reversed_in_time_on_both_paths():
+    """The coast flank of a symmetric parallel pair is its drive flank turned half a
+    turn about the centre line, which reverses each gear's rotation: coast at position
+    j = drive at -j. The surface path builds its coast from the generated L flanks and
+    shows it (measured: equal to 1e-6 %), here on the 20 deg pair with 0.03 deg of
+    shaft-angle error (a sawtooth TE, not symmetric in time); the closed form's coast
+    follows it (it once kept the drive's order)."""
+    s_res, c_res = _beveloid_and_parallel(20.0, 0.03, flanks=("drive", "coast"))
+    j = (-np.arange(12)) % 12
+    for res in (s_res, c_res):
+        d, c = res.flanks["drive"], res.flanks["coast"]
+        assert np.ptp(d.lte_unloaded) > 2e-6
+        np.testing.assert_allclose(c.lte_unloaded, d.lte_unloaded[j], rtol=0, atol=2e-9)
+        np.testing.assert_allclose(c.stiffness, d.stiffness[:, j], rtol=1e-4)
+    ramp = _ramp(s_res.flanks["coast"].lte_unloaded)
+    assert _ramp(c_res.flanks["coast"].lte_unloaded) == pytest.approx(ramp, rel=0.02)
+
+
+def test_the_mirrored_coast_is_the_loaded_tca_of_the_coast_grids():
+    """The closed form's coast result, the drive's turned (``_mirror``), equals the
+    loaded TCA of the drive grids relabelled as the coast's (``coast_grids``: positions
+    -j, pair labels -k): the same solves, to round-off, in every array the two share a
+    frame for (the turned result's points and faces are in the coast's)."""
+    from gearbox.ltca.table import _mirror, coast_grids
+
+    pair = replace(SPUR, helix_angle=math.radians(15.0), misalignment=math.radians(0.02))
+    n = 8
+    grids = [parallel_grid(pair, j / n, 12) for j in range(n)]
+    opts = LTCAOptions(positions=n)
+    comp = compliance_for("fast")
+    drive = ltca_cycle(lambda f: grids[round(f * n) % n], [300.0], options=opts, compliance=comp)
+    coast = coast_grids(grids)
+    native = ltca_cycle(lambda f: coast[round(f * n) % n], [300.0], options=opts, compliance=comp)
+    turned = _mirror(drive)
+    np.testing.assert_array_equal(turned.pair_index, native.pair_index)
+    for name in (
+        "stiffness",
+        "lte",
+        "lte_unloaded",
+        "normal_load",
+        "pair_share",
+        "pair_weight",
+        "pair_load_sensitivity",
+        "pair_form_weight",
+        "loss_factor",
+    ):
+        a, b = getattr(turned, name), getattr(native, name)
+        np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-12 * np.abs(b).max(), err_msg=name)
+    assert np.ptp(drive.lte_unloaded) > 0.5e-6  # the misalignment's sawtooth: not symmetric
 
 
 def test_misaligned_spur_slices_give_iso_k_hbeta():
@@ -337,17 +418,20 @@ def test_misaligned_spur_slices_give_iso_k_hbeta():
 
 def test_a_helix_slope_cancels_the_misalignment():
     """The separation a shaft-angle error adds to a spur pair is linear across the face;
-    a pinion helix slope of the same amount removes it exactly."""
+    a pinion helix slope of the same amount removes it exactly. A positive error
+    closes the gap at -w as a positive slope (removal rising to +w) does (the surface
+    path agrees: test_misalignment_matches_the_surface_path), so the slope that
+    cancels it is negative."""
     g = math.radians(0.02)
     b = SPUR.face_width
-    slope_um = 1e6 * g * b * math.cos(SPUR.working_pressure_angle)  # removal end to end
+    slope_um = -1e6 * g * b * math.cos(SPUR.working_pressure_angle)  # removal end to end
     bent = replace(SPUR, misalignment=g)
     fix = (FlankModification(helix_slope=slope_um * 1e-6), None)
     for f in (0.1, 0.8):
         aligned = parallel_grid(SPUR, f, 30)
         g_bent = parallel_grid(bent, f, 30)
         g_fixed = parallel_grid(bent, f, 30, relief=fix)
-        assert np.ptp(g_bent.separation) > 0.5 * slope_um * 1e-6
+        assert np.ptp(g_bent.separation) > 0.5 * abs(slope_um) * 1e-6
         np.testing.assert_allclose(g_fixed.separation, aligned.separation, atol=1e-15)
 
 

@@ -259,7 +259,8 @@ def gear_loads(grid: ContactGrid, gear: int) -> GearLoads:
     involute helicoid; a mirror image of a gear has the mirrored compliance, so the
     hand of the grid's own gear pair does not change the result. Pair k sits on the
     tooth that is k teeth ahead in the gear's sense of rotation (the driving pinion's
-    flank moves along its outward normal, the driven gear's against it).
+    flank moves along its outward normal, the driven gear's against it), behind it
+    where the grid's ``pair_sense`` is -1.
     """
     sections = grid.tooth1 if gear == 0 else grid.tooth2
     _require_cylindrical(grid, sections, gear)
@@ -280,7 +281,7 @@ def gear_loads(grid: ContactGrid, gear: int) -> GearLoads:
     sense = float(np.sign(np.dot(np.cross(ez, fp.position), fp.normal)))
     if gear == 1:
         sense = -sense
-    tooth = (sense * grid.pair).astype(int)
+    tooth = (sense * grid.pair_sense * grid.pair).astype(int)
     return GearLoads(blank, side, tooth, z, u, float(sections.bore_radius[0]))
 
 

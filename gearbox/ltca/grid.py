@@ -142,6 +142,12 @@ class ContactGrid:
       value at the reference pitch radius, m, + towards the tip) and its axial
       position from its face middle (m, + towards the heel, or +z on parallel
       axes), then the gear's two in its own frame. ``None``: the grid has none.
+
+    ``pair_sense`` (+1 or -1): the labels ``pair`` count the teeth ahead in each gear's
+    sense of rotation (+1, as the grids are built) or behind it (-1: a parallel pair's
+    drive grid relabelled as its coast flank's, whose time runs the other way,
+    :func:`gearbox.ltca.table.coast_grids`). A compliance that places pairs on teeth
+    reads it; one that takes the neighbours' side from the radii does not need it.
     """
 
     pair: np.ndarray
@@ -169,6 +175,7 @@ class ContactGrid:
     pinion_axis: np.ndarray | None = None
     gear_axis: np.ndarray | None = None
     flank_coordinates: np.ndarray | None = None
+    pair_sense: int = 1
 
     def __post_init__(self):
         probs = Problems()

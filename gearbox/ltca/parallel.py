@@ -295,14 +295,15 @@ def parallel_grid(
     nrm = np.tile(cb * u + math.sin(pair.base_helix_angle) * np.array([0.0, 0.0, 1.0]), (n, 1))
     sep = _relief_separation(pair, relief, r1, r2, face)
     if pair.misalignment != 0.0:
-        # the gear axis turned to (0, sin g, cos g) about the centre line moves a gear
-        # flank point p by g (0, p_z, -p_y) (first order); the gap grows by that
+        # the gear axis turned to (0, sin g, cos g) of this frame about the centre line
+        # (g of _grid_misalignment) moves a gear flank point p by g (0, p_z, -p_y)
+        # (first order); the gap grows by that
         # displacement's component along the flank normal. The contact lines here run as
         # xi = xi_0 + y tan(beta_b), normal to (cos beta_b u - sin beta_b z); ``nrm``
         # carries +sin(beta_b) (the line of action of the table), hence the sign of its
         # axial part below. Checked against the generated flanks of the surface path with
         # the same shaft-angle error, both hands (tests/test_ltca_modifications.py).
-        g = pair.misalignment
+        g = _grid_misalignment(pair)
         sep = sep + g * (nrm[:, 1] * pos[:, 2] + nrm[:, 2] * pos[:, 1])
     # roll lengths from each gear's reference circle; both faces share y
     roll1 = xi - math.sqrt(pair.pitch_radius(0) ** 2 - rb1**2)
@@ -333,12 +334,22 @@ def parallel_grid(
         pinion_axis=np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]),
         gear_axis=np.array(
             [
-                [0.0, math.sin(pair.misalignment), math.cos(pair.misalignment)],
+                [0.0, math.sin(_grid_misalignment(pair)), math.cos(_grid_misalignment(pair))],
                 [pair.working_center_distance, 0.0, 0.0],
             ]
         ),
         flank_coordinates=np.column_stack([roll1, face, roll2, face]),
     )
+
+
+def _grid_misalignment(pair: ParallelPair) -> float:
+    """The shaft-angle error as the grid's frame sees it: the grid's transverse plane is
+    the surface path's Sf (:class:`gearbox.tca.assembly.Assembly`) with y -> -y (its
+    drive contact at y < 0), so the gear axis (0, sin g, cos g) of Sf is (0, -sin g,
+    cos g) here. Checked against the generated flanks in the assembly with the same
+    error: the load's end of the face and the unloaded TE's sawtooth, both hands
+    (tests/test_ltca_modifications.py)."""
+    return -pair.misalignment
 
 
 def _relief_separation(pair: ParallelPair, relief, r1, r2, face) -> np.ndarray:

@@ -57,7 +57,7 @@ import numpy as np
 
 from ..errors import InputError, Problem, Problems
 from ..meshtable import FORM_BASES
-from .analysis import CycleResult
+from .analysis import CycleResult, touching_grids
 from .solver import ContactSolver, solve_contact
 
 __all__ = [
@@ -1407,10 +1407,12 @@ def flank_grids(design, scene, positions: int, flank: str = "drive"):
     mesh cycle and the compliance, as the loaded TCA makes them (for the exact method
     and the linear method's point loads): the closed-form grids and
     ``compliance_for(fidelity)`` of :func:`~gearbox.ltca.table.parallel_ltca` for a
-    parallel pair (its coast flank is the drive flank turned end for end: the grids of
-    the modifications turned, their axial coordinates mirrored), else
+    parallel pair (its coast flank is the drive flank turned half a turn about the
+    centre line: the grids of the modifications turned,
+    :func:`~gearbox.ltca.table.coast_grids`), else
     :func:`~gearbox.ltca.beveloid.scene_grids` of that side and
-    :func:`~gearbox.ltca.beveloid.scene_compliance`."""
+    :func:`~gearbox.ltca.beveloid.scene_compliance`; both referenced to the cycle's
+    first contact (:func:`~gearbox.ltca.analysis.touching_grids`)."""
     from .beveloid import modifications_from_scene, scene_compliance, scene_grids
     from .compliance import compliance_for
     from .table import is_parallel
@@ -1419,12 +1421,11 @@ def flank_grids(design, scene, positions: int, flank: str = "drive"):
         raise InputError(Problem("flank", flank, "must be 'drive' or 'coast'"))
     lt = scene["ltca"]
     if is_parallel(design):
-        from .modification import as_modification
         from .parallel import parallel_grid
-        from .table import parallel_pair_from_design
+        from .table import coast_grids, mirrored_grids, parallel_pair_from_design, right_handed
 
         pair = parallel_pair_from_design(design, scene)
-        relief = tuple(as_modification(r) for r in modifications_from_scene(design, scene))
+        pair, relief, hand = right_handed(pair, modifications_from_scene(design, scene))
         if flank == "coast":
             relief = tuple(replace(m, helix_slope=-m.helix_slope) for m in relief)
         grids = [
@@ -1432,22 +1433,16 @@ def flank_grids(design, scene, positions: int, flank: str = "drive"):
             for j in range(positions)
         ]
         if flank == "coast":
-            grids = [_turned(g) for g in grids]
+            grids = coast_grids(grids)
+        if hand < 0:
+            grids = mirrored_grids(grids)
         compliance = compliance_for(lt["fidelity"], face_ends=lt["face_ends"])
     else:
         side = "R" if flank == "drive" else "L"
         grids = scene_grids(design, scene, side, positions)[0]
         compliance = scene_compliance(design, scene)
+    grids = touching_grids(grids)  # as ltca_cycle references them
     reserve = getattr(compliance, "reserve", None)
     if callable(reserve):
         reserve(grids)
     return grids, compliance
-
-
-def _turned(grid):
-    """A parallel pair's drive grid as its coast flank's (the loaded TCA's ``_mirror``):
-    the contact is the same, the faces turned end for end, so the axial flank
-    coordinates change sign."""
-    c = grid.flank_coordinates.copy()
-    c[:, [1, 3]] *= -1.0
-    return replace(grid, flank_coordinates=c)

@@ -222,30 +222,145 @@ def parallel_pair_from_design(design, scene) -> ParallelPair:
     )
 
 
-def _mirror(res: CycleResult) -> CycleResult:
-    """The coast flank of a symmetric parallel pair: the drive contact turned half a
-    turn about the centre line (the x axis through both axes: y -> -y, z -> -z), which
-    maps the pair onto itself and its drive flanks onto its coast flanks; the normal
-    turns with it (rack flank normals n_L of the surfaces convention)."""
+def right_handed(pair: ParallelPair, relief=None):
+    """The pair the closed-form grid models and the modifications on it: the grid
+    (:func:`~gearbox.ltca.parallel.parallel_grid`) is built for a pinion of positive
+    helix angle; a pinion of negative helix angle is its mirror image in the
+    transverse plane (z -> -z), which keeps each gear's sense of rotation and flank
+    side. So the mirrored pair has the helix angle |beta|, the shaft-angle error -g
+    (the gear axis (0, sin g, cos g) mirrors to the line of (0, -sin g, cos g)) and
+    the helix slopes -f_H (the face coordinate turns). Returns (pair, relief, hand):
+    hand -1 where the results are to be mirrored back (:func:`_end_for_end` with
+    ``y=False``, :func:`mirrored_grids`), else +1 and the inputs as they are."""
+    from .modification import as_modification
+
+    mods = None if relief is None else tuple(as_modification(r) for r in relief)
+    if pair.helix_angle >= 0:
+        return pair, mods, 1
+    base = replace(pair, helix_angle=-pair.helix_angle, misalignment=-pair.misalignment)
+    if mods is not None:
+        mods = tuple(replace(m, helix_slope=-m.helix_slope) for m in mods)
+    return base, mods, -1
+
+
+def _coast_order(positions: int) -> np.ndarray:
+    """Where the coast flank's positions lie among the drive flank's: position j of the
+    coast is the drive flank's position -j (the half turn about the centre line
+    reverses each gear's rotation), ``(-j) mod P``."""
+    return (-np.arange(positions)) % positions
+
+
+def mirrored_grids(grids: list) -> list:
+    """Grids with the faces end for end (the axial flank coordinates' sign changed):
+    a left-hand pair's from its right-hand mirror image (:func:`right_handed`). The
+    contact and its compliance are the mirror image's."""
+    out = []
+    for g in grids:
+        if g.flank_coordinates is None:
+            out.append(g)
+            continue
+        c = g.flank_coordinates.copy()
+        c[:, [1, 3]] *= -1.0
+        out.append(replace(g, flank_coordinates=c))
+    return out
+
+
+def coast_grids(grids: list) -> list:
+    """A symmetric parallel pair's drive grids at positions ``j / P`` as its coast
+    flank's (:func:`_mirror`): the coast flank at position j is the drive contact of
+    position -j turned half a turn about the centre line, the pair labels counting the
+    other way (``pair -> -pair``, ``pair_sense`` -1: the tooth a pair label names
+    comes into mesh in the order the coast's time runs) and the faces end for end (the
+    axial flank coordinates change sign). The contact and its compliance are the drive
+    grid's: the geometry is left in the drive frame."""
+    turned = [grids[j] for j in _coast_order(len(grids))]
+    return mirrored_grids([replace(g, pair=-g.pair, pair_sense=-g.pair_sense) for g in turned])
+
+
+def _reversed_in_time(res: CycleResult) -> CycleResult:
+    """A result at positions -j with the pair labels counting the other way (the tooth
+    pairs' arrays reversed along their pair axes): the time of a contact turned half a
+    turn about the centre line, which reverses each gear's rotation."""
+    j = _coast_order(res.fraction.size)
+    out = {}
+    for name in (
+        "stiffness",
+        "tangent_stiffness",
+        "lte",
+        "normal_load",
+        "max_pressure",
+        "root_stress_pinion",
+        "root_stress_gear",
+        "edge_load_fraction",
+        "iterations",
+        "converged",
+        "gap_residual",
+        "loss_factor",
+        "sliding_speed",
+        "friction_arm",
+        "mesh_point",
+        "line_of_action",
+    ):
+        v = getattr(res, name)
+        if v is not None:
+            out[name] = v[:, j]
+    out["lte_unloaded"] = res.lte_unloaded[j]
+    out["pair_index"] = -res.pair_index[::-1]
+    pair_axes = {
+        "pair_share": (2,),
+        "pair_root_stress": (2,),
+        "pair_weight": (2,),
+        "pair_load_sensitivity": (2, 3),
+        "pair_form_weight": (2,),
+        "pair_form_load_sensitivity": (2, 3),
+    }
+    for name, axes in pair_axes.items():
+        v = getattr(res, name)
+        if v is not None:
+            out[name] = np.flip(v[:, j], axis=axes)
+    return replace(res, **out)
+
+
+def _end_for_end(res: CycleResult, *, y: bool) -> CycleResult:
+    """A result with the faces turned end for end (z -> -z, and y -> -y as well for a
+    half turn about the centre line, ``y=True``; else the mirror image in the
+    transverse plane): the points and the normal (rack flank normals n_L of the
+    surfaces convention) turn, the face slots and the pattern's face cells reverse,
+    the helix slopes' offsets change sign (their crownings', even in the axial
+    position, do not), the axial flank coordinates' range mirrors. The faces' range
+    is symmetric about the face middle."""
     P = res.mesh_point.copy()
-    P[..., 1] *= -1
-    P[..., 2] *= -1
     n = res.line_of_action.copy()
-    n[..., 1] *= -1
-    n[..., 2] *= -1
-    form = {}
+    for v in (P, n):
+        v[..., 2] *= -1
+        if y:
+            v[..., 1] *= -1
+    out = dict(
+        mesh_point=P,
+        line_of_action=n,
+        root_stress_face_pinion=res.root_stress_face_pinion[:, ::-1],
+        root_stress_face_gear=res.root_stress_face_gear[:, ::-1],
+        pattern_pressure=res.pattern_pressure[:, :, ::-1],
+    )
     if res.pair_form_weight is not None:
-        # the faces turn end for end: the helix slopes' offsets change sign (their
-        # crownings', even in the axial position, do not)
         flip = np.array([-1.0 if b.endswith("_helix") else 1.0 for b in FORM_BASES])
+        out["pair_form_weight"] = res.pair_form_weight * flip
+        out["pair_form_load_sensitivity"] = res.pair_form_load_sensitivity * flip
+    if res.flank_range is not None:
         rng = res.flank_range.copy()
         rng[[1, 3]] = -rng[[1, 3]][:, ::-1]
-        form = dict(
-            pair_form_weight=res.pair_form_weight * flip,
-            pair_form_load_sensitivity=res.pair_form_load_sensitivity * flip,
-            flank_range=rng,
-        )
-    return replace(res, mesh_point=P, line_of_action=n, **form)
+        out["flank_range"] = rng
+    return replace(res, **out)
+
+
+def _mirror(res: CycleResult) -> CycleResult:
+    """The coast flank of a symmetric parallel pair from its drive flank's result: the
+    drive contact turned half a turn about the centre line (the x axis through both
+    axes: y -> -y, z -> -z), which maps the pair onto itself and its drive flanks onto
+    its coast flanks, and reverses each gear's rotation, so the coast at position j is
+    the drive at position -j, the pair labels counting the other way
+    (:func:`coast_grids`, whose loaded TCA it equals, tested), the faces end for end."""
+    return _end_for_end(_reversed_in_time(res), y=True)
 
 
 def _sloped(mods) -> bool:
@@ -279,16 +394,16 @@ def parallel_ltca(
 
     options = options or LTCAOptions()
     compliance = compliance_for(fidelity, face_ends=face_ends)
+    base, mods, hand = right_handed(pair, relief)
 
     def cycle(mods):
         return ltca_cycle(
-            lambda f: parallel_grid(pair, f, n_face, relief=mods),
+            lambda f: parallel_grid(base, f, n_face, relief=mods),
             torques,
             options=options,
             compliance=compliance,
         )
 
-    mods = None if relief is None else tuple(as_modification(r) for r in relief)
     res = {}
     drive = cycle(mods) if "drive" in flanks or not _sloped(mods) else None
     if "drive" in flanks:
@@ -299,6 +414,8 @@ def parallel_ltca(
             res["coast"] = _mirror(cycle(turned))
         else:
             res["coast"] = _mirror(drive)
+    if hand < 0:  # the right-hand mirror image's results mirrored back
+        res = {k: _end_for_end(v, y=False) for k, v in res.items()}
     a = pair.working_center_distance
     attrs = {
         "scene": scene_name,
@@ -308,7 +425,9 @@ def parallel_ltca(
         "root_stress": root_stress_method(compliance),
         "gearbox_version": __version__,
         "frame": "pinion axis z through origin, gear axis through (a, 0, 0); drive = R flank",
-        "flank_modifications": describe_pair(mods),
+        "flank_modifications": describe_pair(
+            None if relief is None else tuple(as_modification(r) for r in relief)
+        ),
         "pinion_reference_pitch_radius_m": float(pair.pitch_radius(0)),
         "gear_reference_pitch_radius_m": float(pair.pitch_radius(1)),
     }
