@@ -335,6 +335,13 @@ def test_misalignment_matches_the_surface_path(beta_deg):
         thrust = _axial_per_torque_arm(s_res)
         assert abs(thrust) > 1.0
         assert _axial_per_torque_arm(c_res) == pytest.approx(thrust, rel=0.01)
+    # both tables in Sf: the same axes and line of action
+    for name in ("pinion_axis", "gear_axis"):
+        np.testing.assert_allclose(
+            getattr(c_res.table, name)[0], getattr(s_res.table, name)[0], atol=1e-12
+        )
+    n_s = surface.line_of_action[0].mean(axis=0)
+    np.testing.assert_allclose(closed.line_of_action[0].mean(axis=0), n_s, atol=2e-3)
 
 
 @pytest.mark.slow

@@ -363,6 +363,21 @@ def _mirror(res: CycleResult) -> CycleResult:
     return _end_for_end(_reversed_in_time(res), y=True)
 
 
+def _in_sf(res: CycleResult) -> CycleResult:
+    """A closed-form result in the surface path's frame Sf: the grid's frame is Sf
+    with y -> -y (a mirror: its drive contact at y < 0), its normals carrying the
+    line of action's axial part with the sign of the table (``parallel_grid``), so the
+    points go to Sf by y -> -y and the normals by y, z -> -y, -z (the half turn about
+    x that the table's earlier frame was). The same pair then reads the same in both
+    paths (mesh point and line of action, tested)."""
+    P = res.mesh_point.copy()
+    n = res.line_of_action.copy()
+    P[..., 1] *= -1
+    n[..., 1] *= -1
+    n[..., 2] *= -1
+    return replace(res, mesh_point=P, line_of_action=n)
+
+
 def _sloped(mods) -> bool:
     return mods is not None and any(m.helix_slope != 0 for m in mods)
 
@@ -381,8 +396,9 @@ def parallel_ltca(
 ) -> LTCAResult:
     """Loaded TCA and mesh table of a parallel-axis pair.
 
-    Frame: pinion axis along z through the origin, gear axis through (a, 0, 0); the
-    drive contact lies at y < 0 near the pitch point (r_w1, 0, 0). Symmetric tooth
+    Frame: the surface path's Sf (:class:`gearbox.tca.assembly.Assembly`): pinion axis
+    along z through the origin, gear axis through (a, 0, 0), the driving senses +z and
+    -z; the grid's own frame is Sf with y -> -y (:func:`_in_sf`). Symmetric tooth
     profiles (the flank modifications ``relief`` = (pinion, gear)
     :class:`~gearbox.ltca.modification.FlankModification` act on both flanks alike): the
     coast flank is the drive flank turned half a turn about the centre line (axial
@@ -416,7 +432,8 @@ def parallel_ltca(
             res["coast"] = _mirror(drive)
     if hand < 0:  # the right-hand mirror image's results mirrored back
         res = {k: _end_for_end(v, y=False) for k, v in res.items()}
-    a = pair.working_center_distance
+    res = {k: _in_sf(v) for k, v in res.items()}
+    a, g = pair.working_center_distance, pair.misalignment
     attrs = {
         "scene": scene_name,
         "method": "loaded TCA, parallel-axis involute pair (plane of action, closed form), "
@@ -424,7 +441,8 @@ def parallel_ltca(
         "fidelity": fidelity,
         "root_stress": root_stress_method(compliance),
         "gearbox_version": __version__,
-        "frame": "pinion axis z through origin, gear axis through (a, 0, 0); drive = R flank",
+        "frame": "Sf of gearbox.tca.assembly: pinion axis z through origin, gear axis "
+        "through (a, 0, 0); drive = R flank",
         "flank_modifications": describe_pair(
             None if relief is None else tuple(as_modification(r) for r in relief)
         ),
@@ -435,8 +453,9 @@ def parallel_ltca(
         res,
         pinion_teeth=pair.teeth[0],
         gear_teeth=pair.teeth[1],
-        pinion_axis=[[0.0, 0.0, -1.0], [0.0, 0.0, 0.0]],
-        gear_axis=[[0.0, 0.0, 1.0], [a, 0.0, 0.0]],
+        pinion_axis=[[0.0, 0.0, 1.0], [0.0, 0.0, 0.0]],
+        # Sf's gear axis (0, sin g, cos g) of the shaft-angle error, driving sense -
+        gear_axis=[[0.0, -math.sin(g), -math.cos(g)], [a, 0.0, 0.0]],
         attrs=attrs,
     )
     return LTCAResult(flanks=res, table=table, attrs=attrs)
