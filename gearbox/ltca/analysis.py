@@ -269,11 +269,26 @@ def _root_stress(compliance, grid: ContactGrid, load: np.ndarray, matrices=None)
     return at, (top[0], top[1])
 
 
+#: The (T, P) float arrays of a :class:`CycleResult`: one value per torque and position.
+PER_POSITION = (
+    "stiffness",
+    "tangent_stiffness",
+    "lte",
+    "normal_load",
+    "max_pressure",
+    "root_stress_pinion",
+    "root_stress_gear",
+    "edge_load_fraction",
+    "gap_residual",
+)
+
+
 def touching_grids(grids) -> list[ContactGrid]:
     """The grids of a cycle turned by one rigid gear rotation that brings the cycle's
     first contact to zero gap: the unloaded TE is referenced to its least value over the
-    cycle, as the surface path builds its grids (:func:`~gearbox.ltca.beveloid.beveloid_grids`). A grid
-    factory may then start from any nominal phase: the closed-form parallel grid's
+    cycle, as the surface path builds its grids
+    (:func:`~gearbox.ltca.beveloid.beveloid_grids`). A grid factory may then start from
+    any nominal phase: the closed-form parallel grid's
     shaft-angle error and helix slopes leave negative gaps there (the nominal
     assembly in interference), which set the unloaded and loaded TE's mean off that
     path's by the interference (10.9 um on the 29/45 pair at 0.03 deg)."""
@@ -322,20 +337,7 @@ def ltca_cycle(
     profile_range = grids[0].profile_range
     face_range = grids[0].face_range
 
-    out = {
-        name: np.zeros((T, P))
-        for name in (
-            "stiffness",
-            "tangent_stiffness",
-            "lte",
-            "normal_load",
-            "max_pressure",
-            "root_stress_pinion",
-            "root_stress_gear",
-            "edge_load_fraction",
-            "gap_residual",
-        )
-    }
+    out = {name: np.zeros((T, P)) for name in PER_POSITION}
     iterations = np.zeros((T, P), dtype=int)
     converged = np.ones((T, P), dtype=bool)
     lte0 = np.zeros(P)

@@ -24,7 +24,14 @@ from ..meshtable import (
     form_weight_name,
     pair_weight_name,
 )
-from .analysis import CycleResult, LTCAOptions, cycle_summary, ltca_cycle, root_stress_method
+from .analysis import (
+    PER_POSITION,
+    CycleResult,
+    LTCAOptions,
+    cycle_summary,
+    ltca_cycle,
+    root_stress_method,
+)
 from .compliance import compliance_for, describe_compliance
 from .parallel import ParallelPair, parallel_grid
 from .pitch import covered_centres, covered_lengths
@@ -283,18 +290,9 @@ def _reversed_in_time(res: CycleResult) -> CycleResult:
     turn about the centre line, which reverses each gear's rotation."""
     j = _coast_order(res.fraction.size)
     out = {}
-    for name in (
-        "stiffness",
-        "tangent_stiffness",
-        "lte",
-        "normal_load",
-        "max_pressure",
-        "root_stress_pinion",
-        "root_stress_gear",
-        "edge_load_fraction",
+    for name in PER_POSITION + (
         "iterations",
         "converged",
-        "gap_residual",
         "loss_factor",
         "sliding_speed",
         "friction_arm",
