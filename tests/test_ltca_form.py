@@ -318,11 +318,20 @@ def test_the_coast_of_a_parallel_pair_turns_the_helix_weights(spur):
     helical = dataclasses.replace(pair, helix_angle=math.radians(15.0))
     out = parallel_ltca(helical, [300.0], options=LTCAOptions(positions=8), n_face=12)
     d, c = out.flanks["drive"], out.flanks["coast"]
-    dw = np.flip(d.pair_form_weight[:, (-np.arange(8)) % 8], axis=2)
-    np.testing.assert_array_equal(c.pair_index, -d.pair_index[::-1])
-    np.testing.assert_array_equal(c.pair_form_weight[..., [0, 2]], dw[..., [0, 2]])
-    np.testing.assert_array_equal(c.pair_form_weight[..., [1, 3]], -dw[..., [1, 3]])
-    np.testing.assert_array_equal(c.pair_form_weight[..., 4:], dw[..., 4:])
+    # coast position j, pair label l: the drive's position -j, label -l (-l - 1 where
+    # -j wraps into the cycle before)
+    for jc in range(8):
+        jd = (-jc) % 8
+        for ic, label in enumerate(c.pair_index):
+            kd = -label - (1 if jc else 0)
+            cw = c.pair_form_weight[:, jc, ic]
+            if kd not in d.pair_index:
+                assert not cw.any()
+                continue
+            dw = d.pair_form_weight[:, jd, int(np.flatnonzero(d.pair_index == kd)[0])]
+            np.testing.assert_array_equal(cw[..., [0, 2]], dw[..., [0, 2]])
+            np.testing.assert_array_equal(cw[..., [1, 3]], -dw[..., [1, 3]])
+            np.testing.assert_array_equal(cw[..., 4:], dw[..., 4:])
     np.testing.assert_array_equal(c.flank_range[1], -d.flank_range[1, ::-1])
     (r1, r2), (f1, f2) = covered_lengths(d.flank_range)
     assert f1 == pytest.approx(helical.face_width, rel=1e-12)

@@ -379,7 +379,10 @@ def test_the_mirrored_coast_is_the_loaded_tca_of_the_coast_grids():
     coast = coast_grids(grids)
     native = ltca_cycle(lambda f: coast[round(f * n) % n], [300.0], options=opts, compliance=comp)
     turned = _mirror(drive)
-    np.testing.assert_array_equal(turned.pair_index, native.pair_index)
+    # the turned result may carry a label more (all zero) than the labels the coast
+    # grids hold
+    at = np.searchsorted(turned.pair_index, native.pair_index)
+    np.testing.assert_array_equal(turned.pair_index[at], native.pair_index)
     for name in (
         "stiffness",
         "lte",
@@ -392,6 +395,12 @@ def test_the_mirrored_coast_is_the_loaded_tca_of_the_coast_grids():
         "loss_factor",
     ):
         a, b = getattr(turned, name), getattr(native, name)
+        if name.startswith("pair_"):
+            whole = a
+            a = np.take(a, at, axis=2)
+            if name == "pair_load_sensitivity":
+                a = np.take(a, at, axis=3)
+            assert np.abs(whole).sum() == pytest.approx(np.abs(a).sum(), rel=1e-12), name
         np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-12 * np.abs(b).max(), err_msg=name)
     assert np.ptp(drive.lte_unloaded) > 0.5e-6  # the misalignment's sawtooth: not symmetric
 

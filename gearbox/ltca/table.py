@@ -276,12 +276,18 @@ def coast_grids(grids: list) -> list:
     """A symmetric parallel pair's drive grids at positions ``j / P`` as its coast
     flank's (:func:`_mirror`): the coast flank at position j is the drive contact of
     position -j turned half a turn about the centre line, the pair labels counting the
-    other way (``pair -> -pair``, ``pair_sense`` -1: the tooth a pair label names
-    comes into mesh in the order the coast's time runs) and the faces end for end (the
+    other way (``pair -> -pair``, and one less where -j wraps into the cycle before,
+    j > 0: a label counts cycles, tooth = cycle - label; ``pair_sense`` -1) and the
+    faces end for end (the
     axial flank coordinates change sign). The contact and its compliance are the drive
     grid's: the geometry is left in the drive frame."""
     turned = [grids[j] for j in _coast_order(len(grids))]
-    return mirrored_grids([replace(g, pair=-g.pair, pair_sense=-g.pair_sense) for g in turned])
+    return mirrored_grids(
+        [
+            replace(g, pair=-g.pair - (1 if jc else 0), pair_sense=-g.pair_sense)
+            for jc, g in enumerate(turned)
+        ]
+    )
 
 
 def _reversed_in_time(res: CycleResult) -> CycleResult:
@@ -303,7 +309,12 @@ def _reversed_in_time(res: CycleResult) -> CycleResult:
         if v is not None:
             out[name] = v[:, j]
     out["lte_unloaded"] = res.lte_unloaded[j]
-    out["pair_index"] = -res.pair_index[::-1]
+    # pair k of the drive at position -j is the coast's -k, one less where -j wraps
+    # into the cycle before (j > 0): the label of a tooth pair counts the cycles
+    # (tooth = cycle - label, gearbox.ltca.pitch)
+    src = res.pair_index
+    labels = np.arange(-int(src.max()) - 1, -int(src.min()) + 1)
+    K = labels.size
     pair_axes = {
         "pair_share": (2,),
         "pair_root_stress": (2,),
@@ -314,8 +325,24 @@ def _reversed_in_time(res: CycleResult) -> CycleResult:
     }
     for name, axes in pair_axes.items():
         v = getattr(res, name)
-        if v is not None:
-            out[name] = np.flip(v[:, j], axis=axes)
+        if v is None:
+            continue
+        shape = list(v.shape)
+        for a in axes:
+            shape[a] = K
+        w = np.zeros(shape, dtype=v.dtype)
+        for jc, jd in enumerate(j):
+            at = np.searchsorted(labels, -src - (1 if jc else 0))
+            idx = (slice(None), jc) + tuple(
+                at if a in axes else slice(None) for a in range(2, 2 + len(axes))
+            )
+            if len(axes) == 2:
+                w[:, jc][np.ix_(np.arange(v.shape[0]), at, at)] = v[:, jd]
+            else:
+                w[:, jc][:, at] = v[:, jd]
+            del idx
+        out[name] = w
+    out["pair_index"] = labels
     return replace(res, **out)
 
 
