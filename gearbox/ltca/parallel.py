@@ -300,8 +300,8 @@ def parallel_grid(
         # (first order); the gap grows by that
         # displacement's component along the flank normal. The contact lines here run as
         # xi = xi_0 + y tan(beta_b), normal to (cos beta_b u - sin beta_b z); ``nrm``
-        # carries +sin(beta_b) (the line of action of the table), hence the sign of its
-        # axial part below. Checked against the generated flanks of the surface path with
+        # carries +sin(beta_b) (the table's line of action, before table._in_sf turns
+        # it into Sf), hence the sign of its axial part below. Checked against the generated flanks of the surface path with
         # the same shaft-angle error, both hands (tests/test_ltca_modifications.py).
         g = _grid_misalignment(pair)
         sep = sep + g * (nrm[:, 1] * pos[:, 2] + nrm[:, 2] * pos[:, 1])
