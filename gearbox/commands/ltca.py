@@ -68,4 +68,6 @@ def run(args):
                     + (f"  H {r['mesh_loss_factor']:.3f}" if "mesh_loss_factor" in r else "")
                     + ("  EDGE CONTACT" if r["edge_contact"] else "")
                 )
+        for note in summary["notes"]:
+            print(f"  note: {note}")
     return 0

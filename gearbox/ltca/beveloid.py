@@ -981,7 +981,12 @@ def beveloid_ltca(
         gear_axis=[a2, asm.gear_origin],
         attrs=attrs,
     )
-    return LTCAResult(flanks=results, table=table, attrs=attrs)
+    notes = ()
+    if lt["fidelity"] == "fast":
+        from .validity import fast_level_notes
+
+        notes = fast_level_notes(made[first][0][0])
+    return LTCAResult(flanks=results, table=table, attrs=attrs, notes=notes)
 
 
 _ = Problems

@@ -35,6 +35,7 @@ from .analysis import (
 from .compliance import compliance_for, describe_compliance
 from .parallel import ParallelPair, parallel_grid
 from .pitch import covered_centres, covered_lengths
+from .validity import fast_level_notes
 
 __all__ = [
     "LTCAResult",
@@ -50,18 +51,21 @@ class LTCAResult:
     """Loaded TCA of a pair: per flank a :class:`CycleResult`, and the mesh table.
 
     flanks: mapping flank name -> CycleResult; table: the MeshTable (SI); attrs:
-    provenance (scene, method, fidelity, gearbox version, frame).
+    provenance (scene, method, fidelity, gearbox version, frame); notes: where the pair
+    lies outside the range the compliance level was checked on, one line per gear and
+    quantity (:func:`gearbox.ltca.validity.fast_level_notes`; empty inside it).
     """
 
     flanks: dict
     table: MeshTable
     attrs: dict = field(default_factory=dict)
+    notes: tuple[str, ...] = ()
 
     def summary(self) -> dict:
-        """JSON-ready summary: per flank, per torque (N m as key), the mean and
-        peak-to-peak mesh stiffness and LTE, mean P and n, pattern area fraction,
-        edge-contact flag and solver status."""
-        out = {"attrs": dict(self.attrs), "flanks": {}}
+        """JSON-ready summary: the notes, and per flank, per torque (N m as key), the
+        mean and peak-to-peak mesh stiffness and LTE, mean P and n, pattern area
+        fraction, edge-contact flag and solver status."""
+        out = {"attrs": dict(self.attrs), "notes": list(self.notes), "flanks": {}}
         for name, res in self.flanks.items():
             rows = cycle_summary(res)["torques"]
             out["flanks"][name] = dict(
@@ -483,7 +487,8 @@ def parallel_ltca(
         gear_axis=[[0.0, -math.sin(g), -math.cos(g)], [a, 0.0, 0.0]],
         attrs=attrs,
     )
-    return LTCAResult(flanks=res, table=table, attrs=attrs)
+    notes = fast_level_notes(parallel_grid(base, 0.0, n_face)) if fidelity == "fast" else ()
+    return LTCAResult(flanks=res, table=table, attrs=attrs, notes=notes)
 
 
 def is_parallel(design) -> bool:

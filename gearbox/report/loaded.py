@@ -72,6 +72,8 @@ def render_ltca(lt, run) -> Section:
                         f"{flank} flank, {r['torque_Nm']:g} N m: contact solver did not converge",
                     )
                 )
+    # where the pair lies outside the range the fast level was checked on
+    warnings += [ReportWarning("ltca", note) for note in getattr(lt, "notes", ())]
     # one warning per flank with edge contact, its torque levels in one line
     for flank, hits in edges.items():
         torques = _listed([f"{tq:g}" for tq, _ in hits])
