@@ -130,6 +130,14 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "backlash_free": Field(
             "bool", True, "Gear profile shift from the backlash-free condition, paper eq. (20)."
         ),
+        "min_total_contact_ratio": _f(
+            2.0,
+            "Least total contact ratio eps_gamma of the design check total_contact_ratio_* "
+            "(2: two tooth pairs in mesh, the usual aim for quiet helical gearing; a spur "
+            "pair's eps_gamma is its transverse contact ratio, 1.2 to 1.9).",
+            1,
+            4,
+        ),
     },
     "pinion": {
         "teeth": _i(R, "Number of teeth N_1.", 5, 1000),

@@ -66,6 +66,29 @@ def test_spur_worked_example():
     assert d.pinion.working_pitch_radius * 2e3 == pytest.approx(37.667, abs=5e-4)
 
 
+def test_a_spur_pair_takes_its_own_total_contact_aim():
+    """A spur pair's eps_gamma is its transverse contact ratio (no overlap), so the
+    default aim of 2 always fails; pair.min_total_contact_ratio sets the aim, and a
+    value outside [1, 4] is named."""
+    from dataclasses import replace
+
+    from gearbox.errors import InputError
+
+    # z 30/60, m 3, standard centre distance 135 mm: eps_alpha about 1.7
+    spec = helical_pair(30, 60, 3.0, 20.0, 0.0, 135.0, 0.0)
+    d = design_pair(spec)
+    chk = d.checks["total_contact_ratio_right"]
+    eps = d.checks["transverse_contact_ratio_right"].margin + 1.0
+    assert 1.5 < eps < 1.9
+    assert not chk.ok and chk.margin == pytest.approx(eps - 2.0, abs=1e-12)
+    low = design_pair(replace(spec, min_total_contact_ratio=1.4))
+    chk = low.checks["total_contact_ratio_right"]
+    assert chk.ok and chk.margin == pytest.approx(eps - 1.4, abs=1e-12)
+    assert "pair.min_total_contact_ratio" in chk.detail
+    with pytest.raises(InputError, match=r"pair\.min_total_contact_ratio"):
+        replace(spec, min_total_contact_ratio=0.5).validate()
+
+
 def test_parallel_limit_matches_iso_formula_over_many_pairs():
     """ISO 21771: inv a_wt = inv a_t + 2 tan a_n (x1 + x2) / (z1 + z2), cos a_wt = a_0 cos a_t / a."""
     rng = np.random.default_rng(1)

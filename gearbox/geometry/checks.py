@@ -29,9 +29,12 @@ the tilted rack: the rack depth measured perpendicular to its pitch plane become
   and ``r_w(z) = r_w + z tan(gamma_w)``; the crossed-helical approximation of each
   gear's addendum path in its own transverse plane. margin = ``min eps_a - 1``.
 - total contact ratio (per flank): ``eps_gamma = min eps_a + eps_b`` with the pinion's
-  overlap ratio ``eps_b = b |tan beta_b| / p_bt``; margin = ``eps_gamma - 2`` (a total
+  overlap ratio ``eps_b = b |tan beta_b| / p_bt``; margin = ``eps_gamma -
+  min_total_contact_ratio`` (:class:`~gearbox.geometry.spec.PairSpec`, scene key
+  ``pair.min_total_contact_ratio``, default :data:`TOTAL_CONTACT_MIN` = 2: a total
   contact ratio of at least 2 keeps two tooth pairs in mesh, the usual aim for quiet
-  helical gearing). Both gears' overlap ratios are in the detail.
+  helical gearing; a spur pair's eps_gamma is its eps_alpha and needs a lower aim).
+  Both gears' overlap ratios are in the detail.
 - active root (per gear and flank): the mating gear's tip contact must end above the
   root form circle (ISO 21771 d_Nf >= d_Ff; below it the tip runs onto the fillet,
   meshing interference). In each section the mate's addendum path ``g_a`` (its own
@@ -233,12 +236,13 @@ def design_checks(d: PairDesign) -> dict[str, Check]:
             f"{flank} flanks: transverse contact ratio min {_beside(eps[i], 1.0)} (toe {eps[0]:.3f}, heel {eps[-1]:.3f}) >= 1",
         )
         eps_g = float(eps[i]) + eps_b[0]
+        least = spec.min_total_contact_ratio
         out[f"total_contact_ratio_{flank}"] = Check(
-            bool(eps_g >= TOTAL_CONTACT_MIN),
-            eps_g - TOTAL_CONTACT_MIN,
+            bool(eps_g >= least),
+            eps_g - least,
             "1",
-            f"{flank} flanks: eps_gamma = eps_alpha + eps_beta(pinion) = {_beside(eps_g, TOTAL_CONTACT_MIN)} >= {TOTAL_CONTACT_MIN:g} "
-            f"(overlap ratios: pinion {eps_b[0]:.3f}, gear {eps_b[1]:.3f})",
+            f"{flank} flanks: eps_gamma = eps_alpha + eps_beta(pinion) = {_beside(eps_g, least)} >= {least:g} "
+            f"(pair.min_total_contact_ratio; overlap ratios: pinion {eps_b[0]:.3f}, gear {eps_b[1]:.3f})",
         )
     if spec.gear.helix_angle is not None:
         diff = abs(math.degrees(spec.gear.helix_angle - d.gear.helix_angle))

@@ -74,6 +74,9 @@ class PairSpec:
         target_fpd_angle: target FPD angle (rad) in ``"target_fpd"`` mode.
         target_flank: ``"right"`` or ``"left"``.
         backlash_free: gear profile shift from paper eq. (20).
+        min_total_contact_ratio: the design check ``total_contact_ratio_*``'s least
+            eps_gamma (2: two tooth pairs in mesh, the usual aim for quiet helical
+            gearing; a spur pair, whose eps_gamma is its eps_alpha, takes less).
     """
 
     normal_module: float
@@ -87,6 +90,7 @@ class PairSpec:
     target_fpd_angle: float = 0.0
     target_flank: str = "right"
     backlash_free: bool = True
+    min_total_contact_ratio: float = 2.0
 
     def validate(self) -> PairSpec:
         """Check every input; raise one InputError listing all problems."""
@@ -111,6 +115,7 @@ class PairSpec:
             self.design_mode,
             "must be 'cone_angles' or 'target_fpd'",
         )
+        p.in_range("pair.min_total_contact_ratio", self.min_total_contact_ratio, 1.0, 4.0)
         p.check(
             self.target_flank in ("right", "left"),
             "pair.target_flank",
@@ -186,6 +191,7 @@ class PairSpec:
             target_fpd_angle=_D(pr["target_fpd_angle_deg"]),
             target_flank=pr["target_flank"],
             backlash_free=pr["backlash_free"],
+            min_total_contact_ratio=pr["min_total_contact_ratio"],
         ).validate()
 
     def with_pinion(self, **changes) -> PairSpec:
