@@ -52,8 +52,9 @@ class LTCAResult:
 
     flanks: mapping flank name -> CycleResult; table: the MeshTable (SI); attrs:
     provenance (scene, method, fidelity, gearbox version, frame); notes: where the pair
-    lies outside the range the compliance level was checked on, one line per gear and
-    quantity (:func:`gearbox.ltca.validity.fast_level_notes`; empty inside it).
+    lies outside the range the fast level was checked on, one line per quantity naming
+    the gears (:func:`gearbox.ltca.validity.fast_level_notes`; empty inside it and at
+    the FE level).
     """
 
     flanks: dict
