@@ -77,7 +77,7 @@ def fast_level_notes(grid: ContactGrid) -> tuple[str, ...]:
     if helix:
         notes.append(
             f"helix angle above the {HELIX_DEG:g} deg of the paper's pairs, the largest the "
-            f"fast level was checked at against the FE level ({"; ".join(helix)}): its slices "
+            f"fast level was checked at against the FE level ({'; '.join(helix)}): its slices "
             "are too stiff on helical teeth, more so at larger angles (against the FE "
             "segment, over spur: +6 % at 15 deg, +30 % at 30 deg on a face of 7.5 m_n); "
             'check with ltca.fidelity = "fe" (ltca.face_ends = true takes part of the excess)'
@@ -85,14 +85,14 @@ def fast_level_notes(grid: ContactGrid) -> tuple[str, ...]:
     if face:
         notes.append(
             f"face narrower than the {FACE_MODULES:g} m_n the fast level's face load "
-            f"distribution holds to ({"; ".join(face)}): the tooth's rocking across the face "
+            f"distribution holds to ({'; '.join(face)}): the tooth's rocking across the face "
             "is left out (a spur tooth of 3 m_n is 37 % softer in the FE level under a load "
             'rising across its face); check with ltca.fidelity = "fe"'
         )
     if tilt:
         notes.append(
             f"gear body tilt beyond the {BODY_TILT_MAX:g} / E the fast level's body term was "
-            f"fitted on, at r_f / b 2.9 and 30 deg ({"; ".join(tilt)}): the body is a solid "
+            f"fitted on, at r_f / b 2.9 and 30 deg ({'; '.join(tilt)}): the body is a solid "
             "plate of the face width, which tilts as (r_f / b)^2 under the axial tooth load; "
             "a body with web and hub differs, so read the body's part of the mesh stiffness "
             "as an assumption"
