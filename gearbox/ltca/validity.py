@@ -98,4 +98,3 @@ def fast_level_notes(grid: ContactGrid) -> tuple[str, ...]:
             "as an assumption"
         )
     return tuple(notes)
-
