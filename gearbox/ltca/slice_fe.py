@@ -28,6 +28,8 @@ from dataclasses import replace
 
 import numpy as np
 
+from .grid import ToothSections
+from ..geometry.involute import inv
 from .slice_model import _fillet_points, _half_angle, fillet_root
 
 __all__ = [
@@ -410,19 +412,23 @@ def neighbour_influence(section, poisson_ratio: float, mesh=NEIGHBOUR_MESH):
     behind, read at ``j`` under the load at ``i`` (the two readings, taken where the
     load lines cross the centre lines, agree within 1.4 % at contact points on the
     tested gears). Per unit width and times E it depends on the section's shape and
-    Poisson's ratio only: kept per shape (rounded as the tooth tables', with the bore)
-    for the process."""
+    Poisson's ratio only: kept per shape (rounded as the tooth tables', with the bore
+    and Poisson's ratio) for the process, solved for the key's own gear
+    (:func:`key_section`), so that what a process ran before does not change it."""
     one = section.take(np.array([0]))
     m = float(np.asarray(one.normal_module, float).ravel()[0])
     bore = float(np.asarray(one.bore_radius, float).ravel()[0])
+    shape = _shape_keys(one)[0]
     key = (
-        tuple(_shape_keys(one)[0]),
+        tuple(shape.tolist()),
         round(bore / m / 0.02),
         round(float(poisson_ratio), 4),
         tuple(mesh),
     )
     got = _NEIGHBOURS.get(key)
     if got is None:
+        # the key's own gear, not the first one met that rounds to it (module doc)
+        one = replace(key_section(shape), bore_radius=np.array([key[1] * 0.02 * _KEY_MODULE]))
         rb, rf, ra = (
             float(np.ravel(a)[0]) for a in (one.base_radius, one.root_radius, one.tip_radius)
         )
@@ -436,7 +442,7 @@ def neighbour_influence(section, poisson_ratio: float, mesh=NEIGHBOUR_MESH):
         u = whole_gear_influence(
             rows,
             1.0,
-            poisson_ratio,
+            key[2],
             z,
             radii,
             offsets,
@@ -446,7 +452,7 @@ def neighbour_influence(section, poisson_ratio: float, mesh=NEIGHBOUR_MESH):
             n_rim=n_rim,
         )
         c = 0.5 * (u[0::2] + np.swapaxes(u[1::2], 1, 2))
-        got = (radii / m, c)
+        got = (radii / _KEY_MODULE, c)
         if len(_NEIGHBOURS) >= _TABLES_MAX:
             _NEIGHBOURS.clear()
         _NEIGHBOURS[key] = got
@@ -464,33 +470,114 @@ _TABLES_MAX = 512
 #: the fillet's top, whichever is higher) to the tip; a cubic spline between them.
 TABLE_RADII = 13
 
-#: Rounding of the section's shape in the table key: the number of teeth, the profile
-#: shift coefficient and the root, tip and base radii over the normal module, the
-#: base half-angle, pressure and helix angles (rad) and the basic rack's dedendum and
-#: root radius over the module. Sections that agree to these steps share one table:
-#: the beveloid's sections change along the face, and every mesh position meets others.
-KEY_STEPS = (1.0, 0.02, 0.02, 0.02, 0.02, 2e-3, 1e-3, 1e-3, 1e-3, 1e-3)
+#: Steps of the section's shape in the table key (:func:`_shape_keys`): the number of
+#: teeth; the profile shift coefficient (the tables' lattice along it: a section takes
+#: the two tables either side, linearly); the root radius's and the tip radius's
+#: departures from the generated tooth and the base radius, over the normal module; the
+#: base half-angle's departure (rad); pressure and helix angles (rad) and the basic
+#: rack's dedendum and root radius over the module. Along a beveloid's face only the
+#: profile shift changes (the tip and root cones follow it), so the other steps can be
+#: fine at no cost: a pair's gear meets one cell of them, and its face a few lattice
+#: steps of profile shift. Against every section solved on its own (``tabulated=False``)
+#: the tables read case 01's and 03's slices within ... (tested).
+KEY_STEPS = (1.0, 0.02, 0.002, 0.002, 0.002, 2e-4, 1e-4, 1e-4, 1e-3, 1e-3)
+
+#: The column of :data:`KEY_STEPS` the tables interpolate along (the profile shift).
+_LATTICE = 1
 
 
-def _shape_keys(sections) -> np.ndarray:
+def _generated(base_radius, profile_shift, pressure_angle, helix_angle, module, dedendum, normal):
+    """Root radius (m) and base half-angle (rad) of the tooth a basic rack generates on
+    the base circle ``base_radius``: a virtual spur section of the normal section
+    (``normal``, as :func:`~gearbox.ltca.slice_model.normal_section` makes them) or a
+    transverse section (helix angle ``helix_angle``), as
+    :func:`~gearbox.ltca.slice_model.fillet_root` reads the rack: pitch radius
+    ``r = r_b / cos(alpha)``, ``r_f = r - (h_fP - x) m_n``, ``psi_b = (pi / 2 + 2 x
+    tan(alpha_n)) / z + inv(alpha)`` with ``z = 2 r / m``."""
+    beta = 0.0 if normal else np.abs(helix_angle)
+    alpha = np.arctan(np.tan(pressure_angle) / np.cos(beta))
+    r = base_radius / np.cos(alpha)
+    z = 2.0 * r * np.cos(beta) / module
+    psi_b = (0.5 * np.pi + 2.0 * profile_shift * np.tan(pressure_angle)) / z + inv(alpha)
+    return r - (dedendum - profile_shift) * module, psi_b
+
+
+def _shape_cells(sections, normal: bool = True) -> np.ndarray:
     """The dimensionless shape of each section (the compliance of a plane-strain body
-    per unit width does not depend on its size), rounded to :data:`KEY_STEPS`."""
+    per unit width does not depend on its size) in units of :data:`KEY_STEPS`, shape
+    (n, 10). The root and tip radii and the base half-angle are taken as their
+    departures from the tooth that the basic rack generates (:func:`_generated`; the
+    tip from ``r + x m_n``): zero (the root, the half-angle) or the same all along a
+    beveloid's face (the tip), and :func:`key_section` a generated tooth whose fillet
+    meets its involute as the sections' do."""
     n = np.asarray(sections.radius).size
     m = np.broadcast_to(np.asarray(sections.normal_module, float), (n,))
+    rb = np.asarray(sections.base_radius, float)
+    x = np.asarray(sections.profile_shift, float)
+    an = np.asarray(sections.normal_pressure_angle, float)
+    rf, psi_b = _generated(
+        rb, x, an, np.asarray(sections.helix_angle, float), m, sections.rack_dedendum, normal
+    )
+    beta = 0.0 if normal else np.abs(np.asarray(sections.helix_angle, float))
+    r = rb / np.cos(np.arctan(np.tan(an) / np.cos(beta)))
     cols = [
         sections.teeth,
-        sections.profile_shift,
-        np.asarray(sections.root_radius) / m,
-        np.asarray(sections.tip_radius) / m,
-        np.asarray(sections.base_radius) / m,
-        sections.base_half_angle,
-        sections.normal_pressure_angle,
+        x,
+        (np.asarray(sections.root_radius) - rf) / m,
+        (np.asarray(sections.tip_radius) - r) / m - x,
+        rb / m,
+        np.asarray(sections.base_half_angle) - psi_b,
+        an,
         sections.helix_angle,
         sections.rack_dedendum,
         sections.rack_root_radius,
     ]
     cols = [np.broadcast_to(np.asarray(c, float), (n,)) for c in cols]
-    return np.column_stack([np.round(c / st) for c, st in zip(cols, KEY_STEPS, strict=True)])
+    return np.column_stack([c / st for c, st in zip(cols, KEY_STEPS, strict=True)])
+
+
+def _shape_keys(sections, normal: bool = True) -> np.ndarray:
+    """:func:`_shape_cells` rounded: the key of the cell each section lies in."""
+    return np.round(_shape_cells(sections, normal))
+
+
+#: The normal module of :func:`key_section` (m): a plane-strain body's compliance per
+#: unit width times E does not depend on its size.
+_KEY_MODULE = 1.0e-3
+
+
+def key_section(shape, normal: bool = True) -> ToothSections:
+    """The one section a table key ``shape`` (a row of :func:`_shape_keys`) stands for:
+    the centre of the key's cell, the generated tooth of the cell's base radius,
+    profile shift, angles and rack, with the cell's departures of root radius and base
+    half-angle (the radii at :data:`_KEY_MODULE`; the load radius at the tip). Tables
+    are solved for it, not for the first section a process meets with that key: a
+    table kept for the process then gives every later section the same value, whatever
+    ran before (case 03's loaded TE had moved by up to 3e-5, and a tooth's compliance
+    by up to 1 %, with the section that a process had met first)."""
+    z, x, d_rf, d_ra, rb, d_psi, an, beta, hf, rho = (
+        float(k) * st for k, st in zip(np.ravel(shape), KEY_STEPS, strict=True)
+    )
+    m = _KEY_MODULE
+    rf, psi_b = _generated(rb * m, x, an, beta, m, hf, normal)
+    alpha = np.arctan(np.tan(an) / np.cos(0.0 if normal else abs(beta)))
+    ra = rb * m / np.cos(alpha) + (x + d_ra) * m
+    return ToothSections.uniform(
+        1,
+        radius=ra,
+        base_radius=rb * m,
+        root_radius=float(rf) + d_rf * m,
+        tip_radius=ra,
+        bore_radius=0.0,
+        base_half_angle=float(psi_b) + d_psi,
+        teeth=z,
+        normal_module=m,
+        normal_pressure_angle=an,
+        helix_angle=beta,
+        profile_shift=x,
+        rack_dedendum=hf,
+        rack_root_radius=rho,
+    )
 
 
 def _height(sections, radius) -> np.ndarray:
@@ -507,10 +594,10 @@ MESH_CENTRE = (24, 6, 1.0)
 MESH_DEPTH = (48, 12, 2.0)
 
 
-def _table(sections, i0, key, E, nu, normal, mesh, depth):
+def _table(key, E, nu, normal, mesh, depth):
     got = _TABLES.get(key)
     if got is None:
-        one = sections.take(np.array([i0]))
+        one = key_section(np.asarray(key[: len(KEY_STEPS)], dtype=float), normal)
         rb = float(one.base_radius[0])
         rho_o, _ = section_outline(one, 0, normal=normal, samples=50)
         lo = max(rb * (1.0 + 1e-9), float(rho_o[0]) + 1e-3 * (rho_o[-1] - rho_o[0]))
@@ -587,13 +674,22 @@ def fe_tooth_compliance(
                 sections, i0, radius[pts], E, nu, normal, *mesh[:2], depth=d, grade=mesh[2]
             )
         return out
-    keys = _shape_keys(sections)
+    cells = _shape_cells(sections, normal)
+    keys = np.round(cells)
+    keys[:, _LATTICE] = np.floor(cells[:, _LATTICE])
+    weight = cells[:, _LATTICE] - keys[:, _LATTICE]  # towards the lattice's next table
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     inverse = inverse.ravel()
     height = _height(sections, radius)
+    out[:] = 0.0
     for g, i0 in enumerate(first):
         pts = np.flatnonzero(inverse == g)
-        key = (*keys[i0].tolist(), nu, bool(normal), mesh, depth)
-        h, _, spline = _table(sections, int(i0), key, E, nu, normal, mesh, depth)
-        out[pts] = spline(np.clip(height[pts], h[0], h[-1])) / E
+        for step, w in ((0, 1.0 - weight[pts]), (1, weight[pts])):
+            if not np.any(w > 0.0):
+                continue
+            shape = keys[i0].copy()
+            shape[_LATTICE] += step
+            key = (*shape.tolist(), nu, bool(normal), mesh, depth)
+            h, _, spline = _table(key, E, nu, normal, mesh, depth)
+            out[pts] += w * spline(np.clip(height[pts], h[0], h[-1])) / E
     return out
