@@ -479,7 +479,8 @@ TABLE_RADII = 13
 #: profile shift changes (the tip and root cones follow it), so the other steps can be
 #: fine at no cost: a pair's gear meets one cell of them, and its face a few lattice
 #: steps of profile shift. Against every section solved on its own (``tabulated=False``)
-#: the tables read case 01's and 03's slices within ... (tested).
+#: the tables read case 01's and 03's slices within 0.80 % (rms 0.35 %; tested), the
+#: rest being the spline in height: a lattice four times finer changes nothing.
 KEY_STEPS = (1.0, 0.02, 0.002, 0.002, 0.002, 2e-4, 1e-4, 1e-4, 1e-3, 1e-3)
 
 #: The column of :data:`KEY_STEPS` the tables interpolate along (the profile shift).
