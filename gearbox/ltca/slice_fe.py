@@ -28,8 +28,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from .grid import ToothSections
 from ..geometry.involute import inv
+from .grid import ToothSections
 from .slice_model import _fillet_points, _half_angle, fillet_root
 
 __all__ = [
@@ -488,8 +488,8 @@ _LATTICE = 1
 
 
 def _generated(base_radius, profile_shift, pressure_angle, helix_angle, module, dedendum, normal):
-    """Root radius (m) and base half-angle (rad) of the tooth a basic rack generates on
-    the base circle ``base_radius``: a virtual spur section of the normal section
+    """Pitch radius and root radius (m) and base half-angle (rad) of the tooth a basic
+    rack generates on the base circle ``base_radius``: a virtual spur section of the normal section
     (``normal``, as :func:`~gearbox.ltca.slice_model.normal_section` makes them) or a
     transverse section (helix angle ``helix_angle``), as
     :func:`~gearbox.ltca.slice_model.fillet_root` reads the rack: pitch radius
@@ -500,7 +500,7 @@ def _generated(base_radius, profile_shift, pressure_angle, helix_angle, module, 
     r = base_radius / np.cos(alpha)
     z = 2.0 * r * np.cos(beta) / module
     psi_b = (0.5 * np.pi + 2.0 * profile_shift * np.tan(pressure_angle)) / z + inv(alpha)
-    return r - (dedendum - profile_shift) * module, psi_b
+    return r, r - (dedendum - profile_shift) * module, psi_b
 
 
 def _shape_cells(sections, normal: bool = True) -> np.ndarray:
@@ -516,11 +516,9 @@ def _shape_cells(sections, normal: bool = True) -> np.ndarray:
     rb = np.asarray(sections.base_radius, float)
     x = np.asarray(sections.profile_shift, float)
     an = np.asarray(sections.normal_pressure_angle, float)
-    rf, psi_b = _generated(
+    r, rf, psi_b = _generated(
         rb, x, an, np.asarray(sections.helix_angle, float), m, sections.rack_dedendum, normal
     )
-    beta = 0.0 if normal else np.abs(np.asarray(sections.helix_angle, float))
-    r = rb / np.cos(np.arctan(np.tan(an) / np.cos(beta)))
     cols = [
         sections.teeth,
         x,
@@ -560,9 +558,8 @@ def key_section(shape, normal: bool = True) -> ToothSections:
         float(k) * st for k, st in zip(np.ravel(shape), KEY_STEPS, strict=True)
     )
     m = _KEY_MODULE
-    rf, psi_b = _generated(rb * m, x, an, beta, m, hf, normal)
-    alpha = np.arctan(np.tan(an) / np.cos(0.0 if normal else abs(beta)))
-    ra = rb * m / np.cos(alpha) + (x + d_ra) * m
+    r, rf, psi_b = _generated(rb * m, x, an, beta, m, hf, normal)
+    ra = float(r) + (x + d_ra) * m
     return ToothSections.uniform(
         1,
         radius=ra,
