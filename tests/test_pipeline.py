@@ -661,3 +661,25 @@ def test_the_scene_takes_every_output_the_pipeline_makes():
 
     choices = SCHEMA["outputs"]["requested"].choices
     assert set(choices) == set(STAGES) | set(FINAL_OUTPUTS)
+
+
+@pytest.mark.slow
+def test_worker_processes_solve_the_loaded_tca_as_this_one_does():
+    """The exact pitch method on a beveloid pair (case 03's drive flank, no
+    deviations: one contact solve per position) with its positions on two worker
+    processes, against the loaded TCA's TE solved in this process: equal to 1e-9
+    (measured 5.6e-16). Each worker solves its own plane-strain tooth tables; when a
+    table was solved for the first section met in its cell, a worker's first
+    sections set its values and the two disagreed by up to 9.1e-6 (and CI's run of
+    the parallel pair beside other tests by 3.1e-5)."""
+    import pathlib
+
+    import numpy as np
+
+    scene = load_scene(pathlib.Path(__file__).parents[1] / "models" / "case03.toml").replaced(
+        ltca={"flanks": ["drive"], "positions": 6}, pitch={"method": "exact"}
+    )
+    run = run_pipeline(scene, ["pitch"], cache=False, jobs=2)
+    lt = run["ltca"].flanks["drive"]
+    t = int(np.flatnonzero(lt.torque == 300.0)[0])
+    np.testing.assert_allclose(run["pitch"].record.lte_nominal[:6], lt.lte[t], rtol=1e-9)
