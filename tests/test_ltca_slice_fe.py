@@ -238,11 +238,11 @@ def test_fast_compliance_root_option_is_checked():
 def test_plane_strain_tooth_matches_the_fe_tooth_clamped_at_the_root(name):
     """The slice's tooth as a plane-strain FE body (gearbox.ltca.slice_fe) against the
     3-D FE tooth clamped at the root circle, read at the centre line, at all six
-    heights: within -4 .. +3 % (measured -3.3 .. +2.0 %; the 3-D tooth has free end
+    heights: within -4 .. +3 % (measured -3.4 .. +2.1 %; the 3-D tooth has free end
     faces, and case 03's is the helical tooth itself, not its virtual spur tooth of the
     normal section), where the beam is 1.15 to 1.97 times softer. The default (a coarse
     mesh, one table per section shape) is within 1 % of a mesh four times finer solved
-    at each height (measured 0.86 % at case 03's lowest)."""
+    at each height (measured 0.88 % at case 03's lowest)."""
     from gearbox.ltca.slice_fe import fe_tooth_compliance
 
     pair = _bench().PAIRS[name]
@@ -268,9 +268,9 @@ def test_plane_strain_tooth_read_at_the_matching_depth_matches_the_fe_tooth(name
     """Read at the FE level's matching depth (0.25 m_n below the flank along the load)
     instead of at the centre line, the plane-strain tooth against the 3-D FE tooth
     clamped at the root circle read at its matching points, at all six heights:
-    measured 1.000 .. 1.046 (spur) and 0.974 .. 1.030 (case 03); bounds a point
+    measured 0.991 .. 1.047 (spur) and 0.963 .. 1.030 (case 03); bounds a point
     beyond. The depth reading's mesh (slice_fe.MESH_DEPTH, graded towards the flank)
-    is within 0.5 % of a mesh four times finer (measured 0.06 %), and the reading lies
+    is within 0.5 % of a mesh four times finer (measured 0.09 %), and the reading lies
     above the centre line's by the compression between the two depths."""
     from gearbox.ltca import slice_fe
     from gearbox.ltca.slice_fe import fe_tooth_compliance
@@ -521,9 +521,9 @@ def _beveloid_normal_sections(case: str, position: int = 0):
 def test_tooth_tables_read_the_slices_as_solved_one_by_one(case):
     """The kept tables (one per cell of slice_fe.KEY_STEPS, linear along the profile
     shift) against every slice's section solved on its own at its own load radius,
-    both gears of the beveloid pair: within 1 % at every point and 0.5 % rms (measured
-    at most 0.80 %, rms at most 0.35 %, on cases 01 and 03; the rest is the tables'
-    spline in height, not the cells: a lattice four times finer changes nothing)."""
+    both gears of the beveloid pair: within 1 % at every point and 0.3 % rms (measured
+    at most 0.70 %, rms at most 0.19 %, on cases 01 and 03; with 13 load heights per
+    table instead of 25: 0.80 % and 0.35 %)."""
     from gearbox.ltca import slice_fe
 
     sections, g = _beveloid_normal_sections(case)
@@ -532,7 +532,7 @@ def test_tooth_tables_read_the_slices_as_solved_one_by_one(case):
         own = slice_fe.fe_tooth_compliance(v, g.youngs_modulus, g.poisson_ratio, tabulated=False)
         err = tab / own - 1.0
         assert np.abs(err).max() < 0.01, np.abs(err).max()
-        assert np.sqrt(np.mean(err**2)) < 0.005
+        assert np.sqrt(np.mean(err**2)) < 0.003
 
 
 def test_tooth_tables_do_not_depend_on_what_the_process_solved_before():

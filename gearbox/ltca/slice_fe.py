@@ -468,7 +468,10 @@ _TABLES_MAX = 512
 
 #: Load heights per table, spaced evenly in roll length from the involute's start (or
 #: the fillet's top, whichever is higher) to the tip; a cubic spline between them.
-TABLE_RADII = 13
+#: 25 against 13 took the tables' rms error against each section solved alone from
+#: 0.17-0.24 % to 0.04-0.11 % on the paper's cases, at 0-10 % more time (one
+#: factorisation per table either way; ``benchmarks/ltca_slice_tables.py``).
+TABLE_RADII = 25
 
 #: Steps of the section's shape in the table key (:func:`_shape_keys`): the number of
 #: teeth; the profile shift coefficient (the tables' lattice along it: a section takes
@@ -479,8 +482,9 @@ TABLE_RADII = 13
 #: profile shift changes (the tip and root cones follow it), so the other steps can be
 #: fine at no cost: a pair's gear meets one cell of them, and its face a few lattice
 #: steps of profile shift. Against every section solved on its own (``tabulated=False``)
-#: the tables read case 01's and 03's slices within 0.80 % (rms 0.35 %; tested), the
-#: rest being the spline in height: a lattice four times finer changes nothing.
+#: the tables read the paper's cases' slices within 0.7 % (rms 0.11 %; tested), and a
+#: lattice four times finer changes that by less than 0.02 points
+#: (``benchmarks/ltca_slice_tables.py``).
 KEY_STEPS = (1.0, 0.02, 0.002, 0.002, 0.002, 2e-4, 1e-4, 1e-4, 1e-3, 1e-3)
 
 #: The column of :data:`KEY_STEPS` the tables interpolate along (the profile shift).
