@@ -414,7 +414,10 @@ def neighbour_influence(section, poisson_ratio: float, mesh=NEIGHBOUR_MESH):
     tested gears). Per unit width and times E it depends on the section's shape and
     Poisson's ratio only: kept per shape (rounded as the tooth tables', with the bore
     and Poisson's ratio) for the process, solved for the key's own gear
-    (:func:`key_section`), so that what a process ran before does not change it."""
+    (:func:`key_section`), so that what a process ran before does not change it. The
+    profile shift is taken at its cell's centre, not read between lattice steps as the
+    tooth tables do: moving case 03's pinion by one step (0.02) moves its couplings by
+    0.4 % of the largest, against the -5.3 .. +8.3 % by which they meet the FE level's."""
     one = section.take(np.array([0]))
     m = float(np.asarray(one.normal_module, float).ravel()[0])
     bore = float(np.asarray(one.bore_radius, float).ravel()[0])
