@@ -662,7 +662,7 @@ def fe_tooth_compliance(
     radius = np.asarray(sections.radius, float)
     E, nu = float(youngs_modulus), float(poisson_ratio)
     module = np.broadcast_to(np.asarray(sections.normal_module, float), (n,))
-    out = np.empty(n)
+    out = np.zeros(n)
     if not tabulated:  # one model per distinct section: every field but the radius
         keys = np.column_stack(
             [
@@ -687,7 +687,6 @@ def fe_tooth_compliance(
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     inverse = inverse.ravel()
     height = _height(sections, radius)
-    out[:] = 0.0
     for g, i0 in enumerate(first):
         pts = np.flatnonzero(inverse == g)
         for step, w in ((0, 1.0 - weight[pts]), (1, weight[pts])):
