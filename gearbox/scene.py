@@ -246,6 +246,13 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "flanks": Field(
             "strs", ["drive", "coast"], "Flanks to analyse.", choices=("drive", "coast"), min_len=1
         ),
+        "topography_interpolation": _s(
+            "cubic",
+            "Interpolation of the flank topographies (*_topography_um) between their grid "
+            "points: 'cubic' (bicubic spline, at least 4 positions on each axis) or "
+            "'linear' (bilinear, at least 2).",
+            ("cubic", "linear"),
+        ),
         "pinion_tip_relief_um": _f(
             0.0,
             "Tip relief C_a of the pinion (um): material removed normal to both flanks at "
@@ -754,6 +761,54 @@ def _modification_fields(name: str) -> dict[str, Field]:
             "face (either sign; tilts the flank against a known misalignment).",
             -100,
             100,
+        ),
+        f"{name}_profile_slope_um": _f(
+            0.0,
+            f"Profile slope modification f_Halpha of {the} flanks (um): removal "
+            "f_Halpha (t - 1/2), t the place in the form-to-tip range of the roll length "
+            "(0 at the form circle, 1 at the tip); either sign, + removes at the tip (as a "
+            "smaller pressure angle).",
+            -100,
+            100,
+        ),
+        f"{name}_flank_twist_um": _f(
+            0.0,
+            f"Flank twist S of {the} flanks (um): a profile slope that changes linearly "
+            "across the face, removal S (t - 1/2) w / b (-S/2 at w = -b/2 to +S/2 at "
+            "w = +b/2; t as for the profile slope); either sign.",
+            -100,
+            100,
+        ),
+        f"{name}_topography_profile_mm": _fl(
+            [],
+            f"Profile positions of {the} topography (mm): roll length along the base "
+            "tangent from the reference circle (a checker's roll length less "
+            "sqrt(r^2 - r_b^2) at the reference radius), strictly increasing. Empty: no "
+            "topography.",
+            -1000,
+            1000,
+            min_len=0,
+            increasing=True,
+        ),
+        f"{name}_topography_face_mm": _fl(
+            [],
+            f"Face positions of {the} topography (mm): axial position from the face "
+            "middle, + towards the heel (+z on parallel axes), strictly increasing.",
+            -1000,
+            1000,
+            min_len=0,
+            increasing=True,
+        ),
+        f"{name}_topography_um": _rows(
+            [],
+            f"{the.capitalize()} flank topography (um): material removed normal to both "
+            f"flanks, one row per position of {name}_topography_profile_mm, one value "
+            f"per position of {name}_topography_face_mm; added to the other terms, "
+            "interpolated as ltca.topography_interpolation says and held beyond the grid. "
+            "Or the name of a CSV file (relative to the scene file): one line per "
+            "profile position, values separated by commas, # starts a comment.",
+            -1000,
+            1000,
         ),
     }
 

@@ -46,7 +46,13 @@ from ..geometry.involute import inv
 from .analysis import LTCAOptions, ltca_cycle, root_stress_method
 from .compliance import compliance_for, describe_compliance
 from .grid import ContactGrid, ToothSections
-from .modification import FlankModification, TipRelief, as_modification, describe_pair
+from .modification import (
+    FlankModification,
+    TipRelief,
+    as_modification,
+    describe_pair,
+    topography_from_section,
+)
 
 __all__ = [
     "SeparationField",
@@ -101,9 +107,14 @@ def modifications_from_scene(design, scene) -> tuple[FlankModification, FlankMod
             end_relief_length=mm("end_relief"),
             end_relief_shape=shape("end_relief"),
             helix_slope=um("helix_slope"),
+            profile_slope=um("profile_slope"),
+            flank_twist=um("flank_twist"),
+            topography=topography_from_section(lt, name, probs),
         )
         ends = np.array([blank.z_toe, blank.z_heel])
         ra = blank.tip_radius(ends)
+        if mod.topography is not None:
+            _topography_on_the_flank(mod.topography, name, blank, gd, ends, ra, probs)
         for kind in ("tip_relief", "root_relief", "end_relief"):
             if getattr(mod, kind) > 0:
                 limit, hi_open = _relief_limit(kind, blank, gd, ends, ra)
@@ -129,6 +140,31 @@ def _relief_limit(kind: str, blank, gd, ends, ra) -> tuple[float, bool]:
     if kind == "root_relief":
         return float(np.min(ra - np.max(_form_radius(blank, gd, ends), axis=0))), True
     return 0.5 * blank.face_width, False
+
+
+def _topography_on_the_flank(topo, name, blank, gd, ends, ra, probs) -> None:
+    """A problem for each axis of a topography's grid that misses the gear's flank: a
+    profile grid outside the roll lengths from the form circle to the tip (from the
+    reference circle, either flank, both face ends), a face grid outside the face. Such
+    a grid is most likely in another coordinate (from the base circle, from a face end);
+    held beyond its border it would only shift the flank."""
+    rb = np.asarray(gd.base_radius)[:, None]
+    xr = np.sqrt(gd.reference_pitch_radius**2 - rb**2)
+    lo = float(np.min(np.sqrt(np.maximum(_form_radius(blank, gd, ends) ** 2 - rb**2, 0)) - xr))
+    hi = float(np.max(np.sqrt(ra[None, :] ** 2 - rb**2) - xr))
+    half = 0.5 * blank.face_width
+    for axis, grid, a, b in (("profile", topo.profile, lo, hi), ("face", topo.face, -half, half)):
+        if grid[-1] <= a or grid[0] >= b:
+            probs.add(
+                f"ltca.{name}_topography_{axis}_mm",
+                [round(v * 1e3, 6) for v in grid],
+                f"must reach into the {name}'s flank, [{a * 1e3:.4g}, {b * 1e3:.4g}] mm "
+                + (
+                    "of roll length from the reference circle"
+                    if axis == "profile"
+                    else "from the face middle"
+                ),
+            )
 
 
 def tip_relief_from_scene(design, scene) -> tuple[FlankModification, FlankModification]:
@@ -500,11 +536,11 @@ class _Modification:
             if mod.profile_active:  # the form radius is smooth in z: tabulate it once
                 zt = np.linspace(blank.z_toe, blank.z_heel, 41)
                 form = (zt, _form_radius(blank, gd, zt)[k])
-            self.parts.append((mod, blank, gd.base_radius[k], form))
-        self.active = any(mod.active for mod, _, _, _ in self.parts)
+            self.parts.append((mod, blank, gd.base_radius[k], form, gd.reference_pitch_radius))
+        self.active = any(part[0].active for part in self.parts)
 
     def _removal(self, k, points):
-        mod, blank, rb, form = self.parts[k]
+        mod, blank, rb, form, r_ref = self.parts[k]
         if not mod.active:
             return np.zeros(points.shape[0])
         radius = np.hypot(points[:, 0], points[:, 1])
@@ -517,6 +553,7 @@ class _Modification:
             base_radius=rb,
             face_width=blank.face_width,
             form_radius=None if form is None else np.interp(z, *form),
+            reference_radius=r_ref,
         )
 
     def pinion(self, points):

@@ -18,7 +18,19 @@ section 9 defines them; every term is zero by default (the paper's flanks):
 - end relief ``C_e`` over a length ``L_e`` at each face end, linear or parabolic;
 - helix slope ``f_H``: ``f_H w / b``, a removal that grows linearly across the face
   (negative at one end: it tilts the flank, as a lead angle modification does), the
-  correction for a known misalignment.
+  correction for a known misalignment;
+- profile slope ``f_Halpha``: ``f_Halpha (t - 1/2)``, ``t = (xi - xi_F) / (xi_a -
+  xi_F)`` the place in the profile range (0 at the form circle, 1 at the tip): a
+  removal that grows linearly up the profile (positive: more at the tip, as a smaller
+  pressure angle; negative at the root);
+- flank twist ``S``: ``S (t - 1/2) w / b``, a profile slope that changes linearly
+  across the face, ``-S/2`` at ``w = -b/2`` to ``+S/2`` at ``w = +b/2`` (the twist a
+  generated lead crowning leaves on helical teeth, or its correction);
+- a topography (:class:`Topography`): any removal given on a grid of roll length from
+  the reference circle (``xi - xi_ref``, the coordinate of a gear checker's profile
+  traces) and axial position ``w``, interpolated between the grid's points (bicubic or
+  bilinear) and held beyond them: a designed bias, a k-chart from a grinding machine,
+  or a flank measured on the gear checker less its design.
 
 A gear's removal is the sum of its terms; the separation of a contact point is the
 sum of both gears' removals there (:meth:`FlankModification.removal`).
@@ -26,16 +38,32 @@ sum of both gears' removals there (:meth:`FlankModification.removal`).
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError, Problem, Problems
 
-__all__ = ["SHAPES", "FlankModification", "TipRelief", "as_modification", "describe_pair"]
+__all__ = [
+    "SHAPES",
+    "TOPOGRAPHY_METHODS",
+    "FlankModification",
+    "TipRelief",
+    "Topography",
+    "as_modification",
+    "describe_pair",
+    "topography_from_section",
+]
 
 #: exponent of the relief laws in the relief coordinate t (0 at the start, 1 at the end)
 SHAPES = {"linear": 1, "parabolic": 2}
+
+
+#: interpolation of a :class:`Topography` -> spline degree on both axes
+TOPOGRAPHY_METHODS = {"cubic": 3, "linear": 1}
 
 
 def _relief_law(amount: float, t, shape: str) -> np.ndarray:
@@ -99,6 +127,112 @@ class TipRelief:
 
 
 @dataclass(frozen=True)
+class Topography:
+    """A flank topography of one gear, SI: the material removed normal to the flank
+    (m) on a grid, ``removal[i][j]`` at roll length ``profile[i]`` and axial position
+    ``face[j]``.
+
+    profile: roll lengths along the base tangent from the reference circle (m),
+    ``sqrt(r^2 - r_b^2) - sqrt(r_ref^2 - r_b^2)``, strictly increasing (the coordinate
+    of a gear checker's profile trace, as ``pitch.*_profile_trace_mm``); face: axial
+    positions from the face middle (m), + towards the heel (+z on parallel axes),
+    strictly increasing; method: ``"cubic"`` (an interpolating bicubic spline, exact
+    for polynomials of degree 3 on each axis; at least 4 points on each axis) or
+    ``"linear"`` (bilinear; at least 2). Beyond the grid the removal is held at its
+    border's values. Both flanks (drive and coast) of the gear take the same grid.
+    """
+
+    profile: tuple[float, ...]
+    face: tuple[float, ...]
+    removal: tuple[tuple[float, ...], ...]
+    method: str = "cubic"
+
+    def __post_init__(self):
+        object.__setattr__(self, "profile", tuple(float(v) for v in self.profile))
+        object.__setattr__(self, "face", tuple(float(v) for v in self.face))
+        object.__setattr__(
+            self, "removal", tuple(tuple(float(v) for v in row) for row in self.removal)
+        )
+        p = Problems()
+        k = TOPOGRAPHY_METHODS.get(self.method)
+        if k is None:
+            p.add("method", self.method, f"must be one of {', '.join(TOPOGRAPHY_METHODS)}")
+            k = 1
+        for name in ("profile", "face"):
+            x = np.asarray(getattr(self, name))
+            if p.check(
+                x.size > k,
+                name,
+                f"{x.size} points",
+                f"needs at least {k + 1} points for {self.method} interpolation",
+            ):
+                p.check(np.all(np.isfinite(x)), name, list(x), "must be finite")
+                p.check(np.all(np.diff(x) > 0), name, list(x), "must increase strictly")
+        shape = (len(self.profile), len(self.face))
+        rows = [len(r) for r in self.removal]
+        if p.check(
+            len(rows) == shape[0],
+            "removal",
+            f"{len(rows)} rows",
+            f"must give one row per profile position: {shape[0]}",
+        ):
+            wrong = [i for i, n in enumerate(rows) if n != shape[1]]
+            if wrong:
+                p.add(
+                    f"removal[{wrong[0]}]",
+                    f"{rows[wrong[0]]} values",
+                    f"must give one value per face position: {shape[1]}"
+                    + (f" ({len(wrong)} rows are wrong)" if len(wrong) > 1 else ""),
+                )
+            else:
+                p.check(bool(np.all(np.isfinite(self.removal))), "removal", "...", "must be finite")
+        p.raise_if_any("invalid flank topography")
+
+    @property
+    def active(self) -> bool:
+        return any(v != 0 for row in self.removal for v in row)
+
+    @functools.cached_property
+    def _spline(self):
+        from scipy.interpolate import RectBivariateSpline
+
+        k = TOPOGRAPHY_METHODS[self.method]
+        return RectBivariateSpline(
+            np.asarray(self.profile), np.asarray(self.face), np.asarray(self.removal), kx=k, ky=k
+        )
+
+    def __call__(self, roll, face) -> np.ndarray:
+        """Removal (m) at roll lengths ``roll`` from the reference circle (m) and axial
+        positions ``face`` (m), broadcast; held beyond the grid."""
+        x, y = np.broadcast_arrays(np.asarray(roll, float), np.asarray(face, float))
+        x = np.clip(x, self.profile[0], self.profile[-1])
+        y = np.clip(y, self.face[0], self.face[-1])
+        return self._spline.ev(x.ravel(), y.ravel()).reshape(x.shape)
+
+    def reflected(self) -> Topography:
+        """The same grid with the face coordinate turned (w -> -w)."""
+        return Topography(
+            self.profile,
+            tuple(-v for v in reversed(self.face)),
+            tuple(tuple(reversed(row)) for row in self.removal),
+            self.method,
+        )
+
+    def describe(self) -> str:
+        r = np.asarray(self.removal) * 1e6
+        return (
+            f"topography {len(self.profile)} x {len(self.face)} ({self.method}, "
+            f"{r.min():.3g} to {r.max():.3g} um)"
+        )
+
+    def __getstate__(self):  # the spline is made again where it is needed
+        return {k: v for k, v in self.__dict__.items() if k != "_spline"}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+
+
+@dataclass(frozen=True)
 class FlankModification:
     """All flank modifications of one gear (SI; module doc for the laws).
 
@@ -107,7 +241,10 @@ class FlankModification:
     root_relief_shape: C_f (m), L_f (m, radial, up from the form circle).
     profile_crowning: C_alpha (m). lead_crowning: C_beta (m). end_relief,
     end_relief_length, end_relief_shape: C_e (m) at both face ends, L_e (m, along the
-    axis). helix_slope: f_H (m), removal ``f_H w / b`` (either sign).
+    axis). helix_slope: f_H (m), removal ``f_H w / b`` (either sign). profile_slope:
+    f_Halpha (m), removal ``f_Halpha (t - 1/2)`` over the profile range (either sign).
+    flank_twist: S (m), removal ``S (t - 1/2) w / b`` (either sign). topography: a
+    :class:`Topography` or None.
     """
 
     tip_relief: float = 0.0
@@ -122,6 +259,9 @@ class FlankModification:
     end_relief_length: float = 0.0
     end_relief_shape: str = "linear"
     helix_slope: float = 0.0
+    profile_slope: float = 0.0
+    flank_twist: float = 0.0
+    topography: Topography | None = None
 
     def __post_init__(self):
         p = Problems()
@@ -139,7 +279,14 @@ class FlankModification:
                 )
         p.in_range("profile_crowning", self.profile_crowning, 0.0, None)
         p.in_range("lead_crowning", self.lead_crowning, 0.0, None)
-        p.check(np.isfinite(self.helix_slope), "helix_slope", self.helix_slope, "must be finite")
+        for name in ("helix_slope", "profile_slope", "flank_twist"):
+            p.check(np.isfinite(getattr(self, name)), name, getattr(self, name), "must be finite")
+        p.check(
+            self.topography is None or isinstance(self.topography, Topography),
+            "topography",
+            type(self.topography).__name__,
+            "must be a Topography or None",
+        )
         p.raise_if_any("invalid flank modification")
 
     @property
@@ -157,8 +304,10 @@ class FlankModification:
                 self.lead_crowning,
                 self.end_relief,
                 self.helix_slope,
+                self.profile_slope,
+                self.flank_twist,
             )
-        )
+        ) or (self.topography is not None and self.topography.active)
 
     def describe(self) -> str:
         """The terms that are set, in um and mm (``"none"`` without any)."""
@@ -171,16 +320,54 @@ class FlankModification:
                 parts.append(
                     f"{name.replace('_', ' ')} {amount * 1e6:g} um over {length:g} mm ({shape})"
                 )
-        for name in ("profile_crowning", "lead_crowning", "helix_slope"):
+        for name in (
+            "profile_crowning",
+            "lead_crowning",
+            "helix_slope",
+            "profile_slope",
+            "flank_twist",
+        ):
             amount = getattr(self, name)
             if amount != 0:
                 parts.append(f"{name.replace('_', ' ')} {amount * 1e6:g} um")
+        if self.topography is not None and self.topography.active:
+            parts.append(self.topography.describe())
         return ", ".join(parts) or "none"
 
     @property
     def profile_active(self) -> bool:
-        """Whether any term needs the form radius (root relief, profile crowning)."""
-        return self.root_relief > 0 or self.profile_crowning > 0
+        """Whether any term needs the form radius (root relief, profile crowning,
+        profile slope, flank twist)."""
+        return (
+            self.root_relief > 0
+            or self.profile_crowning > 0
+            or self.profile_slope != 0
+            or self.flank_twist != 0
+        )
+
+    def reflected(self) -> FlankModification:
+        """The modification with the face coordinate turned (w -> -w): what the
+        mirror image in the transverse plane, or the half turn about the centre line
+        that makes a parallel pair's coast flank of its drive flank, sees. The helix
+        slope and the flank twist change sign, a topography turns end for end; the
+        other terms are even in w."""
+        topo = self.topography
+        return dataclasses.replace(
+            self,
+            helix_slope=-self.helix_slope,
+            flank_twist=-self.flank_twist,
+            topography=None if topo is None else topo.reflected(),
+        )
+
+    @property
+    def face_symmetric(self) -> bool:
+        """Whether the removal is even in w (:meth:`reflected` gives it back)."""
+        return self == self.reflected()
+
+    @property
+    def topography_active(self) -> bool:
+        """Whether the topography term is set (it needs the reference radius)."""
+        return self.topography is not None and self.topography.active
 
     def removal(
         self,
@@ -191,12 +378,15 @@ class FlankModification:
         base_radius: float,
         face_width: float,
         form_radius=None,
+        reference_radius: float | None = None,
     ) -> np.ndarray:
         """Material removed normal to the flank (m) at transverse ``radius`` (m) and
         axial distance ``face`` from the face middle (m); ``tip_radius`` and
         ``form_radius`` (m) of the section there (arrays broadcast with ``radius``);
-        ``form_radius`` is needed only for root relief and profile crowning. Points
-        beyond the flank (its continuation) get the laws continued."""
+        ``form_radius`` is needed only for the profile terms (:attr:`profile_active`),
+        ``reference_radius`` (m, the reference circle's) only for a topography. Points
+        beyond the flank (its continuation) get the laws continued (a topography held
+        at its border)."""
         r = np.asarray(radius, dtype=float)
         w = np.asarray(face, dtype=float)
         out = np.zeros(np.broadcast(r, w).shape)
@@ -207,7 +397,7 @@ class FlankModification:
             out = out + self.tip.removal(r, tip_radius, rb)
         if self.profile_active:
             if form_radius is None:
-                raise ValueError("form_radius is needed for root relief and profile crowning")
+                raise ValueError("form_radius is needed for the profile terms")
             rF = np.maximum(np.asarray(form_radius, dtype=float), rb)
             ra = np.asarray(tip_radius, dtype=float)
             xi = np.sqrt(np.maximum(r**2 - rb**2, 0.0))
@@ -231,6 +421,10 @@ class FlankModification:
             if self.profile_crowning > 0:
                 mid, half = 0.5 * (xa + xF), 0.5 * (xa - xF)
                 out = out + self.profile_crowning * ((xi - mid) / half) ** 2
+            if self.profile_slope != 0 or self.flank_twist != 0:
+                t = (xi - xF) / (xa - xF) - 0.5
+                slope = self.profile_slope + self.flank_twist * w / float(face_width)
+                out = out + slope * t
         b = float(face_width)
         if self.lead_crowning > 0:
             out = out + self.lead_crowning * (2.0 * w / b) ** 2
@@ -240,7 +434,53 @@ class FlankModification:
             out = out + _relief_law(self.end_relief, t, self.end_relief_shape)
         if self.helix_slope != 0:
             out = out + self.helix_slope * w / b
+        if self.topography_active:
+            if reference_radius is None:
+                raise ValueError("reference_radius is needed for a topography")
+            xi = np.sqrt(np.maximum(r**2 - rb**2, 0.0))
+            xr = math.sqrt(max(float(reference_radius) ** 2 - rb**2, 0.0))
+            out = out + self.topography(xi - xr, w)
         return out
+
+
+def topography_from_section(section, name: str, probs: Problems) -> Topography | None:
+    """The topography of gear ``name`` (``pinion`` / ``gear``) of a scene's ``[ltca]``
+    section (mm, um -> m), None where it sets none; each problem is added to ``probs``
+    under its scene key: positions without values or the other way round, too few
+    positions for the interpolation, a row count or row length that does not match."""
+    keys = {
+        "profile": f"{name}_topography_profile_mm",
+        "face": f"{name}_topography_face_mm",
+        "removal": f"{name}_topography_um",
+    }
+    x, y, rows = (section.get(keys[k], []) for k in ("profile", "face", "removal"))
+    if not (x or y or rows):
+        return None
+    method = section.get("topography_interpolation", "cubic")
+    for k, v in (("profile", x), ("face", y), ("removal", rows)):
+        if not v:
+            probs.add(f"ltca.{keys[k]}", v, "must be given with the other topography keys")
+    if not (x and y and rows):
+        return None
+    try:
+        return Topography(
+            tuple(v * 1e-3 for v in x),
+            tuple(v * 1e-3 for v in y),
+            tuple(tuple(v * 1e-6 for v in row) for row in rows),
+            method,
+        )
+    except InputError as err:
+        for prob in err.problems:
+            head, _, index = prob.path.partition("[")
+            path = f"ltca.{keys[head]}" + (f"[{index}" if index else "")
+            text = prob.expected
+            if head in ("profile", "face") and "points" in text:
+                text += " (ltca.topography_interpolation = " + repr(method) + ")"
+            shown = prob.value
+            if head in ("profile", "face") and isinstance(shown, list):
+                shown = [round(v * 1e3, 9) for v in shown]
+            probs.add(path, shown, text)
+        return None
 
 
 def as_modification(x) -> FlankModification:

@@ -370,5 +370,6 @@ def _relief_separation(pair: ParallelPair, relief, r1, r2, face) -> np.ndarray:
                 base_radius=pair.base_radius(i),
                 face_width=pair.face_width,
                 form_radius=pair.form_radius(i) if mod.profile_active else None,
+                reference_radius=pair.pitch_radius(i),
             )
     return sep

@@ -1427,7 +1427,7 @@ def flank_grids(design, scene, positions: int, flank: str = "drive"):
         pair = parallel_pair_from_design(design, scene)
         pair, relief, hand = right_handed(pair, modifications_from_scene(design, scene))
         if flank == "coast":
-            relief = tuple(replace(m, helix_slope=-m.helix_slope) for m in relief)
+            relief = tuple(m.reflected() for m in relief)
         grids = [
             parallel_grid(pair, j / positions, lt["grid_face"], relief=relief)
             for j in range(positions)

@@ -241,7 +241,8 @@ def right_handed(pair: ParallelPair, relief=None):
     transverse plane (z -> -z), which keeps each gear's sense of rotation and flank
     side. So the mirrored pair has the helix angle |beta|, the shaft-angle error -g
     (the gear axis (0, sin g, cos g) mirrors to the line of (0, -sin g, cos g)) and
-    the helix slopes -f_H (the face coordinate turns). Returns (pair, relief, hand):
+    the helix slopes -f_H, the flank twists -S and the topographies turned end for end
+    (the face coordinate turns, :meth:`FlankModification.reflected`). Returns (pair, relief, hand):
     hand -1 where the results are to be mirrored back (:func:`_end_for_end` with
     ``y=False``, :func:`mirrored_grids`), else +1 and the inputs as they are."""
     from .modification import as_modification
@@ -251,7 +252,7 @@ def right_handed(pair: ParallelPair, relief=None):
         return pair, mods, 1
     base = replace(pair, helix_angle=-pair.helix_angle, misalignment=-pair.misalignment)
     if mods is not None:
-        mods = tuple(replace(m, helix_slope=-m.helix_slope) for m in mods)
+        mods = tuple(m.reflected() for m in mods)
     return base, mods, -1
 
 
@@ -409,7 +410,9 @@ def _in_sf(res: CycleResult) -> CycleResult:
 
 
 def _sloped(mods) -> bool:
-    return mods is not None and any(m.helix_slope != 0 for m in mods)
+    """Whether the modifications are not even in the face coordinate (helix slope,
+    flank twist, an uneven topography): the coast flank then needs its own run."""
+    return mods is not None and not all(m.face_symmetric for m in mods)
 
 
 def parallel_ltca(
@@ -433,7 +436,8 @@ def parallel_ltca(
     :class:`~gearbox.ltca.modification.FlankModification` act on both flanks alike): the
     coast flank is the drive flank turned half a turn about the centre line (axial
     position w -> -w), so it is the drive flank's analysis with the modifications
-    reflected in w (only a helix slope changes) and then turned. ``fidelity`` and
+    reflected in w (:meth:`FlankModification.reflected`: a helix slope, a flank twist
+    and a topography change) and then turned. ``fidelity`` and
     ``face_ends``: the compliance level, as :func:`compliance_for` takes them.
     """
     from .modification import as_modification, describe_pair
@@ -456,7 +460,7 @@ def parallel_ltca(
         res["drive"] = drive
     if "coast" in flanks:
         if _sloped(mods):
-            turned = tuple(replace(m, helix_slope=-m.helix_slope) for m in mods)
+            turned = tuple(m.reflected() for m in mods)
             res["coast"] = _mirror(cycle(turned))
         else:
             res["coast"] = _mirror(drive)

@@ -1,0 +1,402 @@
+"""Profile slope, flank twist and flank topographies (gearbox.ltca.modification): their
+laws, the topography's coordinates against the grids' own flank coordinates, and
+topographies sampled from the other modifications, which must act exactly as those do
+on the separations and in the loaded TCA of both paths."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _benchmarks import benchmark
+
+from gearbox import load_scene
+from gearbox.errors import InputError
+from gearbox.ltca import FlankModification, LTCAOptions
+from gearbox.ltca.modification import Topography
+from gearbox.ltca.parallel import parallel_grid
+from gearbox.ltca.table import parallel_ltca
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = Path(__file__).parent / "data"
+
+#: spur, m 4 mm, z 30/45, b 30 mm: the pair of benchmarks/ltca_misalignment.py
+SPUR = benchmark("ltca_misalignment").SPUR
+HELICAL = replace(SPUR, helix_angle=math.radians(15.0))
+
+RB, RF, RA, B = 0.09, 0.092, 0.1, 0.04  # radii (m) and face width of the law checks
+
+
+def removal(mod, r, w, **kw):
+    base = {
+        "tip_radius": RA,
+        "base_radius": RB,
+        "face_width": B,
+        "form_radius": RF,
+        "reference_radius": 0.095,
+    }
+    return mod.removal(r, w, **(base | kw))
+
+
+def _place(t):
+    """Radius at the place t of the form-to-tip range of the roll length."""
+    xF, xa = math.sqrt(RF**2 - RB**2), math.sqrt(RA**2 - RB**2)
+    return np.sqrt(RB**2 + (xF + np.asarray(t) * (xa - xF)) ** 2)
+
+
+def test_profile_slope_and_flank_twist_follow_their_laws():
+    t = np.linspace(0.0, 1.0, 11)
+    r, w0 = _place(t), np.zeros_like(t)
+    slope = removal(FlankModification(profile_slope=6e-6), r, w0)
+    assert slope == pytest.approx(6e-6 * (t - 0.5), abs=1e-18)
+    assert slope[[0, 5, 10]] == pytest.approx([-3e-6, 0.0, 3e-6], abs=1e-18)
+    twist = FlankModification(flank_twist=8e-6)
+    for w in (-0.5 * B, 0.0, 0.25 * B, 0.5 * B):
+        got = removal(twist, r, np.full_like(t, w))
+        # the profile slope at face position w is S w / b: -S/2 .. +S/2 end to end
+        assert got == pytest.approx(8e-6 * (w / B) * (t - 0.5), abs=1e-18), w
+    both = FlankModification(profile_slope=-4e-6, flank_twist=8e-6, lead_crowning=3e-6)
+    w = np.linspace(-0.5 * B, 0.5 * B, 11)
+    got = removal(both, r, w)
+    want = (-4e-6 + 8e-6 * w / B) * (t - 0.5) + 3e-6 * (2 * w / B) ** 2
+    assert got == pytest.approx(want, abs=1e-18)
+    assert both.describe() == "lead crowning 3 um, profile slope -4 um, flank twist 8 um"
+    with pytest.raises(ValueError, match="form_radius"):
+        FlankModification(profile_slope=1e-6).removal(
+            r, w0, tip_radius=RA, base_radius=RB, face_width=B
+        )
+
+
+def _roll(r, rb=RB, r_ref=0.095):
+    return np.sqrt(r**2 - rb**2) - math.sqrt(r_ref**2 - rb**2)
+
+
+def test_a_topography_sampled_from_polynomial_terms_is_exact():
+    """Profile crowning, lead crowning, helix slope, profile slope and flank twist are
+    polynomials of degree <= 2 in the roll length and the face position: a bicubic
+    topography sampled from them at 5 x 6 points gives them back everywhere on the flank
+    (round-off, 1e-18 m against micrometres); a bilinear one gives back the bilinear
+    terms (slopes and twist) exactly and the crownings within their h^2 / 8 bound."""
+    terms = FlankModification(
+        profile_crowning=4e-6, lead_crowning=6e-6, helix_slope=-5e-6, profile_slope=3e-6
+    )
+    terms = replace(terms, flank_twist=7e-6)
+    bilinear = FlankModification(helix_slope=-5e-6, profile_slope=3e-6, flank_twist=7e-6)
+    rng = np.random.default_rng(3)
+    t, w = rng.uniform(0, 1, 400), rng.uniform(-0.5 * B, 0.5 * B, 400)
+    r = _place(t)
+    lo, hi = _roll(_place(0.0)), _roll(_place(1.0))
+    for mod, method, nx, ny in ((terms, "cubic", 5, 6), (bilinear, "linear", 2, 2)):
+        x = np.linspace(lo, hi, nx)
+        y = np.linspace(-0.5 * B, 0.5 * B, ny)
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        R = np.sqrt(RB**2 + (X + math.sqrt(0.095**2 - RB**2)) ** 2)
+        topo = Topography(x, y, removal(mod, R, Y), method)
+        got = removal(FlankModification(topography=topo), r, w)
+        np.testing.assert_allclose(got, removal(mod, r, w), rtol=0, atol=2e-18)
+    # bilinear on the crowned terms: the error of linear interpolation is at most
+    # h^2 / 8 times the second derivative on each axis
+    x, y = np.linspace(lo, hi, 9), np.linspace(-0.5 * B, 0.5 * B, 9)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    R = np.sqrt(RB**2 + (X + math.sqrt(0.095**2 - RB**2)) ** 2)
+    topo = Topography(x, y, removal(terms, R, Y), "linear")
+    err = removal(FlankModification(topography=topo), r, w) - removal(terms, r, w)
+    hx, hy = x[1] - x[0], y[1] - y[0]
+    bound = hx**2 / 8 * 8 * 4e-6 / (hi - lo) ** 2 + hy**2 / 8 * 8 * 6e-6 / B**2
+    assert np.max(np.abs(err)) <= bound * (1 + 1e-9)
+    assert np.max(np.abs(err)) > 0.2 * bound  # the bound is reached, not idle
+
+
+def test_a_topography_is_held_beyond_its_grid_and_turns_with_the_face():
+    x, y = (-2e-3, 0.0, 1e-3, 3e-3), (-0.01, 0.0, 0.005, 0.02)
+    rng = np.random.default_rng(5)
+    topo = Topography(x, y, rng.uniform(-5e-6, 5e-6, (4, 4)))
+    corner = topo(np.array([-1.0, 1.0]), np.array([-1.0, 1.0]))
+    assert corner == pytest.approx([topo.removal[0][0], topo.removal[-1][-1]], abs=1e-18)
+    grid = topo(np.array(x)[:, None], np.array(y)[None, :])
+    np.testing.assert_allclose(grid, topo.removal, rtol=0, atol=1e-18)  # it interpolates
+    turned = topo.reflected()
+    xi, wi = rng.uniform(-3e-3, 4e-3, 50), rng.uniform(-0.03, 0.03, 50)
+    np.testing.assert_allclose(turned(xi, -wi), topo(xi, wi), rtol=0, atol=1e-18)
+    mod = FlankModification(helix_slope=2e-6, flank_twist=-1e-6, topography=topo)
+    assert mod.reflected().reflected() == mod
+    assert not mod.face_symmetric
+    even = Topography(x, (-0.01, 0.0, 0.01, 0.02), [[1e-6, 0, 1e-6, 5e-6]] * 4)
+    assert not FlankModification(topography=even).face_symmetric
+    even = Topography(x, (-0.01, -0.005, 0.005, 0.01), [[1e-6, 0, 0, 1e-6]] * 4)
+    assert FlankModification(topography=even, lead_crowning=1e-6).face_symmetric
+
+
+def test_bad_topographies_name_their_part():
+    with pytest.raises(InputError) as err:
+        Topography((0.0, 1e-3, 2e-3), (0.0, 1e-3), [[0, 0], [0, 0], [0, 0]])
+    assert [p.path for p in err.value.problems] == ["profile", "face"]
+    assert "at least 4 points for cubic" in str(err.value)
+    with pytest.raises(InputError) as err:
+        Topography((0.0, 1e-3), (1e-3, 0.0), [[0, 0], [0, math.nan]], "linear")
+    assert [p.path for p in err.value.problems] == ["face", "removal"]
+    with pytest.raises(InputError, match="removal\\[1\\]"):
+        Topography((0.0, 1e-3), (0.0, 1e-3), [[0, 0], [0]], "linear")
+    with pytest.raises(InputError, match="method"):
+        Topography((0.0, 1e-3), (0.0, 1e-3), [[0, 0], [0, 0]], "quintic")
+
+
+def _grid_topography(mod_of, rng_shape=(6, 7), method="cubic"):
+    """A random topography on the spur pair's pinion (removal of a few um)."""
+    x = np.linspace(-9e-3, 9e-3, rng_shape[0])
+    y = np.linspace(-0.5 * SPUR.face_width, 0.5 * SPUR.face_width, rng_shape[1])
+    rng = np.random.default_rng(11)
+    return Topography(x, y, rng.uniform(0, 6e-6, rng_shape), method)
+
+
+@pytest.mark.parametrize("pair", [SPUR, HELICAL], ids=["spur", "helical"])
+def test_topographies_act_at_the_grids_own_flank_coordinates(pair):
+    """The grids carry where each point lies on both flanks (roll length from each
+    gear's reference circle, axial position; built for the form deviations): a
+    topography on each gear adds exactly its value there to every separation."""
+    topo_p = _grid_topography(None)
+    topo_g = replace(topo_p.reflected(), method="linear")
+    mods = (FlankModification(topography=topo_p), FlankModification(topography=topo_g))
+    for f in (0.0, 0.37, 0.8):
+        plain = parallel_grid(pair, f, 20)
+        g = parallel_grid(pair, f, 20, relief=mods)
+        c = g.flank_coordinates
+        want = topo_p(c[:, 0], c[:, 1]) + topo_g(c[:, 2], c[:, 3])
+        assert np.ptp(want) > 1e-6
+        np.testing.assert_allclose(g.separation - plain.separation, want, rtol=0, atol=1e-18)
+
+
+def test_a_linear_topography_is_the_linear_tip_relief():
+    """Tip relief, linear in the roll length from its start to the tip, is a bilinear
+    topography with profile points at the relief's start and at the tip (roll lengths
+    from the reference circle): the loaded TCA of both flanks is the same to round-off.
+    This checks the topography's profile coordinate against the tip relief's own law."""
+    ca, la = 12e-6, 1.2e-3
+    tip = FlankModification(tip_relief=ca, tip_relief_length=la)
+    rb, ra, rp = HELICAL.base_radius(0), HELICAL.tip_radius(0), HELICAL.pitch_radius(0)
+    xr = math.sqrt(rp**2 - rb**2)
+    xs, xa = math.sqrt((ra - la) ** 2 - rb**2) - xr, math.sqrt(ra**2 - rb**2) - xr
+    x = (xs - 5e-3, xs, xa)
+    # beyond the tip the relief's law is continued and the topography held: move the
+    # last point out so that the grids' continuation (the edge test) reads the same
+    x_out = x[:2] + (xa + 2e-3,)
+    c_out = ca * (x_out[2] - xs) / (xa - xs)
+    topo = Topography(x_out, (-0.02, 0.02), [[0, 0], [0, 0], [c_out, c_out]], "linear")
+    opts = LTCAOptions(positions=8)
+    a = parallel_ltca(HELICAL, [300.0], options=opts, relief=(tip, None), n_face=12)
+    b = parallel_ltca(
+        HELICAL,
+        [300.0],
+        options=opts,
+        relief=(FlankModification(topography=topo), None),
+        n_face=12,
+    )
+    for flank in ("drive", "coast"):
+        fa, fb = a.flanks[flank], b.flanks[flank]
+        assert np.ptp(fa.lte) > 0
+        for name in ("lte", "stiffness", "lte_unloaded"):
+            np.testing.assert_allclose(
+                getattr(fb, name), getattr(fa, name), rtol=1e-9, atol=1e-18, err_msg=name
+            )
+    assert "topography 3 x 2 (linear, 0 to" in b.attrs["flank_modifications"]
+
+
+def test_an_uneven_topography_is_the_helix_slope_on_both_flanks_and_hands():
+    """A topography equal to a helix slope plus a flank twist (bicubic, exact for
+    them) gives the loaded TCA of those terms: drive and coast (the coast is the drive
+    flank with the modifications turned end for end), right and left hand (the left
+    hand is the right hand's mirror image)."""
+    terms = FlankModification(helix_slope=10e-6, flank_twist=-6e-6)
+    opts = LTCAOptions(positions=8)
+    for beta in (15.0, -15.0):
+        pair = replace(SPUR, helix_angle=math.radians(beta))
+        rb, ra, rp = pair.base_radius(0), pair.tip_radius(0), pair.pitch_radius(0)
+        rF = pair.form_radius(0)
+        xr = math.sqrt(rp**2 - rb**2)
+        x = np.linspace(math.sqrt(rF**2 - rb**2) - xr, math.sqrt(ra**2 - rb**2) - xr, 4)
+        y = np.linspace(-0.5 * pair.face_width, 0.5 * pair.face_width, 4)
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        R = np.sqrt(rb**2 + (X + xr) ** 2)
+        kw = {"tip_radius": ra, "base_radius": rb, "face_width": pair.face_width}
+        values = terms.removal(R, Y, form_radius=rF, **kw)
+        topo = FlankModification(topography=Topography(x, y, values))
+        a = parallel_ltca(pair, [300.0], options=opts, relief=(terms, None), n_face=16)
+        b = parallel_ltca(pair, [300.0], options=opts, relief=(topo, None), n_face=16)
+        for flank in ("drive", "coast"):
+            fa, fb = a.flanks[flank], b.flanks[flank]
+            np.testing.assert_allclose(fb.lte, fa.lte, rtol=1e-9, atol=1e-15)
+            np.testing.assert_allclose(fb.stiffness, fa.stiffness, rtol=1e-9)
+            np.testing.assert_allclose(fb.mesh_point, fa.mesh_point, rtol=0, atol=1e-12)
+        # the slope moves the load towards -w on both flanks, as the helix slope does
+        for flank in ("drive", "coast"):
+            assert np.all(b.flanks[flank].mesh_point[..., 2] < -1e-3), (beta, flank)
+
+
+@pytest.fixture(scope="module")
+def case03():
+    from gearbox.geometry import PairSpec, design_pair
+
+    scene = load_scene(ROOT / "models" / "case03.toml")
+    return design_pair(PairSpec.from_scene(scene)), scene
+
+
+def _topography_keys(member, x_mm, y_mm, rows_um):
+    return {
+        f"{member}_topography_profile_mm": list(map(float, x_mm)),
+        f"{member}_topography_face_mm": list(map(float, y_mm)),
+        f"{member}_topography_um": [list(map(float, r)) for r in rows_um],
+    }
+
+
+def test_beveloid_separations_take_the_topography(case03):
+    """Case 03 (beveloid, whose base radii differ between the flanks): a pinion
+    topography adds its value at each sampled flank point's roll length (from the
+    reference circle, with that flank's base radius) and face position, on both
+    flanks; a gear topography sampled from a lead crowning adds the crowning's
+    removal at the gear's partner points (exact: bicubic in w)."""
+    from gearbox.ltca.beveloid import modifications_from_scene, separation_field
+    from gearbox.surface import blanks_from_design
+
+    design, scene = case03
+    pinion = blanks_from_design(design)[0]
+    x = np.linspace(-14.0, 16.0, 6)
+    y = np.linspace(-20.0, 20.0, 5)
+    rng = np.random.default_rng(2)
+    rows = rng.uniform(0, 5, (6, 5))
+    gy = np.linspace(-20.0, 20.0, 5)
+    crowned = 8.0 * (2 * gy / 40.0) ** 2
+    keys = _topography_keys("pinion", x, y, rows) | _topography_keys(
+        "gear", (-10, 0, 10, 20), gy, [crowned] * 4
+    )
+    mods = modifications_from_scene(design, scene.replaced(ltca=keys))
+    assert mods[0].topography.method == "cubic"
+    kw = {"n_profile": 8, "n_face": 10, "positions": 6}
+    for k, side in enumerate(("R", "L")):
+        f0 = separation_field(design, scene, side, relief=(None, None), **kw)
+        only_p = separation_field(design, scene, side, relief=(mods[0], None), **kw)
+        only_g = separation_field(design, scene, side, relief=(None, mods[1]), **kw)
+        rb = design.pinion.base_radius[k]
+        radius = np.hypot(only_p.point[..., 0], only_p.point[..., 1])
+        roll = np.sqrt(radius**2 - rb**2) - math.sqrt(
+            design.pinion.reference_pitch_radius**2 - rb**2
+        )
+        w = only_p.point[..., 2] - 0.5 * (pinion.z_toe + pinion.z_heel)
+        want = mods[0].topography(roll, np.broadcast_to(w, roll.shape))
+        d = only_p.separation - f0.separation
+        ok = np.isfinite(d)
+        assert ok.sum() > 100
+        np.testing.assert_allclose(d[ok], np.broadcast_to(want, d.shape)[ok], atol=1e-12)
+        # the gear's: its partner points' axial position from the gear's face middle
+        gear = blanks_from_design(design)[1]
+        wg = only_g.gear_z - 0.5 * (gear.z_toe + gear.z_heel)
+        dg = only_g.separation - f0.separation
+        ok = np.isfinite(dg)
+        want_g = 8e-6 * (2 * np.clip(wg, -0.02, 0.02) / 0.04) ** 2
+        np.testing.assert_allclose(dg[ok], want_g[ok], atol=1e-12)
+
+
+def test_scene_topography_errors_name_their_keys(case03, tmp_path):
+    from gearbox.ltca.beveloid import modifications_from_scene
+
+    design, scene = case03
+    x, y = [-10.0, 0.0, 10.0, 20.0], [-20.0, 0.0, 20.0, 30.0]
+    cases = {
+        "ltca.pinion_topography_face_mm": {"pinion_topography_profile_mm": x},
+        "ltca.gear_topography_profile_mm": _topography_keys(
+            "gear", [40, 50, 60, 70], y, [[0] * 4] * 4
+        ),
+        "ltca.pinion_topography_um[1]": _topography_keys(
+            "pinion", x, y, [[0] * 4, [0] * 3, [0] * 4, [0] * 4]
+        ),
+    }
+    for path, keys in cases.items():
+        with pytest.raises(InputError) as err:
+            modifications_from_scene(design, scene.replaced(ltca=keys))
+        assert path in {p.path for p in err.value.problems}, (path, str(err.value))
+    few = _topography_keys("pinion", x[:3], y, [[0] * 4] * 3)
+    with pytest.raises(InputError, match="at least 4 points for cubic") as err:
+        modifications_from_scene(design, scene.replaced(ltca=few))
+    assert err.value.problems[0].path == "ltca.pinion_topography_profile_mm"
+    linear = scene.replaced(ltca=few | {"topography_interpolation": "linear"})
+    assert modifications_from_scene(design, linear)[0].topography.method == "linear"
+    # a CSV file beside the scene, as for the measured traces
+    text = (ROOT / "models" / "case03.toml").read_text()
+    (tmp_path / "topo.csv").write_text("# removal (um)\n0,1,2,3\n0,1,2,3\n1,1,1,1\n2,2,2,2\n")
+    extra = (
+        "\n[ltca]\npinion_topography_profile_mm = [-10.0, 0.0, 10.0, 20.0]\n"
+        "pinion_topography_face_mm = [-20.0, 0.0, 10.0, 20.0]\n"
+        'pinion_topography_um = "topo.csv"\n'
+    )
+    (tmp_path / "s.toml").write_text(_with_ltca(text, extra))
+    s = load_scene(tmp_path / "s.toml")
+    assert s["ltca"]["pinion_topography_um"][2] == [1.0, 1.0, 1.0, 1.0]
+    mods = modifications_from_scene(design, s)
+    assert mods[0].topography.removal[3] == pytest.approx((2e-6,) * 4)
+
+
+def _with_ltca(text: str, extra: str) -> str:
+    """The scene text with the keys of ``extra``'s [ltca] added to its own [ltca]."""
+    if "\n[ltca]" not in text:
+        return text + extra
+    head, _, tail = text.partition("\n[ltca]\n")
+    return head + extra.rstrip("\n") + "\n" + tail
+
+
+def test_the_topography_enters_the_loaded_tca_stage_key(case03, tmp_path):
+    """A changed value in a topography's CSV file changes the loaded TCA's cache key
+    (the file's numbers take its name's place in the scene)."""
+    from gearbox.pipeline import preview
+
+    design, scene = case03
+    keys = _topography_keys("pinion", [-10, 0, 10, 20], [-20, 0, 10, 20], [[0, 1, 2, 3]] * 4)
+    a = dict((n, k) for n, k, _ in preview(scene.replaced(ltca=keys), ["ltca"], cache=None))
+    keys["pinion_topography_um"][2] = [0, 1, 2, 4]
+    b = dict((n, k) for n, k, _ in preview(scene.replaced(ltca=keys), ["ltca"], cache=None))
+    assert a["design"] == b["design"] and a["ltca"] != b["ltca"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("beta_deg", [20.0, -20.0])
+def test_both_paths_take_an_uneven_topography_alike(beta_deg):
+    """The 29/45 parallel pair (m 6, b 40 mm) with a pinion topography that rises
+    across the face and up the profile, and a gear flank twist, through the scene keys:
+    the surface path (generated flanks, the beveloid machinery) and the closed form
+    move the load the same way on both flanks and both hands. The paths' own
+    difference without modifications (stiffness within 2.5 %, mesh point within
+    0.5 mm, test_ltca_modifications) bounds the comparison; the topography moves the
+    mesh point by more than 5 mm."""
+    from gearbox.geometry import PairSpec, design_pair
+    from gearbox.ltca.beveloid import beveloid_ltca
+    from gearbox.ltca.table import scene_ltca
+
+    x = np.linspace(-15.0, 15.0, 5)
+    y = np.linspace(-20.0, 20.0, 5)
+    rows = [[12.0 * (v + 20) / 40 + 2.0 * (u + 15) / 30 for v in y] for u in x]
+    lt = {"positions": 12, "grid_profile": 40, "grid_face": 20}
+    keys = _topography_keys("pinion", x, y, rows) | {"gear_flank_twist_um": 6.0}
+    base = load_scene(DATA / "ltca_parallel_helical.toml").replaced(
+        pinion={"helix_angle_deg": beta_deg},
+        pair={"offset_mm": 74 * 6.0 / 2 / math.cos(math.radians(beta_deg))},
+        load={"torques_Nm": [300.0]},
+    )
+    design = design_pair(PairSpec.from_scene(base))
+    out = {}
+    for label, extra in (("plain", {}), ("topo", keys)):
+        scene = base.replaced(ltca=lt | extra)
+        out[label] = (beveloid_ltca(design, scene), scene_ltca(design, scene))
+    for flank in ("drive", "coast"):
+        z = {
+            (label, path): out[label][i].flanks[flank].mesh_point[0][:, 2].mean()
+            for label in out
+            for i, path in enumerate(("surface", "closed"))
+        }
+        moved = z[("topo", "surface")] - z[("plain", "surface")]
+        assert abs(moved) > 5e-3, (flank, moved)
+        assert z[("topo", "closed")] - z[("plain", "closed")] == pytest.approx(moved, abs=0.5e-3)
+        k_s = out["topo"][0].flanks[flank].stiffness[0].mean()
+        k_c = out["topo"][1].flanks[flank].stiffness[0].mean()
+        assert k_c == pytest.approx(k_s, rel=0.025), flank
+        assert "topography 5 x 5" in out["topo"][0].attrs["flank_modifications"]
