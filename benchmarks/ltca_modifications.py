@@ -50,6 +50,16 @@ VARIANTS = {
     },
     "helix slope +10 um, pinion": {"pinion_helix_slope_um": 10.0},
     "helix slope -10 um, pinion": {"pinion_helix_slope_um": -10.0},
+    "profile slope +6 um, pinion": {"pinion_profile_slope_um": 6.0},
+    "profile slope -6 um, pinion": {"pinion_profile_slope_um": -6.0},
+    "flank twist 10 um, pinion": {"pinion_flank_twist_um": 10.0},
+    # the lead crowning of 10 um as a topography (bicubic: exact for it) on a 5 x 9
+    # grid over the 40 mm face of the paper's cases: the same row as the crowning's
+    "topography = lead crowning 10 um, pinion": {
+        "pinion_topography_profile_mm": [-20.0, -10.0, 0.0, 10.0, 20.0],
+        "pinion_topography_face_mm": [-20.0 + 5.0 * i for i in range(9)],
+        "pinion_topography_um": [[10.0 * ((-20.0 + 5.0 * i) / 20.0) ** 2 for i in range(9)]] * 5,
+    },
     "tip relief + lead crowning 5 um, both": {
         **{
             f"{g}_tip_relief_{k}": v
