@@ -400,3 +400,66 @@ def test_both_paths_take_an_uneven_topography_alike(beta_deg):
         k_c = out["topo"][1].flanks[flank].stiffness[0].mean()
         assert k_c == pytest.approx(k_s, rel=0.025), flank
         assert "topography 5 x 5" in out["topo"][0].attrs["flank_modifications"]
+
+
+def test_the_result_carries_a_map_of_each_modified_gear_and_the_report_draws_it(case03):
+    """Case 03 with a pinion topography and a gear profile slope and twist: the loaded
+    TCA keeps per modified gear the removal over its drive flank (form circle to tip at
+    each face position), which equals the modification's own removal there; the
+    report's loaded-TCA section draws one panel per gear, its layout checked."""
+    from gearbox.ltca.beveloid import _form_radius, modification_maps, modifications_from_scene
+    from gearbox.ltca.table import scene_ltca
+    from gearbox.report import html
+    from gearbox.report.loaded import render_ltca
+    from gearbox.surface import blanks_from_design
+
+    design, scene = case03
+    keys = _topography_keys(
+        "pinion", [-15, -5, 5, 15], [-20, -5, 5, 20], [[0, 1, 2, 6], [1, 1, 1, 1]] * 2
+    ) | {"gear_profile_slope_um": 4.0, "gear_flank_twist_um": 5.0}
+    s = scene.replaced(ltca=keys | {"positions": 6, "flanks": ["drive"]})
+    s = s.replaced(load={"torques_Nm": [300.0]})
+    mods = modifications_from_scene(design, s)
+    maps = modification_maps(design, mods)
+    assert set(maps) == {"pinion", "gear"}
+    blanks = blanks_from_design(design)
+    for k, (name, gd) in enumerate((("pinion", design.pinion), ("gear", design.gear))):
+        m, blank = maps[name], blanks[k]
+        z = m["face_m"] + 0.5 * (blank.z_toe + blank.z_heel)
+        rb = gd.base_radius[0]
+        roll = m["roll_m"] + math.sqrt(gd.reference_pitch_radius**2 - rb**2)
+        r = np.sqrt(rb**2 + roll**2)
+        # from the form circle to the tip circle of each section
+        np.testing.assert_allclose(r[:, 0], _form_radius(blank, gd, z)[0], rtol=1e-12)
+        np.testing.assert_allclose(r[:, -1], blank.tip_radius(z), rtol=1e-12)
+        want = mods[k].removal(
+            r,
+            np.broadcast_to(m["face_m"][:, None], r.shape),
+            tip_radius=blank.tip_radius(z)[:, None],
+            base_radius=rb,
+            face_width=blank.face_width,
+            form_radius=_form_radius(blank, gd, z)[0][:, None],
+            reference_radius=gd.reference_pitch_radius,
+        )
+        np.testing.assert_allclose(m["removal_m"], want, rtol=0, atol=1e-18)
+    # the gear's profile slope and twist: -/+ (f + S w / b) / 2 at the form circle / tip
+    g = maps["gear"]
+    slope = 4e-6 + 5e-6 * g["face_m"] / blanks[1].face_width
+    np.testing.assert_allclose(g["removal_m"][:, -1] - g["removal_m"][:, 0], slope, atol=1e-18)
+    res = scene_ltca(design, s)
+    assert set(res.modification_maps) == {"pinion", "gear"}
+
+    class Run:
+        scene = s
+
+    old = html.CHECK_LAYOUT
+    html.CHECK_LAYOUT = True  # every figure's texts inside the canvas, no overlaps
+    try:
+        section = render_ltca(res, Run())
+    finally:
+        html.CHECK_LAYOUT = old
+    assert "Flank modifications: material removed normal to the drive flank" in section.body
+    assert section.body.count("<img") == 3
+    plain = scene_ltca(design, scene.replaced(ltca={"positions": 6, "flanks": ["drive"]}))
+    assert plain.modification_maps == {}
+    assert render_ltca(plain, Run()).body.count("<img") == 2

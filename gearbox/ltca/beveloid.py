@@ -51,6 +51,7 @@ from .modification import (
     TipRelief,
     as_modification,
     describe_pair,
+    removal_map,
     topography_from_section,
 )
 
@@ -58,6 +59,7 @@ __all__ = [
     "SeparationField",
     "FlankModification",
     "TipRelief",
+    "modification_maps",
     "modifications_from_scene",
     "beveloid_ltca",
     "separation_field",
@@ -1023,7 +1025,39 @@ def beveloid_ltca(
         from .validity import fast_level_notes
 
         notes = fast_level_notes(made[first][0][0])
-    return LTCAResult(flanks=results, table=table, attrs=attrs, notes=notes)
+    return LTCAResult(
+        flanks=results,
+        table=table,
+        attrs=attrs,
+        notes=notes,
+        modification_maps=modification_maps(design, relief),
+    )
+
+
+def modification_maps(design, relief, n_face: int = 21) -> dict:
+    """Per modified gear the removal over its drive (R) flank from the form circle to
+    the tip at ``n_face`` axial positions (:func:`removal_map`), for the report."""
+    from ..surface import blanks_from_design
+
+    maps = {}
+    blanks = blanks_from_design(design)
+    for name, rel, blank, gd in zip(
+        ("pinion", "gear"), relief, blanks, (design.pinion, design.gear), strict=True
+    ):
+        mod = as_modification(rel)
+        if not mod.active:
+            continue
+        z = np.linspace(blank.z_toe, blank.z_heel, n_face)
+        maps[name] = removal_map(
+            mod,
+            z - 0.5 * (blank.z_toe + blank.z_heel),
+            form_radius=_form_radius(blank, gd, z)[0],
+            tip_radius=blank.tip_radius(z),
+            base_radius=gd.base_radius[0],
+            reference_radius=gd.reference_pitch_radius,
+            face_width=blank.face_width,
+        )
+    return maps
 
 
 _ = Problems

@@ -55,6 +55,7 @@ __all__ = [
     "Topography",
     "as_modification",
     "describe_pair",
+    "removal_map",
     "topography_from_section",
 ]
 
@@ -481,6 +482,45 @@ def topography_from_section(section, name: str, probs: Problems) -> Topography |
                 shown = [round(v * 1e3, 9) for v in shown]
             probs.add(path, shown, text)
         return None
+
+
+def removal_map(
+    mod: FlankModification,
+    face,
+    *,
+    form_radius,
+    tip_radius,
+    base_radius: float,
+    reference_radius: float,
+    face_width: float,
+    n_profile: int = 25,
+) -> dict[str, np.ndarray]:
+    """The removal of ``mod`` over one flank, for a map of the modifications: at the
+    axial positions ``face`` (m from the face middle, shape (F,)), ``n_profile`` places
+    from the form circle to the tip circle of each section (``form_radius``,
+    ``tip_radius``: scalars or shape (F,), m). Returns ``face_m`` (F,), ``roll_m`` (F,
+    n_profile) the roll length from the reference circle and ``removal_m`` (F,
+    n_profile)."""
+    w = np.asarray(face, dtype=float)
+    rb = float(base_radius)
+    rF = np.broadcast_to(np.maximum(np.asarray(form_radius, float), rb), w.shape)[:, None]
+    ra = np.broadcast_to(np.asarray(tip_radius, float), w.shape)[:, None]
+    t = np.linspace(0.0, 1.0, n_profile)[None, :]
+    xF, xa = np.sqrt(rF**2 - rb**2), np.sqrt(ra**2 - rb**2)
+    xi = xF + t * (xa - xF)
+    r = np.sqrt(rb**2 + xi**2)
+    W = np.broadcast_to(w[:, None], r.shape)
+    removal = mod.removal(
+        r,
+        W,
+        tip_radius=np.broadcast_to(ra, r.shape),
+        base_radius=rb,
+        face_width=face_width,
+        form_radius=np.broadcast_to(rF, r.shape),
+        reference_radius=reference_radius,
+    )
+    xr = math.sqrt(max(float(reference_radius) ** 2 - rb**2, 0.0))
+    return {"face_m": w, "roll_m": xi - xr, "removal_m": removal}
 
 
 def as_modification(x) -> FlankModification:

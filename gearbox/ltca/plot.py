@@ -279,3 +279,29 @@ def plot_hunting_spectrum(record, ax=None, max_order: float | None = None):
     ax.set_ylabel("loaded TE amplitude (um)")
     ax.legend(loc="upper right", fontsize=8)
     return ax
+
+
+def plot_modification_map(flank_map, ax=None, title: str = ""):
+    """The material a gear's flank modifications remove (um) over its flank
+    (:func:`gearbox.ltca.modification.removal_map`): roll length from the reference
+    circle (mm, form circle to tip) against the axial position from the face middle
+    (mm), filled contours with a colour bar. Returns the axes."""
+    ax = _axes(ax)
+    w = np.broadcast_to(flank_map["face_m"][:, None], flank_map["roll_m"].shape) * 1e3
+    roll = flank_map["roll_m"] * 1e3
+    um = flank_map["removal_m"] * 1e6
+    from matplotlib.ticker import MaxNLocator
+
+    lo, hi = float(um.min()), float(um.max())
+    if hi - lo < 1e-9:  # a flat map: one level
+        lo, hi = lo - 0.5, hi + 0.5
+    levels = MaxNLocator(12).tick_values(lo, hi)
+    filled = ax.contourf(w, roll, um, levels=levels, cmap="viridis")
+    ax.contour(w, roll, um, levels=levels, colors="k", linewidths=0.3)
+    bar = ax.figure.colorbar(filled, ax=ax, pad=0.02, fraction=0.06)
+    bar.set_label("removal (um)")
+    ax.set_xlabel("axial position from the face middle (mm)")
+    ax.set_ylabel("roll length from ref. circle (mm)")
+    if title:
+        ax.set_title(title, fontsize=9)
+    return ax

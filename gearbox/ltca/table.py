@@ -54,13 +54,16 @@ class LTCAResult:
     provenance (scene, method, fidelity, gearbox version, frame); notes: where the pair
     lies outside the range the fast level was checked on, one line per quantity naming
     the gears (:func:`gearbox.ltca.validity.fast_level_notes`; empty inside it and at
-    the FE level).
+    the FE level); modification_maps: per modified gear (``"pinion"``, ``"gear"``) the
+    removal over its drive flank (:func:`gearbox.ltca.modification.removal_map`), for
+    the report's map; empty without flank modifications.
     """
 
     flanks: dict
     table: MeshTable
     attrs: dict = field(default_factory=dict)
     notes: tuple[str, ...] = ()
+    modification_maps: dict = field(default_factory=dict)
 
     def summary(self) -> dict:
         """JSON-ready summary: the notes, and per flank, per torque (N m as key), the
@@ -440,7 +443,7 @@ def parallel_ltca(
     and a topography change) and then turned. ``fidelity`` and
     ``face_ends``: the compliance level, as :func:`compliance_for` takes them.
     """
-    from .modification import as_modification, describe_pair
+    from .modification import as_modification, describe_pair, removal_map
 
     options = options or LTCAOptions()
     compliance = compliance_for(fidelity, face_ends=face_ends)
@@ -493,7 +496,21 @@ def parallel_ltca(
         attrs=attrs,
     )
     notes = fast_level_notes(parallel_grid(base, 0.0, n_face)) if fidelity == "fast" else ()
-    return LTCAResult(flanks=res, table=table, attrs=attrs, notes=notes)
+    maps = {}
+    for i, (name, rel) in enumerate(zip(("pinion", "gear"), relief or (None, None), strict=True)):
+        mod = as_modification(rel)
+        if mod.active:
+            b = pair.face_width
+            maps[name] = removal_map(
+                mod,
+                np.linspace(-0.5 * b, 0.5 * b, 21),
+                form_radius=pair.form_radius(i),
+                tip_radius=pair.tip_radius(i),
+                base_radius=pair.base_radius(i),
+                reference_radius=pair.pitch_radius(i),
+                face_width=b,
+            )
+    return LTCAResult(flanks=res, table=table, attrs=attrs, notes=notes, modification_maps=maps)
 
 
 def is_parallel(design) -> bool:

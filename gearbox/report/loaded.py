@@ -30,6 +30,7 @@ def render_ltca(lt, run) -> Section:
         plot_contact_pattern,
         plot_lte,
         plot_mesh_stiffness,
+        plot_modification_map,
         plot_root_stress_face,
     )
 
@@ -143,4 +144,16 @@ def render_ltca(lt, run) -> Section:
     plot_lte(flanks, t, ax[0, 1])
     plot_root_stress_face(flanks, t, ax[0, 2])
     parts.append(figure(fig, "Mesh stiffness, loaded transmission error and root stress"))
+    maps = getattr(lt, "modification_maps", None) or {}
+    if maps:
+        fig, ax = new_figure(1, len(maps), size=(6.0 * len(maps), 3.6), wgap=1.6, right=1.0)
+        for i, (name, m) in enumerate(maps.items()):
+            plot_modification_map(m, ax[0, i], title=f"{name}, drive flank")
+        parts.append(
+            figure(
+                fig,
+                "Flank modifications: material removed normal to the drive flank (um), from "
+                "the form circle to the tip, against the axial position",
+            )
+        )
     return Section("Loaded tooth contact analysis", "".join(parts), tuple(warnings), anchor="ltca")
