@@ -78,6 +78,8 @@ FE_VARIANTS = (
     "lead crowning 10 um, pinion",
     "helix slope +10 um, pinion",
     "profile crowning 4 um, both",
+    "profile slope +6 um, pinion",
+    "flank twist 10 um, pinion",
 )
 
 
