@@ -28,6 +28,7 @@ def test_ltca_writes_table_summary_and_figures(tmp_path, capsys):
         "root_stress.png",
     ):
         assert (out / name).stat().st_size > 0, name
+    assert not (out / "flank_modifications.png").exists()  # no modifications, no map
     row = summary["flanks"]["drive"]["300"]
     for key in (
         "mean_mesh_stiffness_N_per_m",
@@ -98,3 +99,32 @@ def test_summary_keys_tell_close_torque_levels_apart():
     assert torque_keys([150.0, 300.0, 450.0]) == ["150", "300", "450"]
     assert torque_keys([300.0, 300.0004, 300.0008]) == ["300", "300.0004", "300.0008"]
     assert torque_keys([100000.1, 100000.4]) == ["100000.1", "100000.4"]
+
+
+def test_ltca_writes_the_map_of_a_topography_given_as_csv(tmp_path, capsys):
+    """A pinion topography from a CSV file beside the scene: the summary names it, the
+    map is drawn, and a file whose rows do not match exits 2 naming the key."""
+    x = [-15.0, -5.0, 5.0, 15.0]
+    y = [-20.0, -5.0, 5.0, 20.0]
+    (tmp_path / "topo.csv").write_text(
+        "# removal (um)\n"
+        + "".join(",".join(f"{0.1 * u + 0.01 * v * v:.4f}" for v in y) + "\n" for u in x)
+    )
+    keys = (
+        f"pinion_topography_profile_mm = {x}\npinion_topography_face_mm = {y}\n"
+        'pinion_topography_um = "topo.csv"\n'
+    )
+    text = SCENE.read_text()
+    assert "\n[ltca]\n" in text
+    (tmp_path / "s.toml").write_text(text.replace("\n[ltca]\n", "\n[ltca]\n" + keys))
+    out = tmp_path / "out"
+    rc = main(["ltca", str(tmp_path / "s.toml"), "--out", str(out), "--json", "--positions", "4"])
+    assert rc == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert "pinion: topography 4 x 4 (cubic" in summary["attrs"]["flank_modifications"]
+    assert (out / "flank_modifications.png").stat().st_size > 0
+    (tmp_path / "topo.csv").write_text("1,2,3,4\n1,2,3\n1,2,3,4\n1,2,3,4\n")
+    rc = main(["ltca", str(tmp_path / "s.toml"), "--out", str(tmp_path / "o2"), "--positions", "4"])
+    assert rc == 2
+    err = capsys.readouterr().err
+    assert "pinion_topography_um" in err and "Traceback" not in err

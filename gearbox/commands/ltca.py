@@ -53,7 +53,7 @@ def run(args):
             from ..ltca.plot import save_figures
 
             t = int(abs(result.table.torque - scene["load"]["operating_torque_Nm"]).argmin())
-            save_figures(result.flanks, stage, t=t)
+            save_figures(result.flanks, stage, t=t, modification_maps=result.modification_maps)
     if args.json:
         print(dumps_json(summary))
     else:

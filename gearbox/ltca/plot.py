@@ -121,8 +121,10 @@ def plot_root_stress_face(results, t: int = 0, ax=None):
     return ax
 
 
-def save_figures(results, out_dir, t: int = 0) -> list:
-    """Write the figures of ``results`` (label -> CycleResult) as PNG files; return paths."""
+def save_figures(results, out_dir, t: int = 0, modification_maps=None) -> list:
+    """Write the figures of ``results`` (label -> CycleResult) as PNG files; return paths.
+    ``modification_maps`` (``LTCAResult.modification_maps``, gear -> map): where it
+    holds any, ``flank_modifications.png`` with one map per modified gear."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -159,6 +161,13 @@ def save_figures(results, out_dir, t: int = 0) -> list:
     plot_root_stress_profile(results, t, ax=axs[0])
     plot_root_stress_face(results, t, ax=axs[1])
     save(fig, "root_stress.png")
+    if modification_maps:
+        fig, axs = plt.subplots(
+            1, len(modification_maps), figsize=(6 * len(modification_maps), 4), squeeze=False
+        )
+        for ax, (name, m) in zip(axs[0], modification_maps.items(), strict=True):
+            plot_modification_map(m, ax=ax, title=f"{name}, drive flank")
+        save(fig, "flank_modifications.png")
     return paths
 
 
