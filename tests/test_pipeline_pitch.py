@@ -285,6 +285,55 @@ def test_the_coast_flank_of_a_parallel_pair_is_the_drive_turned(tmp_path):
         assert np.abs(coast - same[i]).max() > 0.01 * np.ptp(change)
 
 
+def test_the_coast_flank_takes_uneven_modifications_turned_end_for_end(tmp_path):
+    """As above, with flank modifications that are not even in the face position (a
+    pinion flank twist and helix slope, a gear topography rising across the face): the
+    coast record equals, sample i for -i, the drive record of the teeth numbered the
+    other way with the modifications turned end for end (twist, slope and topography
+    reflected), linear and exact alike, to 1e-15 m; with the modifications as they
+    are it does not."""
+    rng = np.random.default_rng(4)
+    cumulative = rng.uniform(-3, 3, 29)
+    back = (-np.arange(29)) % 29
+    y = [-20.0, -5.0, 5.0, 20.0]
+    rows = [[0.0, 1.0, 3.0, 7.0], [0.5, 1.0, 2.0, 6.0], [1.0, 1.0, 1.0, 4.0], [0.0, 0.0, 0.5, 2.0]]
+
+    def mods(turn: float) -> dict:
+        face = [turn * v for v in y][:: int(turn)]
+        table = [row[:: int(turn)] for row in rows]
+        return {
+            "pinion_flank_twist_um": turn * 6.0,
+            "pinion_helix_slope_um": turn * 4.0,
+            "gear_topography_profile_mm": [-15.0, -5.0, 5.0, 15.0],
+            "gear_topography_face_mm": face,
+            "gear_topography_um": table,
+        }
+
+    base = load_scene(PARALLEL).replaced(ltca={"positions": 6, "grid_face": 10})
+    for method in ("linear", "exact"):
+        rec = {}
+        for name, flank, teeth, turn in (
+            ("coast", "coast", slice(None), 1.0),
+            ("turned", "drive", back, -1.0),
+            ("same", "drive", back, 1.0),
+        ):
+            s = base.replaced(
+                ltca=mods(turn),
+                pitch={
+                    "pinion_cumulative_um": cumulative[teeth].tolist(),
+                    "random_single_um": 0.0,
+                    "flank": flank,
+                    "method": method,
+                },
+            )
+            rec[name] = run_pipeline(s, ["pitch"], cache=tmp_path)["pitch"].record.lte
+        coast, turned, same = rec["coast"], rec["turned"], rec["same"]
+        i = (-np.arange(coast.size)) % coast.size
+        assert np.ptp(coast) > 1e-6
+        assert np.abs(coast - turned[i]).max() < 1e-15, method
+        assert np.abs(coast - same[i]).max() > 0.01 * np.ptp(coast), method
+
+
 def test_the_coast_flank_of_the_default_pair(marine, tmp_path):
     """The default pair's coast flank (its own grids, side L): the record's nominal TE
     is the coast loaded TCA's at the torque, the deviations move it, pitch.json and the
