@@ -463,3 +463,32 @@ def test_the_result_carries_a_map_of_each_modified_gear_and_the_report_draws_it(
     plain = scene_ltca(design, scene.replaced(ltca={"positions": 6, "flanks": ["drive"]}))
     assert plain.modification_maps == {}
     assert render_ltca(plain, Run()).body.count("<img") == 2
+
+
+def test_a_ringing_bicubic_topography_earns_a_note():
+    """A 10 um end relief given as a step between two face points of a 5 mm grid: the
+    bicubic spline overshoots it by 3.0 um and undershoots the unrelieved face by 0.9
+    um (material added where the grid says none). Topography.overshoot measures the
+    ringing only where the grid's values run one way, so a smooth crowning whose
+    vertex lies between the points reads 0; the loaded TCA's notes name the gear and
+    the remedy; the bilinear grid does not ring."""
+    y = np.linspace(-0.02, 0.02, 9)
+    x = np.linspace(-0.015, 0.015, 4)
+    step = Topography(x, y, [np.where(y >= 0.015, 10e-6, 0.0)] * 4)
+    w = np.linspace(-0.02, 0.02, 4001)
+    v = step(np.zeros_like(w), w)
+    assert v.min() < -0.8e-6 and v.max() > 12.9e-6  # the ringing itself
+    assert step.overshoot() == pytest.approx(v.max() - 10e-6, rel=0.02)
+    assert step.overshoot() > 3.0e-6
+    crown = Topography(x, y, [10e-6 * ((y - 0.0025) / 0.02) ** 2] * 4)
+    assert crown.overshoot() < 1e-12
+    assert replace(step, method="linear").overshoot() == 0.0
+    pair = replace(SPUR, face_width=0.04)
+    mods = (FlankModification(topography=step), FlankModification(topography=crown))
+    res = parallel_ltca(pair, [300.0], options=LTCAOptions(positions=4), relief=mods, n_face=12)
+    notes = [n for n in res.notes if "topography" in n]
+    assert len(notes) == 1 and notes[0].startswith("pinion's topography")
+    assert "3 um" in notes[0] and "'linear'" in notes[0]
+    calm = (FlankModification(topography=replace(step, method="linear")), None)
+    res = parallel_ltca(pair, [300.0], options=LTCAOptions(positions=4), relief=calm, n_face=12)
+    assert not [n for n in res.notes if "topography" in n]

@@ -53,6 +53,7 @@ from .modification import (
     describe_pair,
     removal_map,
     topography_from_section,
+    topography_notes,
 )
 
 __all__ = [
@@ -1025,6 +1026,7 @@ def beveloid_ltca(
         from .validity import fast_level_notes
 
         notes = fast_level_notes(made[first][0][0])
+    notes = tuple(notes) + topography_notes(relief)
     return LTCAResult(
         flanks=results,
         table=table,

@@ -48,6 +48,7 @@ import numpy as np
 from ..errors import InputError, Problem, Problems
 
 __all__ = [
+    "OVERSHOOT_NOTE",
     "SHAPES",
     "TOPOGRAPHY_METHODS",
     "FlankModification",
@@ -57,6 +58,7 @@ __all__ = [
     "describe_pair",
     "removal_map",
     "topography_from_section",
+    "topography_notes",
 ]
 
 #: exponent of the relief laws in the relief coordinate t (0 at the start, 1 at the end)
@@ -209,6 +211,42 @@ class Topography:
         x = np.clip(x, self.profile[0], self.profile[-1])
         y = np.clip(y, self.face[0], self.face[-1])
         return self._spline.ev(x.ravel(), y.ravel()).reshape(x.shape)
+
+    def overshoot(self, subdivisions: int = 8) -> float:
+        """How far (m) the interpolated removal rings beyond its grid: along every grid
+        line (each profile position across the face, each face position up the
+        profile), sampled ``subdivisions`` times per cell, the largest excursion beyond
+        the cell's two end values in cells where the grid's values run one way (the
+        differences before, in and after the cell of one sign; where they turn, a
+        smooth grid's extremum lies between the points and is not counted). 0 for
+        bilinear interpolation; for the bicubic spline, what a step or a kink in the
+        grid (an end relief's start, a burr in a measured flank) makes it overshoot."""
+        if self.method == "linear":
+            return 0.0
+        v = np.asarray(self.removal)
+        x, y = np.asarray(self.profile), np.asarray(self.face)
+        t = np.arange(1, subdivisions) / subdivisions
+        worst = 0.0
+        for axis, (grid, other) in enumerate(((y, x), (x, y))):
+            lines = v if axis == 0 else v.T  # each row: values along ``grid``
+            d = np.diff(lines, axis=1)
+            pad = np.pad(d, ((0, 0), (1, 1)), mode="edge")
+            one_way = (pad[:, :-2] * pad[:, 1:-1] >= 0) & (pad[:, 1:-1] * pad[:, 2:] >= 0)
+            pts = grid[:-1, None] + t[None, :] * np.diff(grid)[:, None]  # (cells, k)
+            for n, (line, pos) in enumerate(zip(lines, other, strict=True)):
+                k = np.flatnonzero(one_way[n])
+                if not k.size:
+                    continue
+                if axis == 0:
+                    fine = self._spline(np.full(pts.size, pos), pts.ravel(), grid=False)
+                else:
+                    fine = self._spline(pts.ravel(), np.full(pts.size, pos), grid=False)
+                fine = fine.reshape(pts.shape)
+                lo = np.minimum(line[:-1], line[1:])[:, None]
+                hi = np.maximum(line[:-1], line[1:])[:, None]
+                out = np.maximum(fine - hi, lo - fine)
+                worst = max(worst, float(out[k].max()))
+        return max(worst, 0.0)
 
     def reflected(self) -> Topography:
         """The same grid with the face coordinate turned (w -> -w)."""
@@ -521,6 +559,30 @@ def removal_map(
     )
     xr = math.sqrt(max(float(reference_radius) ** 2 - rb**2, 0.0))
     return {"face_m": w, "roll_m": xi - xr, "removal_m": removal}
+
+
+#: a bicubic topography's overshoot (m) that earns a note (about what a gear checker
+#: resolves)
+OVERSHOOT_NOTE = 0.1e-6
+
+
+def topography_notes(relief) -> tuple[str, ...]:
+    """A note per gear whose bicubic topography overshoots its grid cells by more than
+    :data:`OVERSHOOT_NOTE` (:meth:`Topography.overshoot`), for ``LTCAResult.notes``."""
+    notes = []
+    for name, rel in zip(("pinion", "gear"), relief or (None, None), strict=True):
+        topo = as_modification(rel).topography
+        if topo is None or not topo.active:
+            continue
+        over = topo.overshoot()
+        if over > OVERSHOOT_NOTE:
+            notes.append(
+                f"{name}'s topography: the bicubic spline leaves the range of its grid "
+                f"cells' values by up to {over * 1e6:.2g} um between the points (a step or "
+                "kink in the grid); ltca.topography_interpolation = 'linear' follows the "
+                "grid without overshoot, or add points where it bends"
+            )
+    return tuple(notes)
 
 
 def as_modification(x) -> FlankModification:

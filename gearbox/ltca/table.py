@@ -443,7 +443,7 @@ def parallel_ltca(
     and a topography change) and then turned. ``fidelity`` and
     ``face_ends``: the compliance level, as :func:`compliance_for` takes them.
     """
-    from .modification import as_modification, describe_pair, removal_map
+    from .modification import as_modification, describe_pair, removal_map, topography_notes
 
     options = options or LTCAOptions()
     compliance = compliance_for(fidelity, face_ends=face_ends)
@@ -496,6 +496,7 @@ def parallel_ltca(
         attrs=attrs,
     )
     notes = fast_level_notes(parallel_grid(base, 0.0, n_face)) if fidelity == "fast" else ()
+    notes = tuple(notes) + topography_notes(relief)
     maps = {}
     for i, (name, rel) in enumerate(zip(("pinion", "gear"), relief or (None, None), strict=True)):
         mod = as_modification(rel)
