@@ -249,9 +249,11 @@ SCHEMA: dict[str, dict[str, Field]] = {
         "topography_interpolation": _s(
             "cubic",
             "Interpolation of the flank topographies (*_topography_um) between their grid "
-            "points: 'cubic' (bicubic spline, at least 4 positions on each axis) or "
-            "'linear' (bilinear, at least 2).",
-            ("cubic", "linear"),
+            "points: 'cubic' (bicubic spline, at least 4 positions on each axis; rings at "
+            "a step or kink in the grid), 'pchip' (shape-preserving piecewise cubic on "
+            "each axis: smooth, no overshoot; at least 2) or 'linear' (bilinear, at "
+            "least 2).",
+            ("cubic", "pchip", "linear"),
         ),
         "pinion_tip_relief_um": _f(
             0.0,

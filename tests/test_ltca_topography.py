@@ -492,3 +492,38 @@ def test_a_ringing_bicubic_topography_earns_a_note():
     calm = (FlankModification(topography=replace(step, method="linear")), None)
     res = parallel_ltca(pair, [300.0], options=LTCAOptions(positions=4), relief=calm, n_face=12)
     assert not [n for n in res.notes if "topography" in n]
+
+
+def test_a_pchip_topography_is_smooth_without_overshoot():
+    """'pchip': the step that makes the bicubic spline ring stays within its values;
+    data linear on each axis come back exactly (PCHIP is exact for them); on a random
+    grid the refined evaluation lies within 0.05 um of PCHIP taken point by point with
+    scipy (along the face, then up the profile; measured 0.039 um on 0-5 um); turned
+    end for end it reads the same at -w."""
+    from scipy.interpolate import PchipInterpolator
+
+    y = np.linspace(-0.02, 0.02, 9)
+    x = np.linspace(-0.015, 0.015, 4)
+    step = Topography(x, y, [np.where(y >= 0.015, 10e-6, 0.0)] * 4, "pchip")
+    w = np.linspace(-0.02, 0.02, 4001)
+    v = step(np.zeros_like(w), w)
+    assert v.min() >= -1e-18 and v.max() <= 10e-6 + 1e-18
+    assert np.all(np.diff(v) >= -1e-18)  # monotone data, monotone removal
+    assert step.overshoot() == 0.0
+    bilinear = FlankModification(helix_slope=-5e-6, profile_slope=3e-6, flank_twist=7e-6)
+    lo, hi = _roll(_place(0.0)), _roll(_place(1.0))
+    gx, gy = np.linspace(lo, hi, 3), np.linspace(-0.5 * B, 0.5 * B, 5)
+    X, Y = np.meshgrid(gx, gy, indexing="ij")
+    R = np.sqrt(RB**2 + (X + math.sqrt(0.095**2 - RB**2)) ** 2)
+    topo = Topography(gx, gy, removal(bilinear, R, Y), "pchip")
+    rng = np.random.default_rng(8)
+    t, wq = rng.uniform(0, 1, 300), rng.uniform(-0.5 * B, 0.5 * B, 300)
+    got = removal(FlankModification(topography=topo), _place(t), wq)
+    np.testing.assert_allclose(got, removal(bilinear, _place(t), wq), rtol=0, atol=1e-18)
+    V = rng.uniform(0, 5e-6, (4, 9))
+    rand = Topography(x, y, V, "pchip")
+    px, py = rng.uniform(-0.015, 0.015, 500), rng.uniform(-0.02, 0.02, 500)
+    along = PchipInterpolator(y, V, axis=1)(py)  # (4, 500): each profile row at py
+    want = np.array([PchipInterpolator(x, along[:, i])(px[i]) for i in range(px.size)])
+    assert np.max(np.abs(rand(px, py) - want)) < 0.05e-6
+    np.testing.assert_allclose(rand.reflected()(px, -py), rand(px, py), rtol=0, atol=1e-18)
