@@ -527,3 +527,37 @@ def test_a_pchip_topography_is_smooth_without_overshoot():
     want = np.array([PchipInterpolator(x, along[:, i])(px[i]) for i in range(px.size)])
     assert np.max(np.abs(rand(px, py) - want)) < 0.05e-6
     np.testing.assert_allclose(rand.reflected()(px, -py), rand(px, py), rtol=0, atol=1e-18)
+
+
+def test_any_malformed_grid_is_refused_by_name():
+    """Random grids, shapes and values (hypothesis): a Topography either builds and
+    evaluates to finite removals held within reach of its values, or raises InputError
+    naming one of its parts; nothing else escapes."""
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    nums = st.one_of(
+        st.floats(-1e-4, 1e-4),
+        st.sampled_from([math.nan, math.inf, 0.0]),
+    )
+    axis = st.lists(nums, min_size=0, max_size=6)
+    rows = st.lists(st.lists(nums, min_size=0, max_size=6), min_size=0, max_size=6)
+
+    @settings(max_examples=300, deadline=None)
+    @given(axis, axis, rows, st.sampled_from(["cubic", "pchip", "linear", "spline"]))
+    def check(x, y, r, method):
+        try:
+            topo = Topography(x, y, r, method)
+        except InputError as err:
+            parts = {p.path.partition("[")[0] for p in err.problems}
+            assert parts and parts <= {"profile", "face", "removal", "method"}
+            return
+        v = topo(np.linspace(-2e-4, 2e-4, 7), np.linspace(-2e-4, 2e-4, 7))
+        assert np.all(np.isfinite(v))
+        values = np.asarray(topo.removal)
+        span = np.ptp(values) + 1e-18
+        # a cubic may ring (topo.overshoot), but within a few spans of its values
+        assert v.min() >= values.min() - 4 * span and v.max() <= values.max() + 4 * span
+        assert topo.overshoot() >= 0.0
+
+    check()

@@ -180,8 +180,8 @@ class Topography:
                 f"{x.size} points",
                 f"needs at least {least} points for {self.method} interpolation",
             ):
-                p.check(np.all(np.isfinite(x)), name, list(x), "must be finite")
-                p.check(np.all(np.diff(x) > 0), name, list(x), "must increase strictly")
+                if p.check(bool(np.all(np.isfinite(x))), name, list(x), "must be finite"):
+                    p.check(bool(np.all(np.diff(x) > 0)), name, list(x), "must increase strictly")
         shape = (len(self.profile), len(self.face))
         rows = [len(r) for r in self.removal]
         if p.check(
