@@ -144,12 +144,11 @@ def test_bad_topographies_name_their_part():
         Topography((0.0, 1e-3), (0.0, 1e-3), [[0, 0], [0, 0]], "quintic")
 
 
-def _grid_topography(mod_of, rng_shape=(6, 7), method="cubic"):
-    """A random topography on the spur pair's pinion (removal of a few um)."""
-    x = np.linspace(-9e-3, 9e-3, rng_shape[0])
-    y = np.linspace(-0.5 * SPUR.face_width, 0.5 * SPUR.face_width, rng_shape[1])
-    rng = np.random.default_rng(11)
-    return Topography(x, y, rng.uniform(0, 6e-6, rng_shape), method)
+def _grid_topography():
+    """A random 6 x 7 bicubic topography over the spur pair's flank (0 to 6 um)."""
+    x = np.linspace(-9e-3, 9e-3, 6)
+    y = np.linspace(-0.5 * SPUR.face_width, 0.5 * SPUR.face_width, 7)
+    return Topography(x, y, np.random.default_rng(11).uniform(0, 6e-6, (6, 7)))
 
 
 @pytest.mark.parametrize("pair", [SPUR, HELICAL], ids=["spur", "helical"])
@@ -157,7 +156,7 @@ def test_topographies_act_at_the_grids_own_flank_coordinates(pair):
     """The grids carry where each point lies on both flanks (roll length from each
     gear's reference circle, axial position; built for the form deviations): a
     topography on each gear adds exactly its value there to every separation."""
-    topo_p = _grid_topography(None)
+    topo_p = _grid_topography()
     topo_g = replace(topo_p.reflected(), method="linear")
     mods = (FlankModification(topography=topo_p), FlankModification(topography=topo_g))
     for f in (0.0, 0.37, 0.8):
@@ -417,8 +416,9 @@ def test_the_result_carries_a_map_of_each_modified_gear_and_the_report_draws_it(
     keys = _topography_keys(
         "pinion", [-15, -5, 5, 15], [-20, -5, 5, 20], [[0, 1, 2, 6], [1, 1, 1, 1]] * 2
     ) | {"gear_profile_slope_um": 4.0, "gear_flank_twist_um": 5.0}
-    s = scene.replaced(ltca=keys | {"positions": 6, "flanks": ["drive"]})
-    s = s.replaced(load={"torques_Nm": [300.0]})
+    s = scene.replaced(
+        ltca=keys | {"positions": 6, "flanks": ["drive"]}, load={"torques_Nm": [300.0]}
+    )
     mods = modifications_from_scene(design, s)
     maps = modification_maps(design, mods)
     assert set(maps) == {"pinion", "gear"}

@@ -354,19 +354,22 @@ class FlankModification:
 
     @property
     def active(self) -> bool:
-        return any(
-            v != 0
-            for v in (
-                self.tip_relief,
-                self.root_relief,
-                self.profile_crowning,
-                self.lead_crowning,
-                self.end_relief,
-                self.helix_slope,
-                self.profile_slope,
-                self.flank_twist,
+        return (
+            any(
+                v != 0
+                for v in (
+                    self.tip_relief,
+                    self.root_relief,
+                    self.profile_crowning,
+                    self.lead_crowning,
+                    self.end_relief,
+                    self.helix_slope,
+                    self.profile_slope,
+                    self.flank_twist,
+                )
             )
-        ) or (self.topography is not None and self.topography.active)
+            or self.topography_active
+        )
 
     def describe(self) -> str:
         """The terms that are set, in um and mm (``"none"`` without any)."""
@@ -389,7 +392,7 @@ class FlankModification:
             amount = getattr(self, name)
             if amount != 0:
                 parts.append(f"{name.replace('_', ' ')} {amount * 1e6:g} um")
-        if self.topography is not None and self.topography.active:
+        if self.topography_active:
             parts.append(self.topography.describe())
         return ", ".join(parts) or "none"
 
@@ -452,6 +455,7 @@ class FlankModification:
         if not self.active:
             return out
         rb = float(base_radius)
+        xi = np.sqrt(np.maximum(r**2 - rb**2, 0.0))  # roll length
         if self.tip_relief > 0:
             out = out + self.tip.removal(r, tip_radius, rb)
         if self.profile_active:
@@ -459,7 +463,6 @@ class FlankModification:
                 raise ValueError("form_radius is needed for the profile terms")
             rF = np.maximum(np.asarray(form_radius, dtype=float), rb)
             ra = np.asarray(tip_radius, dtype=float)
-            xi = np.sqrt(np.maximum(r**2 - rb**2, 0.0))
             xF = np.sqrt(rF**2 - rb**2)
             xa = np.sqrt(ra**2 - rb**2)
             if self.root_relief > 0:
@@ -496,7 +499,6 @@ class FlankModification:
         if self.topography_active:
             if reference_radius is None:
                 raise ValueError("reference_radius is needed for a topography")
-            xi = np.sqrt(np.maximum(r**2 - rb**2, 0.0))
             xr = math.sqrt(max(float(reference_radius) ** 2 - rb**2, 0.0))
             out = out + self.topography(xi - xr, w)
         return out

@@ -295,12 +295,12 @@ def plot_modification_map(flank_map, ax=None, title: str = ""):
     (:func:`gearbox.ltca.modification.removal_map`): roll length from the reference
     circle (mm, form circle to tip) against the axial position from the face middle
     (mm), filled contours with a colour bar. Returns the axes."""
+    from matplotlib.ticker import MaxNLocator
+
     ax = _axes(ax)
     w = np.broadcast_to(flank_map["face_m"][:, None], flank_map["roll_m"].shape) * 1e3
     roll = flank_map["roll_m"] * 1e3
     um = flank_map["removal_m"] * 1e6
-    from matplotlib.ticker import MaxNLocator
-
     lo, hi = float(um.min()), float(um.max())
     if hi - lo < 1e-9:  # a flat map: one level
         lo, hi = lo - 0.5, hi + 0.5
