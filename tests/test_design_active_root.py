@@ -17,7 +17,7 @@ import pytest
 from gearbox import load_scene
 from gearbox.errors import InputError
 from gearbox.geometry import PairSpec, design_pair
-from gearbox.surface import blanks_from_design, flank_points, involute_start
+from gearbox.surface import blanks_from_design, flank_points, fold_parameter, involute_start
 from gearbox.tca import TCASettings, run_tca
 
 SETTINGS = TCASettings(positions=41, mesh_cycles=2.0)
@@ -85,11 +85,13 @@ def test_undercut_pinion_tca_keeps_to_the_involute_and_ltca_refuses():
     pinion, gear = blanks_from_design(design)
     for side in "RL":
         z = np.array([pinion.z_toe, 0.0, pinion.z_heel])
-        u = involute_start(pinion, side, z)
+        u = fold_parameter(pinion, side, z)
         assert np.all(u > 0)
         # the fold lies on the base cylinder (docs/surface.md)
         r = flank_points(pinion, side, z, u, involute_only=True).radius
         assert np.allclose(r, design.pinion.base_radius["RL".index(side)], rtol=0, atol=1e-9)
+        # the fillet cuts the regular involute above the fold
+        assert np.all(involute_start(pinion, side, z) > u)
         assert np.all(involute_start(gear, side, z) == 0)
     res = run_tca(design, scene, settings=SETTINGS)
     s = res.summary()

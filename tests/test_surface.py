@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from _rack import deepest
 from scipy.optimize import least_squares
 
 from gearbox.surface import (
@@ -242,52 +243,10 @@ def test_rack_never_cuts_into_generated_flank(name):
     the rack tooth's flank plane and tip rounding touch each generated point once and
     never pass through it (a point inside the rack tooth would be cut away)."""
     b = BLANKS[name]
-    a, be, g = b.normal_pressure_angle, b.helix_angle, b.cone_angle
-    m, rho, rp = b.normal_module, b.tool_tip_radius, b.reference_pitch_radius
-    # rack axes in the fixed frame (x: motion, v: tilted outward, w: tilted axial)
-    V = np.array([0, math.cos(g), -math.sin(g)])
-    W = np.array([0, math.sin(g), math.cos(g)])
-    tn = np.array([math.cos(be), 0, math.sin(be)])  # normal-section pitch direction, rack axes
-    R = np.stack([np.array([1.0, 0, 0]), V, W], axis=1)  # rack axes -> fixed frame
-    o = np.array([0, rp + b.profile_shift_xt * b.transverse_module, 0])
-    phis = np.linspace(-0.6, 0.6, 24001)
     for side, sigma in (("R", -1), ("L", 1)):
         zg, ug = np.meshgrid([b.z_toe, 0.0, b.z_heel], np.linspace(profile_range(b)[0], 6e-3, 9))
         pts = flank_points(b, side, zg, ug).position.reshape(-1, 3)
-        worst = []
-
-        def depth_of(p, phis, sigma=sigma):
-            c, s = np.cos(phis), np.sin(phis)
-            # gear point in the fixed frame when the gear has turned by phi, then in rack
-            # axes relative to the moved rack (rack moved by -r_p phi along x)
-            f = np.stack([c * p[0] - s * p[1], s * p[0] + c * p[1], np.full_like(c, p[2])], 1)
-            f[:, 0] += rp * phis
-            q = (f - o) @ R  # rack axes (u, v, w)
-            sn, vv = q @ tn, q[:, 1]  # normal-section coordinates
-            # signed depth inside the rack tooth (positive = inside): the smallest of the
-            # distances to its two flank planes, its tip plane and, in the corners, its
-            # tip rounding
-            s0 = sigma * math.pi * m / 4
-            s1 = sigma * 3 * math.pi * m / 4  # the same rack tooth's other flank
-            d_this = sigma * math.cos(a) * (sn - s0) + math.sin(a) * vv
-            d_other = -sigma * math.cos(a) * (sn - s1) + math.sin(a) * vv
-            d_tip = vv + b.tool_addendum
-            vc = -b.tool_addendum + rho
-            sc = s0 + sigma * (rho - math.sin(a) * vc) / math.cos(a)
-            # the arc is the nearest boundary in the sector between its two tangency normals
-            corner = (sigma * (sn - sc) <= 0) & (
-                (sn - sc) * (-sigma * math.sin(a)) + (vv - vc) * math.cos(a) < 0
-            )
-            d_round = np.where(corner, rho - np.hypot(sn - sc, vv - vc), np.inf)
-            return np.minimum(np.minimum(d_this, d_other), np.minimum(d_tip, d_round))
-
-        for p in pts:
-            coarse = depth_of(p, phis)
-            i = int(np.argmax(coarse))
-            fine = depth_of(
-                p, np.linspace(phis[max(i - 2, 0)], phis[min(i + 2, phis.size - 1)], 4001)
-            )
-            worst.append(max(coarse.max(), fine.max()))
+        worst = [deepest(b, sigma, p) for p in pts]
         worst = np.array(worst)
         # touches (max depth ~ 0 to within the fine phi step 1e-7 rad, second order)
         # and never penetrates by more than that

@@ -17,6 +17,8 @@ from .blank import blanks_from_design as blanks_from_design
 from .generation import FlankPoints as FlankPoints
 from .generation import flank_jets as flank_jets
 from .generation import flank_points as flank_points
+from .generation import fold_parameter as fold_parameter
+from .generation import form_point as form_point
 from .generation import involute_start as involute_start
 from .generation import principal_curvatures as principal_curvatures
 from .generation import profile_range as profile_range
@@ -43,6 +45,8 @@ __all__ = [
     "tip_parameter",
     "tooth_csv",
     "tooth_grid",
+    "fold_parameter",
+    "form_point",
     "involute_start",
     "undercut_margin",
 ]
