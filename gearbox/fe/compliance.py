@@ -57,7 +57,7 @@ from ..errors import InputError, Problem, Problems
 from ..ltca.grid import ContactGrid
 from ..ltca.slice_model import hertz_half_width
 from ..surface.blank import ToothBlank
-from ..surface.generation import flank_jets, flank_points
+from ..surface.generation import flank_jets, flank_points, involute_start
 from ..surface.sample import SolveFailure, parameter_at_radius, tip_parameter
 from .boussinesq import depth_deflection, surface_deflection
 from .extent import extent_limit
@@ -469,8 +469,9 @@ class FECompliance:
         nz = max(2, int(math.ceil(blank.face_width / h)) + 1)
         z = np.linspace(blank.z_toe, blank.z_heel, nz)
         u_tip = float(np.min(tip_parameter(blank, side, z)[0]))
-        nu = max(2, int(math.ceil(u_tip / h)) + 1)
-        u = np.linspace(0.0, u_tip, nu)
+        u_form = float(np.max(involute_start(blank, side, z)))  # 0 without undercut
+        nu = max(2, int(math.ceil((u_tip - u_form) / h)) + 1)
+        u = np.linspace(u_form, u_tip, nu)
         lat = _Lattice(z=z, u=u)
         gm.lattices[side] = lat
         return lat

@@ -8,7 +8,9 @@ Each transverse layer ``z_l`` (toe to heel) is a structured quadrilateral sectio
 
 - tooth block: rows at rack-profile parameters ``u`` from the rack tip line ``u_min``
   (root circle, end of the fillet) through the fillet (``u < 0``) and the involute
-  (``u >= 0``) to the tip cone; each row joins the left-flank point L(u) and the
+  (``u >= 0``; on an undercut flank the fillet up to where it cuts the regular
+  involute and the involute from there, :func:`gearbox.surface.form_point`) to the
+  tip cone; each row joins the left-flank point L(u) and the
   right-flank point R(u) by interpolation in polar coordinates (radius and angle), with
   columns graded towards the flanks (cosine spacing), where the contact loads act;
 - rim block: the root land on both sides of the tooth down to the middle of the tooth
@@ -32,7 +34,7 @@ import numpy as np
 
 from ..errors import InputError, Problem, Problems
 from ..surface.blank import ToothBlank
-from ..surface.generation import flank_points, profile_range
+from ..surface.generation import flank_points, form_point, profile_range
 from ..surface.sample import tip_parameter
 
 __all__ = ["MeshOptions", "ToothMesh", "FEBuildError", "build_tooth_mesh"]
@@ -190,10 +192,15 @@ def _section(blank, z, opts, u_min, bore, probs, where):
     for side in ("L", "R"):
         u_tip, _ = tip_parameter(blank, side, np.array([z]))
         u_tip = float(u_tip[0])
-        up = np.linspace(0.0, u_tip, npf + 1)
+        # the fillet up to where it meets the involute: u = 0 on both, or on an
+        # undercut flank where it cuts the regular involute (form_point)
+        # (the mid-side nodes of the row between are the fillet's: each branch is
+        # halved on its own)
+        uf, ui = (float(v[0]) for v in form_point(blank, side, np.array([z])))
+        up = _half_steps(np.linspace(ui, u_tip, npf + 1))
         if u_min < 0:
-            up = np.concatenate([np.linspace(u_min, 0.0, nf + 1)[:-1], up])
-        us[side] = _half_steps(up)
+            up = np.concatenate([_half_steps(np.linspace(u_min, uf, nf + 1))[:-1], up])
+        us[side] = up
     pts = {s: flank_points(blank, s, np.full(us[s].shape, z), us[s]).position for s in us}
     rL, thL = _polar(pts["L"])
     rR, thR = _polar(pts["R"])

@@ -177,12 +177,15 @@ def tip_relief_from_scene(design, scene) -> tuple[FlankModification, FlankModifi
 
 
 def _form_radius(blank, gd, z) -> np.ndarray:
-    """Form-circle radius (where the involute starts, rack parameter u = 0) of both
-    flanks at axial positions ``z``, shape (2, len(z)): rows R, L."""
+    """Form-circle radius (where the involute starts: rack parameter u = 0, or on an
+    undercut flank where the fillet cuts it, :func:`gearbox.surface.involute_start`)
+    of both flanks at axial positions ``z``, shape (2, len(z)): rows R, L."""
+    from ..surface import involute_start
+
     z = np.asarray(z, dtype=float)
     rows = []
     for side in ("R", "L"):
-        p, _, _, _ = _jets(blank, side, z, np.zeros_like(z))
+        p, _, _, _ = _jets(blank, side, z, involute_start(blank, side, z))
         rows.append(np.hypot(p[:, 0], p[:, 1]))
     return np.stack(rows)
 
@@ -425,7 +428,7 @@ def separation_field(
     relief: (pinion, gear) :class:`FlankModification` (or :class:`TipRelief`); ``None``
     takes the scene's (:func:`modifications_from_scene`). Its removal is added to every
     separation."""
-    from ..surface import blanks_from_design, tip_parameter
+    from ..surface import blanks_from_design, involute_start, tip_parameter
 
     pinion, gear = blanks_from_design(design)
     if relief is None:
@@ -437,13 +440,15 @@ def separation_field(
     dz = pinion.face_width / n_face
     z = pinion.z_toe + dz * (np.arange(n_face) + 0.5)
     u_tip, _ = tip_parameter(pinion, side, z)
+    u_form = involute_start(pinion, side, z)
     frac = (np.arange(n_profile) + 0.5) / n_profile
-    u = u_tip[:, None] * frac[None, :]  # (S, U): form circle (u = 0) to tip
+    # (S, U): form circle (u = 0, or an undercut flank's cut by the fillet) to tip
+    u = u_form[:, None] + (u_tip - u_form)[:, None] * frac[None, :]
     zz = np.repeat(z, n_profile)
     uu = u.ravel()
     p1, _, _, n1 = _jets(pinion, side, zz, uu)
     relief1 = mods.pinion(p1)  # (npts,) removal on the pinion, fixed over the angles
-    phase = _gear_phase(design, asm, pinion, gear, side, 0.0, 0.5 * float(u_tip.mean()))
+    phase = _gear_phase(design, asm, pinion, gear, side, 0.0, 0.5 * float((u_form + u_tip).mean()))
     phi1 = np.arange(pitches[0] * positions, pitches[1] * positions + 1) * (pitch / positions)
     M = phi1.size
     npts = zz.size
@@ -456,6 +461,7 @@ def separation_field(
     # linear interpolation on 201 points is exact to well below a micrometre)
     z2_tab = np.linspace(z2_toe, z2_heel, 201)
     u2_tab, _ = tip_parameter(gear, side, z2_tab)
+    u2_form_tab = involute_start(gear, side, z2_tab)
     total_it = 0
     x = None
     # continuation from the middle of the engagement outwards
@@ -477,7 +483,9 @@ def separation_field(
         total_it += it
         prev[i] = np.where(ok[:, None], x, x0)
         u2_tip = np.interp(x[:, 0], z2_tab, u2_tab)
-        on = ok & (x[:, 0] >= z2_toe) & (x[:, 0] <= z2_heel) & (x[:, 1] >= 0) & (x[:, 1] <= u2_tip)
+        u2_form = np.interp(x[:, 0], z2_tab, u2_form_tab)
+        on = ok & (x[:, 0] >= z2_toe) & (x[:, 0] <= z2_heel)
+        on &= (x[:, 1] >= u2_form) & (x[:, 1] <= u2_tip)
         r2, _, _, _ = _jets(gear, side, x[:, 0], x[:, 1])
         t = x[:, 2]
         if mods.active:
@@ -574,7 +582,7 @@ def _refine_lines(
     The vertex is sought on the flanks' continuation (``sep_ext``) so that a minimum
     just inside the border of the sampled range is found; it is an edge point only
     when the refined minimum lies off either real flank."""
-    from ..surface import tip_parameter
+    from ..surface import involute_start, tip_parameter
 
     M, S, U = sep.shape
     valid = np.isfinite(sep)
@@ -638,8 +646,11 @@ def _refine_lines(
         good &= np.isfinite(smin) & (c2 > 0)
         # the refined minimum must lie on both real flanks
         u1_tip, _ = tip_parameter(pinion, side, z[sa])
-        u2_tip, _ = tip_parameter(gear, side, np.clip(xk0[:, 0], gear.z_toe, gear.z_heel))
-        on = (ustar >= 0) & (ustar <= u1_tip) & (xk0[:, 1] >= 0) & (xk0[:, 1] <= u2_tip)
+        z2 = np.clip(xk0[:, 0], gear.z_toe, gear.z_heel)
+        u2_tip, _ = tip_parameter(gear, side, z2)
+        u1_form, u2_form = involute_start(pinion, side, z[sa]), involute_start(gear, side, z2)
+        on = (ustar >= u1_form) & (ustar <= u1_tip)
+        on &= (xk0[:, 1] >= u2_form) & (xk0[:, 1] <= u2_tip)
         on &= (xk0[:, 0] >= gear.z_toe) & (xk0[:, 0] <= gear.z_heel)
         edge[ia[good & ~on], sa[good & ~on]] = True
         good &= on
@@ -884,29 +895,15 @@ def scene_compliance(design, scene):
 
 
 def refuse_unmodelled_teeth(design) -> None:
-    """InputError naming each undercut gear (its design check ``*_undercut_*`` fails)
-    and each gear with pointed teeth (a normal tip thickness below 0, ``*_topping``):
-    the loaded TCA's contact grids and separations take the flank down to u = 0, which
-    on an undercut flank is the envelope's folded branch. On case 03's pair with a
-    12-tooth pinion undercut by 0.99 mm that gave a 28 um unloaded LTE of flanks whose
-    unloaded TCA is conjugate (TE below 1e-10 arcsec)."""
+    """InputError naming each gear with pointed teeth (a normal tip thickness below 0,
+    design check ``*_topping``): the loaded TCA needs a tooth tip. Undercut flanks are
+    taken from where the fillet cuts the regular involute
+    (:func:`gearbox.surface.involute_start`; the slices' outline
+    :func:`gearbox.ltca.slice_model.fillet_top`, the FE level's mesh
+    :func:`gearbox.surface.form_point`); before, the grids had reached down the
+    envelope's folded branch below that point."""
     p = Problems()
     for name, g in (("pinion", design.pinion), ("gear", design.gear)):
-        bad = {
-            f: c.margin
-            for f in ("right", "left")
-            if not (c := design.checks[f"{name}_undercut_{f}"]).ok
-        }
-        if bad:
-            worst = min(bad.values())
-            p.add(
-                f"{name}.profile_shift_xt",
-                round(g.profile_shift_xt, 5),
-                f"the {name} is undercut ({', '.join(f'{name}_undercut_{f}' for f in bad)}: "
-                f"{-worst * 1e3:.3f} mm below the interference point): the loaded TCA needs "
-                f"flanks without undercut; a larger profile shift or more teeth "
-                f"({name}.teeth = {g.teeth})",
-            )
         top = design.checks.get(f"{name}_topping")
         if top is not None and top.margin + TOPPING_MIN_SAN * design.spec.normal_module < 0:
             s_an = top.margin + TOPPING_MIN_SAN * design.spec.normal_module
@@ -918,6 +915,34 @@ def refuse_unmodelled_teeth(design) -> None:
                 "profile shift, or the offset for another backlash-free gear shift",
             )
     p.raise_if_any("the loaded TCA cannot take this design")
+
+
+def interference_notes(design, flanks) -> tuple[str, ...]:
+    """A note for each analysed flank whose mating tip meets a gear's flank below its
+    root form circle (the design check ``*_active_root_*`` fails: meshing
+    interference with the fillet or, on an undercut gear, with the involute just above
+    the fillet's cut). The loaded TCA's flanks end at the form circles, so such a
+    tip's contact is an edge contact at the form circle there, not a model of the
+    interference: its unloaded TE and edge loads then measure the interference's
+    reach, not the flanks' deflection."""
+    out = []
+    for flank in flanks:
+        name = "right" if _FLANK_SIDE[flank] == "R" else "left"
+        for gear in ("pinion", "gear"):
+            check = design.checks.get(f"{gear}_active_root_{name}")
+            if check is None or check.ok:
+                continue
+            mate = "gear" if gear == "pinion" else "pinion"
+            out.append(
+                f"{flank} flank: the {mate}'s tip meets the {gear} "
+                f"{-check.margin * 1e3:.3f} mm of path below its root form circle "
+                f"(design check {gear}_active_root_{name}: meshing interference). The loaded "
+                f"TCA's flanks end at the form circle, so that contact appears as edge "
+                f"contact there: the unloaded TE and edge load it brings come from that "
+                f"edge, not from a model of the interference; a larger {gear} profile shift "
+                f"or a shorter {mate} tip clears it."
+            )
+    return tuple(out)
 
 
 def refuse_no_overlap(design, flanks) -> None:
@@ -1026,7 +1051,7 @@ def beveloid_ltca(
         from .validity import fast_level_notes
 
         notes = fast_level_notes(made[first][0][0])
-    notes = tuple(notes) + topography_notes(relief)
+    notes = tuple(notes) + topography_notes(relief) + interference_notes(design, lt["flanks"])
     return LTCAResult(
         flanks=results,
         table=table,

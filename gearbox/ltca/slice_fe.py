@@ -30,7 +30,7 @@ import numpy as np
 
 from ..geometry.involute import inv
 from .grid import ToothSections
-from .slice_model import _fillet_points, _half_angle, fillet_root
+from .slice_model import _fillet_points, _half_angle, fillet_root, fillet_top
 
 __all__ = [
     "fe_tooth_compliance",
@@ -56,14 +56,13 @@ def section_outline(sections, i: int = 0, *, normal: bool = True, samples: int =
     (where the fillet ends) to the tip circle, increasing, and the half
     tooth-thickness angle at it (fillet below the fillet's top, involute above)."""
     theta_f, rg, sc, yc, rr, alpha = (np.atleast_1d(v)[i] for v in fillet_root(sections, normal))
-    rb = float(sections.base_radius[i])
-    psi_b = float(sections.base_half_angle[i])
-    ra = float(sections.tip_radius[i])
+    rb = float(np.atleast_1d(sections.base_radius)[i])
+    psi_b = float(np.atleast_1d(sections.base_half_angle)[i])
+    ra = float(np.atleast_1d(sections.tip_radius)[i])
     phi0 = sc / rg
-    phi1 = (sc + yc / np.tan(alpha)) / rg
+    phi1, top = (float(np.atleast_1d(v)[i]) for v in fillet_top(sections, normal))
     phi = np.linspace(phi0, phi1, samples)
     rho_f, psi_f = _fillet_points(phi, rg, sc, yc, rr)
-    top = max(float(rho_f[-1]), rb)
     keep = rho_f < top
     rho_i = np.linspace(top, ra, samples)
     psi_i = _half_angle(rho_i, rb, psi_b)

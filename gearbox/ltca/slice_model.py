@@ -152,6 +152,42 @@ def fillet_root(sections, normal: bool = True):
     return sc / r, r, sc, yc, rho, alpha
 
 
+def fillet_top(sections, normal: bool = True):
+    """Where the tooth's outline passes from the fillet to the involute: ``(phi, rho)``,
+    the rolling angle of the fillet point and its radius, each shape (n,).
+
+    Without undercut the fillet ends where the rack's straight flank starts, ``phi_1 =
+    (s_c + y_c / tan(alpha)) / r``, on the involute (or, should that point lie below the
+    base circle, the outline takes the involute from the base circle). A tooth is
+    undercut when that start lies deeper below the pitch line than the interference
+    point, ``y_c + rho sin(alpha) > r sin^2(alpha)`` (ISO 21771's condition, the rack's
+    form line below the line of action's end): the envelope of the straight flank then
+    folds on the base circle, and the fillet cuts the regular involute above it, where
+    the fillet's half-angle passes the involute's (found by bisection between the
+    fillet's point on the base circle and phi_1); the outline is the fillet below that
+    point and the involute above it (the same cut the generated surface makes,
+    :func:`gearbox.surface.form_point`)."""
+    _, rg, sc, yc, rr, alpha = fillet_root(sections, normal)
+    rb = np.broadcast_to(np.asarray(sections.base_radius, float), np.shape(rg))
+    psi_b = np.broadcast_to(np.asarray(sections.base_half_angle, float), np.shape(rg))
+    phi0 = sc / rg
+    phi1 = (sc + yc / np.tan(alpha)) / rg
+    r_top, _ = _fillet_points(phi1, rg, sc, yc, rr)
+    cut = yc + rr * np.sin(alpha) > rg * np.sin(alpha) ** 2
+    if not np.any(cut):
+        return phi1, np.maximum(r_top, rb)
+    a = (rg, sc, yc, rr)
+    phi_b = _bisect(lambda p: _fillet_points(p, *a)[0], rb, phi0, phi1)
+
+    def gap(p):  # the fillet's half-angle less the involute's at the same radius
+        rho, psi = _fillet_points(p, *a)
+        return psi - _half_angle(rho, rb, psi_b)
+
+    phi_c = _bisect(gap, 0.0, phi_b, phi1, steps=60)
+    r_c, _ = _fillet_points(phi_c, *a)
+    return np.where(cut, phi_c, phi1), np.where(cut, r_c, np.maximum(r_top, rb))
+
+
 def _fillet_points(phi, r, sc, yc, rho):
     """Radius and half-angle (from the tooth's centre line) of the fillet point cut at
     rolling angle phi (arrays broadcast): the rack's tip-round centre C = (s_c - r phi,
@@ -251,9 +287,7 @@ def slice_compliance(
         # normal is the flank's (phi_1 = (s_c + y_c / tan(alpha)) / r), in the rolling
         # angle; above it the involute
         phi0 = sc / rg
-        phi1 = (sc + yc / np.tan(alpha)) / rg
-        r_top, _ = _fillet_points(phi1, rg, sc, yc, rr)
-        top = np.maximum(r_top, rb)
+        phi1, top = fillet_top(sections, normal)
         rR = rL
         if beam_at == "centre_line":
             # the fillet up to the reading point where it lies below the fillet's top
