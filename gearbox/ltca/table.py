@@ -531,9 +531,9 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
     lt = scene["ltca"]
     options = options or LTCAOptions(positions=lt["positions"])
     if is_parallel(design):
-        from .beveloid import modifications_from_scene
+        from .beveloid import interference_notes, modifications_from_scene
 
-        return parallel_ltca(
+        res = parallel_ltca(
             parallel_pair_from_design(design, scene),
             scene["load"]["torques_Nm"],
             flanks=tuple(lt["flanks"]),
@@ -544,6 +544,8 @@ def scene_ltca(design, scene, *, options: LTCAOptions | None = None) -> LTCAResu
             relief=modifications_from_scene(design, scene),
             face_ends=lt["face_ends"],
         )
+        extra = interference_notes(design, lt["flanks"])
+        return replace(res, notes=tuple(res.notes) + extra) if extra else res
     from .beveloid import beveloid_ltca
 
     return beveloid_ltca(design, scene, options=options)
