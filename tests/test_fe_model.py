@@ -116,10 +116,36 @@ def test_tooth_mesh_nodes_lie_on_the_generated_flank():
 
 
 def test_overlapping_fillets_are_a_clear_error():
-    # a tool tip radius so large that neighbouring fillets overlap: no root land
-    b = _blank(teeth=8, tool_tip_radius=1.85e-3)
-    with pytest.raises(FEBuildError, match="root_land|fillet"):
+    # a tool tip radius so large (near the rack's pointed tip, 1.888 mm) that
+    # neighbouring fillets meet: no root land
+    b = _blank(teeth=8, tool_tip_radius=1.887e-3)
+    with pytest.raises(FEBuildError, match="root_land"):
         build_tooth_mesh(b, (0,), bore_radius=0.005, options=COARSE)
+
+
+def test_an_undercut_tooth_is_meshed_up_to_the_fillets_cut():
+    """8 teeth, tool tip radius 1.85 mm: undercut deeply (the fold at u* = 2.0 mm, the
+    fillet's cut at 2.8 mm of involute profile). The fillet rows end and the involute
+    rows start where the fillet cuts the regular involute, every node on the generated
+    flank, the model sound (before, the undercut loop was refused)."""
+    from gearbox.surface import flank_points, form_point
+
+    b = _blank(teeth=8, tool_tip_radius=1.85e-3)
+    m = build_tooth_mesh(b, (0,), bore_radius=0.005, options=COARSE)
+    for side in ("R", "L"):
+        u = m.flank_u[side]
+        z = m.z_layers[:, None] * np.ones(u.shape)
+        uf, ui = form_point(b, side, m.z_layers)
+        assert np.all(ui > 2e-3) and np.all(uf < 0)
+        # the row at the cut is the involute's (the same point as the fillet's uf), the
+        # fillet's last mid-side node halfway between its last node and uf
+        k = int(np.argmax(u[0] > 0))
+        assert np.allclose(u[:, k], ui, atol=1e-15) and np.all(u[:, :k] < uf[:, None])
+        assert np.allclose(2 * u[:, k - 1] - u[:, k - 2], uf, atol=1e-15)
+        nodes = m.flank_nodes[(0, side)]
+        fp = flank_points(b, side, z, u)
+        assert np.max(np.abs(m.p[:, nodes].transpose(1, 2, 0) - fp.position)) < 1e-12
+    assert build_model(m, 206e9, 0.3).residual < 1e-10
 
 
 def test_bore_outside_the_root_is_a_clear_error():
