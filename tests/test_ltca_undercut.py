@@ -116,7 +116,11 @@ def test_the_fast_level_reads_an_undercut_pinion_as_the_fe_level():
     cut and the involute from there (before, it refused the undercut loop). Measured:
     fast / FE stiffness 1.0009, LTE p-p 0.977 (81 s for the FE level on a 2-core
     machine); held to the tolerances the paper's cases meet (docs/ltca.md: stiffness
-    -4.5 .. +4.8 %, LTE p-p -4.4 .. +4.1 %), 5 % each."""
+    -4.5 .. +4.8 %, LTE p-p -4.4 .. +4.1 %), 5 % each. The largest root stresses
+    (ISO 6336-3 slices against the FE fillet): pinion 107.1 / 105.9 MPa (+1.2 %), gear
+    97.9 / 93.3 MPa (+5.0 %), in the paper's drive flanks' range (+1.6 .. +5.5 %,
+    +3.7 .. +7.4 %); held to 10 %, as tests/test_ltca_fe_root_stress.py holds the
+    fast level on case 03."""
     rows = {}
     for fidelity in ("fast", "fe"):
         scene, design = _undercut_pair(fidelity)
@@ -126,6 +130,8 @@ def test_the_fast_level_reads_an_undercut_pinion_as_the_fe_level():
     assert rows["fast"][k] / rows["fe"][k] == pytest.approx(1.0, abs=0.05)
     k = "lte_peak_to_peak_m"
     assert rows["fast"][k] / rows["fe"][k] == pytest.approx(1.0, abs=0.05)
+    for k in ("max_root_stress_pinion_Pa", "max_root_stress_gear_Pa"):
+        assert rows["fast"][k] == pytest.approx(rows["fe"][k], rel=0.10), k
 
 
 def _parallel(z1, x1, gear_addendum=1.0):
