@@ -7,6 +7,8 @@ import math
 import numpy as np
 import pytest
 from _rack import deepest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from gearbox.surface import (
     ToothBlank,
@@ -72,3 +74,37 @@ def test_a_flank_free_of_undercut_starts_at_the_fillets_end():
         assert np.all(fold_parameter(FREE, side, z) == 0)
         uf, ui = form_point(FREE, side, z)
         assert np.all(uf == 0) and np.all(ui == 0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    teeth=st.integers(6, 22),
+    xt=st.floats(-0.6, 0.4),
+    beta=st.floats(-30.0, 30.0),
+    gamma=st.floats(-6.0, 6.0),
+    rho=st.floats(0.05, 0.38),
+)
+def test_form_point_holds_on_random_blanks(teeth, xt, beta, gamma, rho):
+    """Random small gears (undercut or not): where the blank is valid, the cut is found
+    in every section of the face, the fillet's and the involute's points agree to 1e-11
+    m, the cut lies above the fold and on the fillet, and a flank free of undercut
+    starts at 0."""
+    from gearbox.errors import InputError
+
+    try:
+        b = ToothBlank(
+            teeth, 0.006, D(20.0), D(beta), D(gamma), xt, 0.03, tool_tip_radius=rho * 0.006
+        ).validate()
+    except InputError:
+        return
+    z = np.linspace(b.z_toe, b.z_heel, 5)
+    for side in "RL":
+        ustar = fold_parameter(b, side, z)
+        uf, ui = form_point(b, side, z)
+        assert np.all(np.isfinite(uf)) and np.all(np.isfinite(ui))
+        cut = ustar > 0
+        assert np.all(uf[~cut] == 0) and np.all(ui[~cut] == 0)
+        assert np.all(ui[cut] >= ustar[cut]) and np.all(uf[cut] <= 0)
+        assert np.all(uf > profile_range(b)[0])
+        gap = flank_points(b, side, z, uf).position - flank_points(b, side, z, ui).position
+        assert np.abs(gap).max() < 1e-11
