@@ -138,6 +138,13 @@ def fillet_root(sections, normal: bool = True):
     transverse sections (m_t, alpha_t; the round taken as a circle of radius rho_fP m_n
     there too, exact for spur teeth). Returns ``(theta_f, r, s_c, y_c, rho, alpha)``,
     each shape (n,): the root half-angle including the fillets and the rack data.
+
+    A profile shift above ``h_fP - rho_fP`` puts the round's centre above the pitch
+    line (y_c < 0); at exactly that shift (y_c = 0) the round cuts its whole arc at one
+    rolling angle, and y_c is taken 1e-9 m_n off the line (its sign kept), where the
+    rolling angles of :func:`_fillet_points` still spread over that arc. (Such a
+    section, x = 1.0 for the ISO 53 rack, is a node of the FE tooth tables' lattice: it
+    had failed their factorisation, and a shift above it had lost its fillet.)
     """
     beta = 0.0 if normal else np.abs(sections.helix_angle)
     an = sections.normal_pressure_angle
@@ -148,6 +155,7 @@ def fillet_root(sections, normal: bool = True):
     x = sections.profile_shift
     rho = sections.rack_root_radius * mn
     yc = (sections.rack_dedendum - x) * mn - rho
+    yc = np.where(np.abs(yc) < 1e-9 * mn, np.where(yc < 0, -1e-9, 1e-9) * mn, yc)
     sc = 0.25 * np.pi * m + x * mn * np.tan(alpha) + yc * np.tan(alpha) + rho / np.cos(alpha)
     return sc / r, r, sc, yc, rho, alpha
 
@@ -191,11 +199,13 @@ def fillet_top(sections, normal: bool = True):
 def _fillet_points(phi, r, sc, yc, rho):
     """Radius and half-angle (from the tooth's centre line) of the fillet point cut at
     rolling angle phi (arrays broadcast): the rack's tip-round centre C = (s_c - r phi,
-    r - y_c) in the fixed frame, the cut point C - rho (P - C) / |P - C| with the pitch
-    point P = (0, r), turned back by phi into the gear's frame."""
+    r - y_c) in the fixed frame, the point of the round whose normal passes through the
+    pitch point P = (0, r) on the side towards the gear's axis, ``C - rho sgn(y_c) (P -
+    C) / |P - C|`` (the far side from P when the centre lies below the pitch line, the
+    near side when it lies above), turned back by phi into the gear's frame."""
     cx, cy = sc - r * phi, r - yc
     dx, dy = -cx, r - cy
-    n = np.hypot(dx, dy)
+    n = np.hypot(dx, dy) * np.where(yc < 0, -1.0, 1.0)
     fx, fy = cx - rho * dx / n, cy - rho * dy / n
     gx = np.cos(phi) * fx + np.sin(phi) * fy
     gy = -np.sin(phi) * fx + np.cos(phi) * fy
