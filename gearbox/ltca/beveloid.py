@@ -923,8 +923,9 @@ def interference_notes(design, flanks) -> tuple[str, ...]:
     interference with the fillet or, on an undercut gear, with the involute just above
     the fillet's cut). The loaded TCA's flanks end at the form circles, so such a
     tip's contact is an edge contact at the form circle there, not a model of the
-    interference: its unloaded TE and edge loads then measure the interference's
-    reach, not the flanks' deflection."""
+    interference: the unloaded TE and edge load it brings come from that edge (on
+    case 03 with a 12-tooth pinion whose gear's tip reaches 10.2 mm of path below its
+    form circle, 18.4 um of unloaded TE p-p)."""
     out = []
     for flank in flanks:
         name = "right" if _FLANK_SIDE[flank] == "R" else "left"
