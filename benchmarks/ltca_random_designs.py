@@ -11,6 +11,13 @@ one whose design passes every design check but undercut (the gear's profile shif
 from the backlash-free condition) is kept; a draw without one is skipped. The loaded
 TCA (fast level, both flanks, 300 N m) then runs on each design.
 
+``--parallel``: parallel-axis helical pairs instead (tests/data/ltca_parallel_helical.toml
+with pinion teeth 12..40, gear teeth 20..80, x_1 -0.4..0.8, helix 0..25 deg at the
+standard centre distance, x_1 + x_2 = 0; designs that fail a check but undercut or
+the total contact ratio are skipped), each through both loaded TCA paths, the surface
+path (generated flanks) and the closed form: the ratio of their mean drive stiffness
+is printed per design and summarised (median, least, largest).
+
 Prints one row per design whose run is not plain (an error, a refusal, a stiffness
 outside 100..2000 MN/m or an unloaded TE above 0.1 um: the flanks are unmodified and
 conjugate) and a summary: designs, runs that succeeded, refused (InputError), failed
@@ -110,6 +117,70 @@ def run_one(draw, scene, design) -> Outcome:
     return Outcome(draw, "odd" if odd else "ok", seconds, "; ".join(odd), rows)
 
 
+def draw_parallel(rng, base):
+    """A random valid parallel helical pair (module doc): ``(draw, scene, design)`` or
+    None."""
+    from gearbox.geometry import PairSpec, design_pair
+
+    draw = {
+        "z1": int(rng.integers(12, 41)),
+        "z2": int(rng.integers(20, 81)),
+        "x1": float(rng.uniform(-0.4, 0.8)),
+        "beta_deg": float(rng.uniform(0, 25)),
+    }
+    b = math.radians(draw["beta_deg"])
+    mn = base["pair"]["normal_module_mm"]
+    scene = base.replaced(
+        pinion={
+            "teeth": draw["z1"],
+            "profile_shift_xt": draw["x1"] * math.cos(b),
+            "helix_angle_deg": draw["beta_deg"],
+        },
+        gear={"teeth": draw["z2"]},
+        pair={"offset_mm": (draw["z1"] + draw["z2"]) * mn / (2 * math.cos(b))},
+    )
+    try:
+        design = design_pair(PairSpec.from_scene(scene))
+    except Exception:  # noqa: BLE001 - a draw without a design: the next one
+        return None
+    skip = ("undercut", "total_contact_ratio", "gear_helix_angle_given")
+    if any(not c.ok and not any(w in k for w in skip) for k, c in design.checks.items()):
+        return None
+    return draw, scene, design
+
+
+def both_paths(draw, scene, design) -> Outcome:
+    """The surface path and the closed form of one parallel pair: the ratio of their
+    mean drive stiffness (closed / surface)."""
+    from gearbox.ltca.beveloid import beveloid_ltca
+    from gearbox.ltca.table import scene_ltca
+
+    t0 = time.perf_counter()
+    try:
+        surface, closed = beveloid_ltca(design, scene), scene_ltca(design, scene)
+    except Exception as exc:  # noqa: BLE001 - the point of a stress test
+        return Outcome(draw, "failed", time.perf_counter() - t0, repr(exc)[:300])
+    ks = float(surface.flanks["drive"].stiffness[0].mean())
+    kc = float(closed.flanks["drive"].stiffness[0].mean())
+    rows = {"surface_N_per_m": ks, "closed_N_per_m": kc, "ratio": kc / ks}
+    return Outcome(draw, "ok", time.perf_counter() - t0, f"closed / surface {kc / ks:.4f}", rows)
+
+
+def run_parallel(seed: int, designs: int, positions: int) -> list[Outcome]:
+    from gearbox import load_scene
+
+    base = load_scene(ROOT / "tests" / "data" / "ltca_parallel_helical.toml").replaced(
+        ltca={"positions": positions, "flanks": ["drive"]}, load={"torques_Nm": [300.0]}
+    )
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < designs:
+        got = draw_parallel(rng, base)
+        if got is not None:
+            out.append(both_paths(*got))
+    return out
+
+
 def run(seed: int, designs: int, positions: int) -> list[Outcome]:
     from gearbox import load_scene
 
@@ -130,9 +201,28 @@ def main(argv=None) -> None:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--designs", type=int, default=100)
     ap.add_argument("--positions", type=int, default=6)
+    ap.add_argument("--parallel", action="store_true", help="parallel pairs, both paths")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.parallel:
+        outcomes = run_parallel(args.seed, args.designs, args.positions)
+        for o in outcomes:
+            d = o.draw
+            print(
+                f"{o.status:8s} z {d['z1']}/{d['z2']} x_1 {d['x1']:.3f} beta {d['beta_deg']:.2f}: "
+                f"{o.detail}"
+            )
+        r = [o.rows["ratio"] for o in outcomes if o.status == "ok"]
+        failed = sum(o.status == "failed" for o in outcomes)
+        print(
+            f"seed {args.seed}: {len(outcomes)} parallel pairs, failed {failed}; closed form / "
+            f"surface path, mean drive stiffness: median {statistics.median(r):.4f}, "
+            f"least {min(r):.4f}, largest {max(r):.4f}; {time.perf_counter() - t0:.0f} s in all"
+        )
+        if args.json:
+            args.json.write_text(json.dumps([asdict(o) for o in outcomes], indent=1))
+        return
     outcomes = run(args.seed, args.designs, args.positions)
     for o in outcomes:
         if o.status != "ok":
