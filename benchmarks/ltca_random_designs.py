@@ -166,19 +166,24 @@ def both_paths(draw, scene, design) -> Outcome:
     return Outcome(draw, "ok", time.perf_counter() - t0, f"closed / surface {kc / ks:.4f}", rows)
 
 
+def _collect(draw, analyse, base, seed: int, designs: int) -> list[Outcome]:
+    """``designs`` outcomes of ``analyse(*draw(rng, base))``, skipping empty draws."""
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < designs:
+        got = draw(rng, base)
+        if got is not None:
+            out.append(analyse(*got))
+    return out
+
+
 def run_parallel(seed: int, designs: int, positions: int) -> list[Outcome]:
     from gearbox import load_scene
 
     base = load_scene(ROOT / "tests" / "data" / "ltca_parallel_helical.toml").replaced(
         ltca={"positions": positions, "flanks": ["drive"]}, load={"torques_Nm": [300.0]}
     )
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < designs:
-        got = draw_parallel(rng, base)
-        if got is not None:
-            out.append(both_paths(*got))
-    return out
+    return _collect(draw_parallel, both_paths, base, seed, designs)
 
 
 def run(seed: int, designs: int, positions: int) -> list[Outcome]:
@@ -187,13 +192,7 @@ def run(seed: int, designs: int, positions: int) -> list[Outcome]:
     base = load_scene(ROOT / "models" / "case03.toml").replaced(
         ltca={"positions": positions}, load={"torques_Nm": [300.0]}
     )
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < designs:
-        got = draw_design(rng, base)
-        if got is not None:
-            out.append(run_one(*got))
-    return out
+    return _collect(draw_design, run_one, base, seed, designs)
 
 
 def main(argv=None) -> None:

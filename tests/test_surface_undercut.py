@@ -104,7 +104,9 @@ def test_form_point_holds_on_random_blanks(teeth, xt, beta, gamma, rho):
         assert np.all(np.isfinite(uf)) and np.all(np.isfinite(ui))
         cut = ustar > 0
         assert np.all(uf[~cut] == 0) and np.all(ui[~cut] == 0)
-        assert np.all(ui[cut] >= ustar[cut]) and np.all(uf[cut] <= 0)
+        # above 1.1 u*, where the loaded TCA's projection keeps an undercut gear's u_2
+        # (beveloid._project); measured 1.29 .. 1.50 u* on 1180 sections of such blanks
+        assert np.all(ui[cut] > 1.1 * ustar[cut]) and np.all(uf[cut] <= 0)
         assert np.all(uf > profile_range(b)[0])
         gap = flank_points(b, side, z, uf).position - flank_points(b, side, z, ui).position
         assert np.abs(gap).max() < 1e-11
