@@ -38,7 +38,13 @@ def test_tca_verb_writes_outputs_and_prints_json(tmp_path, capsys):
 
 
 def test_tca_verb_separated_gears_exit_2(tmp_path, capsys):
-    text = (MODELS / "case03.toml").read_text() + "\n[assembly]\noffset_error_mm = 3.0\n"
+    """Case 03 on axes 15 mm further apart than designed (the gear's x_t2 kept): the
+    tip cylinders no longer overlap. (An offset error of 3 mm had stood for this; the
+    flanks' borders still touch there, at the face ends: tests/test_tca_edge.py.)"""
+    text = (MODELS / "case03.toml").read_text().replace(
+        "offset_mm = 229.0", "offset_mm = 244.0\nbacklash_free = false"
+    )
+    text = text.replace("[gear]\n", "[gear]\nprofile_shift_xt = 0.2191\n")
     scene = tmp_path / "far.toml"
     scene.write_text(text)
     rc = main(["tca", str(scene), "--out", str(tmp_path / "o"), "--no-figures"])

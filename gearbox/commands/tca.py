@@ -17,14 +17,21 @@ def add_arguments(parser):
     parser.add_argument("--no-figures", action="store_true", help="skip the PNG figures")
 
 
+def _num(value, spec: str) -> str:
+    """A summary number in ``spec``, or "n/a" where the summary has none (None)."""
+    return "n/a" if value is None else format(value, spec)
+
+
 def _path_csv(result) -> str:
-    """One row per (side, position, tooth pair) with contact; angle first."""
+    """One row per (side, position, tooth pair) with contact; angle first. ``edge``:
+    the border that sets the position's gear angle where no pair's surfaces touch
+    (``FlankContact.edge``), empty elsewhere."""
     import numpy as np
 
     lines = [
         "side,pinion_angle_deg,pair,active,limit,gear_angle_deg,te_arcsec,x_mm,y_mm,z_mm,nx,ny,nz,"
         "pinion_z_mm,pinion_face,pinion_profile,gear_z_mm,gear_face,gear_profile,fpd_deg,"
-        "ellipse_major_mm,ellipse_minor_mm,ellipse_angle_deg,iterations"
+        "ellipse_major_mm,ellipse_minor_mm,ellipse_angle_deg,iterations,edge"
     ]
     arcsec = 180 / np.pi * 3600
     for fc in (result.drive, result.coast):
@@ -43,7 +50,8 @@ def _path_csv(result) -> str:
                     f"{n[0]:.9f},{n[1]:.9f},{n[2]:.9f},{fc.pinion_zu[i, j, 0] * 1e3:.6f},"
                     f"{fc.pinion_flank[i, j, 0]:.6f},{fc.pinion_flank[i, j, 1]:.6f},{fc.gear_zu[i, j, 0] * 1e3:.6f},"
                     f"{fc.gear_flank[i, j, 0]:.6f},{fc.gear_flank[i, j, 1]:.6f},{np.degrees(fc.fpd_angle[i, j]):.9f},"
-                    f"{a:.6g},{b:.6g},{np.degrees(fc.ellipse_angle[i, j]):.6f},{fc.iterations[i, j]}"
+                    f"{a:.6g},{b:.6g},{np.degrees(fc.ellipse_angle[i, j]):.6f},{fc.iterations[i, j]},"
+                    f"{fc.edge[i] if fc.edge is not None else ''}"
                 )
     return "\n".join(lines) + "\n"
 
@@ -78,18 +86,19 @@ def run(args):
         for m in s["messages"]:
             print(f"  note: {m}")
         print(
-            f"  FPD angle measured on the surfaces: right {s['measured_fpd_angle_right_deg']:.6f} deg, "
-            f"left {s['measured_fpd_angle_left_deg']:.6f} deg "
-            f"(design {s.get('designed_fpd_angle_right_deg', float('nan')):.6f}, "
-            f"{s.get('designed_fpd_angle_left_deg', float('nan')):.6f})"
+            f"  FPD angle measured on the surfaces: right {_num(s['measured_fpd_angle_right_deg'], '.6f')} deg, "
+            f"left {_num(s['measured_fpd_angle_left_deg'], '.6f')} deg "
+            f"(design {_num(s.get('designed_fpd_angle_right_deg'), '.6f')}, "
+            f"{_num(s.get('designed_fpd_angle_left_deg'), '.6f')})"
         )
         for side in ("drive", "coast"):
             pp = s["path_position"][side]
             print(
-                f"  {side}: TE p-p {s['unloaded_te_peak_to_peak_arcsec'][side]:.3g} arcsec, contact ratio "
-                f"{s['contact_ratio'][side]:.3f}, path limits {' / '.join(s['path_limits'][side])}, "
-                f"path centre pinion face {pp['pinion']['face_centroid']:+.3f}, gear face "
-                f"{pp['gear']['face_centroid']:+.3f} (-1 toe .. +1 heel)"
+                f"  {side}: TE p-p {_num(s['unloaded_te_peak_to_peak_arcsec'][side], '.3g')} arcsec, "
+                f"contact ratio {_num(s['contact_ratio'][side], '.3f')}, path limits "
+                f"{' / '.join(s['path_limits'][side])}, path centre pinion face "
+                f"{_num(pp['pinion']['face_centroid'], '+.3f')}, gear face "
+                f"{_num(pp['gear']['face_centroid'], '+.3f')} (-1 toe .. +1 heel)"
             )
         print(f"  written to {out}/")
     return 0

@@ -32,8 +32,16 @@ from ..errors import InputError, Problem
 from ..surface import ToothBlank, flank_points
 from .assembly import Assembly, AssemblyErrors
 from .contact import solve_contact, tangent_predictor
+from .edge import edge_contacts, edge_start
 from .local import centre_start, contact_ellipse, far_outside, flank_limits, refine_path_ends
-from .result import LINE_CONTACT_FPD, SIDE_NAMES, FlankContact, TCAResult, TCASettings
+from .result import (
+    LINE_CONTACT_FPD,
+    SIDE_NAMES,
+    FlankContact,
+    TCAResult,
+    TCASettings,
+    _edge_tally,
+)
 
 __all__ = ["TCASettings", "FlankContact", "TCAResult", "run_tca", "tca_of_blanks", "SIDE_NAMES"]
 
@@ -47,6 +55,31 @@ __all__ = ["TCASettings", "FlankContact", "TCAResult", "run_tca", "tca_of_blanks
 CENTRE_MAX_ITER = 200
 
 
+def _edge_counts(fc) -> str:
+    """'the gear heel at 12 positions, the pinion toe at 3 positions' from a side's
+    edge contacts."""
+    return ", ".join(
+        f"the {a} at {c} position{'s' if c > 1 else ''}" for a, c in _edge_tally(fc).items()
+    )
+
+
+def _no_centre_reason(pinion, gear, asm, side, c, centre_iter) -> str:
+    """Why neither the flanks' surfaces nor a face-end edge touch near the pitch point."""
+    why = "with no assembly errors" if asm.errors == AssemblyErrors() else "check the assembly errors"
+    if pinion.cone_angle == 0 == gear.cone_angle and asm.errors.shaft_angle != 0:
+        why = (
+            "the flanks are in line contact (no cone angles) and the shaft-angle error "
+            "moves their point of contact along the line, far beyond the face: the "
+            "unloaded TCA cannot place it there; the loaded TCA carries the "
+            "misalignment (assembly.shaft_angle_error_deg)"
+        )
+    return (
+        f"the contact conditions have no solution near the pitch point within {centre_iter} "
+        f"iterations (residual {c.residual_position[0]:.3g} m), and no face-end edge of either "
+        f"member touches the mate's flank there: {why}"
+    )
+
+
 def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     N1, N2 = pinion.teeth, gear.teeth
     # J pairs either side of the reference pair at every position: a sweep of c mesh
@@ -56,30 +89,21 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     phi1c, x0 = centre_start(pinion, gear, asm, side, target)
     centre_iter = max(settings.max_iter, CENTRE_MAX_ITER)
     c = solve_contact(pinion, gear, asm, side, [phi1c], x0[None, :], max_iter=centre_iter)
-    if not (c.converged[0] and c.opposed[0]):
-        why = (
-            "with no assembly errors"
-            if asm.errors == AssemblyErrors()
-            else "check the assembly errors"
-        )
-        if pinion.cone_angle == 0 == gear.cone_angle and asm.errors.shaft_angle != 0:
-            why = (
-                "the flanks are in line contact (no cone angles) and the shaft-angle error "
-                "moves their point of contact along the line, far beyond the face: the "
-                "unloaded TCA cannot place it there; the loaded TCA carries the "
-                "misalignment (assembly.shaft_angle_error_deg)"
+    if c.converged[0] and c.opposed[0]:
+        xc = c.x[0]
+        tan = tangent_predictor(pinion, gear, asm, side, [phi1c], c.x)[0]
+    else:  # no surface contact near the pitch point: start from the edge that touches
+        start = edge_start(pinion, gear, asm, side, phi1c, x0, centre_iter)
+        if start is None:
+            raise InputError(
+                Problem(
+                    f"tca[{SIDE_NAMES[side]}]",
+                    "pitch-point contact",
+                    _no_centre_reason(pinion, gear, asm, side, c, centre_iter),
+                ),
+                "tooth contact analysis failed",
             )
-        raise InputError(
-            Problem(
-                f"tca[{SIDE_NAMES[side]}]",
-                "pitch-point contact",
-                f"the contact conditions have no solution near the pitch point within {centre_iter} "
-                f"iterations (residual {c.residual_position[0]:.3g} m): {why}",
-            ),
-            "tooth contact analysis failed",
-        )
-    xc = c.x[0]
-    tan = tangent_predictor(pinion, gear, asm, side, [phi1c], c.x)[0]
+        xc, tan = start
     phi_ref = (phi1_grid[:, None] + 2 * np.pi * pairs[None, :] / N1).ravel()
     X0 = xc + np.outer(phi_ref - phi1c, tan)
     s = solve_contact(pinion, gear, asm, side, phi_ref, X0, max_iter=settings.max_iter)
@@ -134,6 +158,27 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
             gear_angle = np.where(act.any(1), np.nanmin(np.where(act, gp, np.inf), axis=1), np.nan)
         else:
             gear_angle = np.where(act.any(1), np.nanmax(np.where(act, gp, -np.inf), axis=1), np.nan)
+    # positions without a surface contact on the real flanks: the face-end edge that
+    # touches first (gearbox.tca.edge) sets the gear angle
+    edge_name = np.full(n, "", dtype=object)
+    edge_point = np.full((n, 3), np.nan)
+    edge_x = np.full((n, 5), np.nan)
+    corner = np.zeros(n, dtype=bool)
+    need = ~act.any(axis=1)
+    if need.any():
+        got = edge_contacts(
+            pinion, gear, asm, side, phi1_grid[need], pairs, phi1c, xc, tan, settings
+        )
+        gear_angle[need], edge_name[need], edge_point[need], edge_x[need], corner[need] = got
+    edge_fl = [np.full((n, 2), np.nan), np.full((n, 2), np.nan)]
+    on = np.isfinite(edge_x).all(axis=1)
+    edge_pair = np.zeros(n, dtype=int)  # the touching pair's offset j
+    edge_pair[on] = np.round((gear_angle[on] - edge_x[on, 4]) * N2 / (2 * np.pi)).astype(int)
+    if on.any():
+        for k, (blank, who) in enumerate(((pinion, "pinion"), (gear, "gear"))):
+            z, u = edge_x[on, 2 * k], edge_x[on, 2 * k + 1]
+            radius = flank_points(blank, side, z, u, involute_only=True).radius
+            edge_fl[k][on] = flank_limits(blank, side, z, u, radius, who)[1]
     te = gear_angle - (xc[4] - (N1 / N2) * (phi1_grid - phi1c))
     # path limits and contact ratio of the reference pair (sorted by its pinion angle);
     # the ends of its active interval are refined by bisection in phi_1
@@ -192,6 +237,12 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
         gear_angle_pairs=g_pairs,
         path_limits=(str(start), str(end)),
         contact_ratio=float(ratio),
+        edge=np.asarray(edge_name, dtype=str),
+        edge_point=edge_point,
+        edge_pair=edge_pair,
+        edge_pinion_flank=edge_fl[0],
+        edge_gear_flank=edge_fl[1],
+        edge_corner=corner,
     ), phi1c
 
 
@@ -244,7 +295,7 @@ def tca_of_blanks(
     msgs = []
     status = "ok"
     for fc in (drive, coast):
-        if not fc.active.any():
+        if not (fc.active.any() or np.isfinite(fc.gear_angle).any()):
             raise InputError(
                 Problem(
                     f"tca[{fc.name}]",
@@ -257,9 +308,27 @@ def tca_of_blanks(
         gaps = int(np.sum(fc.pairs_in_contact == 0))
         if gaps:
             status = "edge contact"
+            edges = _edge_counts(fc)
+            where = (
+                f"; a border of a real flank touches the mate's flank there ({edges}), and "
+                "sets the gear angle and TE"
+                if edges
+                else ""
+            )
+            corners = int(np.sum(fc.edge_corner)) if fc.edge_corner is not None else 0
+            if corners:
+                where += (
+                    f"; at {corners} of them a corner (a face end's tip or root end), which "
+                    "the TCA does not take, may touch first"
+                )
+            ratio = (
+                f" (contact ratio {fc.contact_ratio:.3f} < 1)"
+                if np.isfinite(fc.contact_ratio) and fc.active.any()
+                else ""
+            )
             msgs.append(
-                f"{fc.name}: {gaps} of {len(grid)} positions have no flank-flank contact "
-                f"(contact ratio {fc.contact_ratio:.3f} < 1): edge contact there"
+                f"{fc.name}: {gaps} of {len(grid)} positions have no contact of the flanks' "
+                f"surfaces on the real flanks{ratio}{where}"
             )
         roots = [lim for lim in fc.path_limits if lim.endswith(" root")]
         if roots:

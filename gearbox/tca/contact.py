@@ -141,7 +141,7 @@ def contact_residual(pinion, gear, asm, side, phi1, x):
 
 
 def _min_norm_solve(J, b):
-    """Minimum-norm solutions of J x = b for a stack (N, 5, 5), (N, 5).
+    """Minimum-norm solutions of J x = b for a stack (N, m, m), (N, m).
 
     Pseudo-inverse by SVD with singular values below ``RCOND`` times the largest
     dropped: for line contact (FPD angle 0) the contact conditions have a curve of
@@ -173,21 +173,45 @@ def solve_contact(
     """
     phi1 = np.atleast_1d(np.asarray(phi1, dtype=float))
     x = np.array(x0, dtype=float, copy=True).reshape(-1, 5)
+    lim = np.array([MAX_STEP_LENGTH] * 4 + [MAX_STEP_ANGLE])
+
+    def system(act, xa):
+        F, J, _, _ = _system(pinion, gear, asm, side, phi1[act], xa)
+        return F, J
+
+    x, done, iters = bounded_newton(system, x, lim, max_iter)
+    F, J, f1, f2 = _system(pinion, gear, asm, side, phi1, x)
+    res_pos = np.linalg.norm(F[:, :3], axis=1)
+    res_n = np.linalg.norm(np.cross(f1["n"], f2["n"]), axis=1)
+    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
+    converged = done & np.all(np.isfinite(x), axis=1)
+    return ContactSolution(x, converged, iters, res_pos, res_n, opposed, f1["r"], f1["n"], f1, f2)
+
+
+def bounded_newton(system, x, lim, max_iter: int):
+    """Batched bounded Newton with backtracking, shared by the surface and the edge
+    contact solves.
+
+    ``system(act, x[act])`` returns F (k, m) and J (k, m, m) of the active problems
+    (``act`` a bool mask over all N); the first three parts of F are positions (m, to
+    ``TOL_POSITION``), the rest unitless (to ``TOL_NORMAL``). ``lim`` (m,): the largest
+    move of each unknown per iteration. Backtracking on the merit |F|^2 (each part over
+    its tolerance): the step from x_prev that made it grow is halved, up to
+    ``MAX_HALVINGS`` times, before a new Newton step. Returns (x, converged, iterations).
+    """
+    x = np.array(x, dtype=float, copy=True)
     n = x.shape[0]
     iters = np.zeros(n, dtype=int)
     done = np.zeros(n, dtype=bool)
-    # backtracking on the merit |F|^2 (each part over its tolerance): the step from x_prev
-    # that made it grow is halved, up to MAX_HALVINGS times, before a new Newton step
     x_prev = x.copy()
     step_prev = np.zeros_like(x)
     merit_prev = np.full(n, np.inf)
     halvings = np.zeros(n, dtype=int)
-    lim = np.array([MAX_STEP_LENGTH] * 4 + [MAX_STEP_ANGLE])
     for _ in range(max_iter):
         act = ~done
         if not act.any():
             break
-        F, J, _, _ = _system(pinion, gear, asm, side, phi1[act], x[act])
+        F, J = system(act, x[act])
         ok_pos = np.max(np.abs(F[:, :3]), axis=1) <= TOL_POSITION
         ok_n = np.max(np.abs(F[:, 3:]), axis=1) <= TOL_NORMAL
         conv = ok_pos & ok_n
@@ -222,12 +246,7 @@ def solve_contact(
             halvings[k] = 0
             x[k] += step
             iters[k] += 1
-    F, J, f1, f2 = _system(pinion, gear, asm, side, phi1, x)
-    res_pos = np.linalg.norm(F[:, :3], axis=1)
-    res_n = np.linalg.norm(np.cross(f1["n"], f2["n"]), axis=1)
-    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
-    converged = done & np.all(np.isfinite(x), axis=1)
-    return ContactSolution(x, converged, iters, res_pos, res_n, opposed, f1["r"], f1["n"], f1, f2)
+    return x, done, iters
 
 
 def tangent_predictor(pinion, gear, asm, side, phi1, x):

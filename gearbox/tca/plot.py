@@ -21,7 +21,8 @@ def plot_contact_path(result, member: str = "pinion", ax=None):
 
     Face width (mm from the face middle, toe left, heel right) against profile height
     (form circle 0 to tip 1). Drive (R) solid, coast (L) dashed; contact ellipses of
-    the active contacts drawn as their major-axis extent along the path. Returns ``ax``.
+    the active contacts drawn as their major-axis extent along the path; edge contacts
+    (``FlankContact.edge``) as crosses. Returns ``ax``.
     """
     plt = _plt()
     if ax is None:
@@ -34,7 +35,18 @@ def plot_contact_path(result, member: str = "pinion", ax=None):
         a = fc.active
         f, p = fl[..., 0][a] * half, fl[..., 1][a]
         order = np.argsort(f)
-        ax.plot(f[order], p[order], style, marker=".", ms=3, label=f"{fc.name} ({fc.side})")
+        (line,) = ax.plot(f[order], p[order], style, marker=".", ms=3, label=f"{fc.name} ({fc.side})")
+        efl = fc.edge_pinion_flank if member == "pinion" else fc.edge_gear_flank
+        if efl is not None and np.isfinite(efl).all(axis=1).any():
+            e = efl[np.isfinite(efl).all(axis=1)]
+            ax.plot(
+                e[:, 0] * half,
+                e[:, 1],
+                "x",
+                color=line.get_color(),
+                ms=4,
+                label=f"{fc.name}: edge contact",
+            )
     ax.set_xlim(-1.1 * half, 1.1 * half)
     ax.set_ylim(-0.05, 1.05)
     ax.set_xlabel("face width from middle (mm): toe <- -> heel")

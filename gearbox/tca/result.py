@@ -117,6 +117,18 @@ class FlankContact:
             direction (its axis projected on the tangent plane, towards the heel),
             positive towards the pinion's tip, in (-pi/2, pi/2] (rad).
         gear_angle_pairs: (n, P) gear angle of each pair's contact (rad).
+        edge: (n,) str, the border of a real flank (:data:`gearbox.tca.edge.EDGES`:
+            a face end, the tip or the form circle of either member, e.g. "gear heel")
+            that touches the mate's flank first and sets the gear angle at a position
+            where no pair's surfaces touch on the real flanks; "" elsewhere (surface
+            contact, or none).
+        edge_point: (n, 3) that edge contact's point in Sf (m), NaN elsewhere.
+        edge_pair: (n,) int, its tooth pair's offset j (as ``pair``), 0 elsewhere.
+        edge_pinion_flank, edge_gear_flank: (n, 2) its place on each flank as
+            ``pinion_flank``, NaN elsewhere.
+        edge_corner: (n,) bool, positions where a border would touch beyond its own
+            ends before the gear angle found: a corner (a face end's tip or root end),
+            which the TCA does not take, may touch first there.
     """
 
     side: str
@@ -144,6 +156,12 @@ class FlankContact:
     gear_angle_pairs: np.ndarray
     path_limits: tuple[str, str] = ("", "")
     contact_ratio: float = float("nan")
+    edge: np.ndarray | None = None
+    edge_point: np.ndarray | None = None
+    edge_pair: np.ndarray | None = None
+    edge_pinion_flank: np.ndarray | None = None
+    edge_gear_flank: np.ndarray | None = None
+    edge_corner: np.ndarray | None = None
 
     @property
     def active_points(self) -> np.ndarray:
@@ -234,6 +252,7 @@ class TCAResult:
         out["positions_without_contact"] = {
             fc.name: int(np.sum(fc.pairs_in_contact == 0)) for fc in (self.drive, self.coast)
         }
+        out["edge_contact_positions"] = {fc.name: _edge_tally(fc) for fc in (self.drive, self.coast)}
         out["max_iterations"] = {
             fc.name: int(fc.iterations.max()) for fc in (self.drive, self.coast)
         }
@@ -310,7 +329,7 @@ class TCAResult:
             x = dict(x)
             for k, v in x.items():
                 if isinstance(v, list) and k != "path_limits":
-                    x[k] = np.asarray(v, dtype=str if k == "limit" else None)
+                    x[k] = np.asarray(v, dtype=str if k in ("limit", "edge") else None)
             x["path_limits"] = tuple(x["path_limits"])
             return FlankContact(**x)
 
@@ -327,6 +346,14 @@ class TCAResult:
             status=d["status"],
             messages=tuple(d["messages"]),
         )
+
+
+def _edge_tally(fc) -> dict:
+    """{border: positions} of a side's edge contacts (``FlankContact.edge``)."""
+    if fc.edge is None:
+        return {}
+    names, counts = np.unique(fc.edge[fc.edge != ""], return_counts=True)
+    return {str(a): int(c) for a, c in zip(names, counts, strict=True)}
 
 
 def _fin(x):
