@@ -322,8 +322,9 @@ def _gear_phase(design, asm, pinion, gear, side, zc, uc):
     """Gear angle phi_2,0 at phi_1 = 0 at which the flanks ``side`` of pinion tooth 0
     and gear tooth 0 touch: the unloaded TCA's contact at the pitch point
     (:func:`gearbox.tca.local.centre_start`, :func:`gearbox.tca.contact.solve_contact`),
-    carried back to phi_1 = 0 along the ideal ratio; where that solve fails,
-    :func:`_gear_phase_search`.
+    or where the surfaces touch off the real flanks there, the border that touches
+    first (:func:`gearbox.tca.edge.edge_start`), carried back to phi_1 = 0 along the
+    ideal ratio; where both fail, :func:`_gear_phase_search`.
 
     The separation field needs the touching phase: a gear turned by d phi_2 off it
     changes each separation along the pinion normal by a lever that varies over the
@@ -332,6 +333,7 @@ def _gear_phase(design, asm, pinion, gear, side, zc, uc):
     pinion's phi_1 = 0, away from the mesh, was off).
     """
     from ..tca.contact import solve_contact
+    from ..tca.edge import edge_start
     from ..tca.local import centre_start
 
     ratio = design.pinion.teeth / design.gear.teeth
@@ -341,6 +343,11 @@ def _gear_phase(design, asm, pinion, gear, side, zc, uc):
         c = solve_contact(pinion, gear, asm, side, [phi1c], x0[None, :], max_iter=200)
         if c.converged[0] and c.opposed[0]:
             return float(c.x[0, 4]) + ratio * phi1c
+        # no surface contact near the pitch point (near line contact under
+        # misalignment): the border of a real flank that touches first there
+        start = edge_start(pinion, gear, asm, side, phi1c, x0, 200)
+        if start is not None:
+            return float(start[0][4]) + ratio * phi1c
     except (ValueError, FloatingPointError, np.linalg.LinAlgError):
         pass
     return _gear_phase_search(design, asm, pinion, gear, side, zc, uc)
