@@ -19,7 +19,8 @@ Each scene starts from models/marine_drive.toml and draws, uniformly:
   0.02..0.08, bearing translations on or off, the mesh law (tangent, loaded, auto),
   random pitch deviations 0..6 um carried into the dynamics or not;
 - a short simulation (60..120 settled mesh cycles, 16..32 samples per cycle) and a
-  waterfall of 3..5 speeds over 0.3..1 x the engine speed.
+  waterfall of 3..5 speeds from 0.3..0.6 x the engine speed (higher where the
+  propeller law would take the torque below 55 N m) to the engine speed.
 
 Every scene runs through :func:`gearbox.pipeline.run_pipeline` with all its outputs and
 a report (:func:`gearbox.pipeline.outputs.write_run`), one process, a cache shared by
@@ -29,8 +30,8 @@ A scene counts as
 
 - ``ok``: every stage computed, the report written, and the operating point's metrics
   finite;
-- ``refused``: a stage found its inputs wrong (an ``InputError``, e.g. the drive's torque
-  outside the tables), with its message, which must name a scene key;
+- ``refused``: the scene's validation or a stage found its inputs wrong (an
+  ``InputError``, e.g. the drive's torque outside the tables), with its message;
 - ``odd``: all computed, but a metric is not finite or the run did not succeed;
 - ``failed``: a stage raised anything else (its traceback is printed).
 
@@ -137,10 +138,14 @@ def draw_scene(rng, base):
     ltca = draw_modifications(rng)
     drive = draw_drive(rng, base)
     speed = drive["engine_speed_rpm"]
+    torque = drive["engine_power_kW"] * 1e3 / (speed * math.pi / 30)
+    # the sweep follows the propeller law T (n / n_op)^2: its slowest speed keeps the
+    # torque above the tables' 50 N m (with a margin)
+    lo = max(0.3, math.sqrt(55.0 / torque))
     sim = {
         "settled_mesh_cycles": int(rng.integers(60, 121)),
         "samples_per_mesh_cycle": int(rng.integers(16, 33)),
-        "speed_sweep_rpm": [float(rng.uniform(0.3, 0.6) * speed), speed],
+        "speed_sweep_rpm": [float(rng.uniform(lo, max(lo, 0.6)) * speed), speed],
         "sweep_speeds": int(rng.integers(3, 6)),
     }
     assembly = {}
@@ -181,10 +186,14 @@ def run_scene(draw, scene, cache: Path, out: Path) -> Outcome:
     handler.setFormatter(logging.Formatter("%(message)s"))
     log = logging.getLogger("gearbox.pipeline")
     log.addHandler(handler)
+    from gearbox.errors import InputError
+
     t0 = time.perf_counter()
     try:
         run = run_pipeline(scene, cache=cache, jobs=1)
         write_run(run, out)
+    except InputError as exc:  # the scene's own problems, found before any stage
+        return Outcome(draw, "refused", time.perf_counter() - t0, str(exc)[:600])
     except Exception as exc:  # noqa: BLE001 - the point of a stress test
         import traceback
 

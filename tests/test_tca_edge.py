@@ -208,3 +208,32 @@ def test_the_tip_and_root_lines_splines_follow_the_exact_lines(near_line):
                 root = _border(p, g, side, f"{who} root").spline(z)
                 assert np.max(np.abs(tip - tip_parameter(blank, side, z)[0])) < 1e-9
                 assert np.max(np.abs(root - involute_start(blank, side, z))) < 1e-6
+
+
+def test_the_loaded_tca_takes_its_touching_phase_from_the_first_border():
+    """A near-line pair (drive FPD 0.77 deg) under the misalignment that scene 5 of
+    benchmarks/pipeline_random_scenes.py (seed 1) drew: its loaded TCA had stopped with
+    'the assembly does not mesh' (no surface contact near the pitch point, and the phase
+    search found none). Its touching phase now comes from the border that touches
+    first, as the TCA's sweep starts (gearbox.tca.edge.edge_start)."""
+    from gearbox.ltca.beveloid import beveloid_ltca
+
+    sc = load_scene("models/case03.toml").replaced(
+        pinion={
+            "teeth": 33,
+            "profile_shift_xt": 0.3053500768708159,
+            "helix_angle_deg": 16.1481776018182,
+            "cone_angle_deg": 1.9959458092280595,
+        },
+        gear={"teeth": 38, "cone_angle_deg": 1.6978543385283102},
+        pair={"offset_mm": 207.0664204449603, "shaft_angle_deg": 13.63557740508648},
+        assembly={"offset_error_mm": 0.0557, "shaft_angle_error_deg": -0.0222},
+        ltca={"positions": 6, "flanks": ["drive"]},
+        load={"torques_Nm": [300.0]},
+    )
+    design = design_pair(PairSpec.from_scene(sc))
+    tca = run_tca(design, sc, settings=TCASettings(positions=11))
+    assert set(tca.drive.edge) == {"gear heel"}
+    res = beveloid_ltca(design, sc)
+    k = float(res.flanks["drive"].stiffness[0].mean())
+    assert 1e8 < k < 2e9
