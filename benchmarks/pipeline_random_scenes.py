@@ -18,7 +18,8 @@ Each scene starts from models/marine_drive.toml and draws, uniformly:
   ratios 0.01..0.1, mesh damping 0.02..0.1, backlash 0.02..0.3 mm, mesh friction 0 or
   0.02..0.08, bearing translations on or off, the mesh law (tangent, loaded, auto),
   random pitch deviations 0..6 um carried into the dynamics or not;
-- a short simulation (60..120 settled mesh cycles, 16..32 samples per cycle) and a
+- a short simulation (diffrax, scipy or exudyn with probabilities 0.6, 0.2, 0.2;
+  60..120 settled mesh cycles, 16..32 samples per cycle) and a
   waterfall of 3..5 speeds from 0.3..0.6 x the engine speed (higher where the
   propeller law would take the torque below 55 N m) to the engine speed.
 
@@ -143,6 +144,7 @@ def draw_scene(rng, base):
     # torque above the tables' 50 N m (with a margin)
     lo = max(0.3, math.sqrt(55.0 / torque))
     sim = {
+        "solver": str(rng.choice(["diffrax", "scipy", "exudyn"], p=[0.6, 0.2, 0.2])),
         "settled_mesh_cycles": int(rng.integers(60, 121)),
         "samples_per_mesh_cycle": int(rng.integers(16, 33)),
         "speed_sweep_rpm": [float(rng.uniform(lo, max(lo, 0.6)) * speed), speed],
@@ -240,7 +242,8 @@ def run(seed: int, scenes: int, positions: int, cache: Path, keep: Path | None):
             d = o.draw
             print(
                 f"{i:3d} {o.status:8s} {o.seconds:6.1f} s  z {d['z1']}/{d['z2']} "
-                f"beta {d['beta_deg']:.1f} law {d['drivetrain']['mesh_law']}"
+                f"beta {d['beta_deg']:.1f} law {d['drivetrain']['mesh_law']} "
+                f"solver {d['simulation']['solver']}"
                 + (f"\n    {o.detail}" if o.status != "ok" else ""),
                 flush=True,
             )

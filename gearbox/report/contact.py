@@ -13,6 +13,11 @@ def _pair(d, key):
     return fmt(v.get("drive")), fmt(v.get("coast"))
 
 
+def _tally(t) -> str:
+    """'gear heel 33, pinion heel 28' from a side's edge contact counts; '-' for none."""
+    return ", ".join(f"{k} {v}" for k, v in t.items()) if t else "-"
+
+
 def render_tca(res, run) -> Section:
     """Summary table, contact-path and TE figures; warnings for failed positions."""
     from ..tca.plot import plot_contact_path, plot_transmission_error
@@ -29,7 +34,11 @@ def render_tca(res, run) -> Section:
             warnings.append(ReportWarning("tca", f"{side}: {n} contact solutions did not converge"))
         n = s["positions_without_contact"].get(side, 0)
         if n:
-            warnings.append(ReportWarning("tca", f"{side}: {n} pinion positions without contact"))
+            warnings.append(
+                ReportWarning(
+                    "tca", f"{side}: {n} pinion positions without contact of the flanks' surfaces"
+                )
+            )
     rows = [
         (
             "FPD angle measured on the surfaces (deg): R / L",
@@ -44,7 +53,11 @@ def render_tca(res, run) -> Section:
         ("unloaded TE peak-to-peak (arcsec)", *_pair(s, "unloaded_te_peak_to_peak_arcsec")),
         ("contact path straightness (um)", *_pair(s, "contact_path_straightness_um")),
         ("contact ratio", *_pair(s, "contact_ratio")),
-        ("positions without contact", *_pair(s, "positions_without_contact")),
+        ("positions without contact of the surfaces", *_pair(s, "positions_without_contact")),
+        (
+            "positions with edge contact, by border",
+            *(_tally(s.get("edge_contact_positions", {}).get(k)) for k in ("drive", "coast")),
+        ),
         ("contact solutions not converged", *_pair(s, "not_converged")),
         ("largest iteration count", *_pair(s, "max_iterations")),
     ]
