@@ -50,7 +50,7 @@ import statistics
 import sys
 import tempfile
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -58,21 +58,12 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from ltca_random_designs import draw_design  # noqa: E402
+from ltca_random_designs import Outcome, draw_design  # noqa: E402
 
 OUTPUTS = [
     "design", "tca", "ltca", "pitch", "tables", "dynamics", "spectra", "waterfall",
     "campbell", "report",
 ]  # fmt: skip
-
-
-@dataclass
-class Outcome:
-    draw: dict
-    status: str  # "ok", "odd", "refused", "failed"
-    seconds: float = 0.0
-    detail: str = ""
-    metrics: dict = field(default_factory=dict)
 
 
 def _maybe(rng, p=0.5) -> bool:
@@ -196,7 +187,7 @@ def run_scene(draw, scene, cache: Path, out: Path) -> Outcome:
         write_run(run, out)
     except InputError as exc:  # the scene's own problems, found before any stage
         return Outcome(draw, "refused", time.perf_counter() - t0, str(exc)[:600])
-    except Exception as exc:  # noqa: BLE001 - the point of a stress test
+    except Exception:  # noqa: BLE001 - the point of a stress test
         import traceback
 
         return Outcome(draw, "failed", time.perf_counter() - t0, traceback.format_exc()[-3000:])
@@ -219,15 +210,13 @@ def run_scene(draw, scene, cache: Path, out: Path) -> Outcome:
         odd.append(f"operating point {op.series.status}")
     if not (out / "report.html").is_file():
         odd.append("no report")
-    return Outcome(draw, "odd" if odd else "ok", seconds, "; ".join(odd), metrics)
+    return Outcome(draw, "odd" if odd else "ok", seconds, "; ".join(odd), rows=metrics)
 
 
 def run(seed: int, scenes: int, positions: int, cache: Path, keep: Path | None):
     from gearbox import load_scene
 
-    base = load_scene(ROOT / "models" / "marine_drive.toml").replaced(
-        ltca={"positions": positions}
-    )
+    base = load_scene(ROOT / "models" / "marine_drive.toml").replaced(ltca={"positions": positions})
     rng = np.random.default_rng(seed)
     outcomes = []
     with tempfile.TemporaryDirectory() as tmp:

@@ -30,13 +30,17 @@ def _touch_angles(p, g, asm, side, phi1, Z, F, phi2_guess):
     ut, _ = tip_parameter(p, side, Z)
     uf = involute_start(p, side, Z)
     U = uf + (ut - uf) * F
-    P = flank_frames(p, side, Z, U, asm.pinion_matrix(np.full(Z.size, phi1)), asm.pinion_origin)["r"]
+    P = flank_frames(p, side, Z, U, asm.pinion_matrix(np.full(Z.size, phi1)), asm.pinion_origin)[
+        "r"
+    ]
     zs2 = np.linspace(g.z_toe - 0.2 * g.face_width, g.z_heel + 0.2 * g.face_width, 121)
     ut2, _ = tip_parameter(g, side, zs2)
     uf2 = involute_start(g, side, zs2)
     U2 = (uf2[:, None] + (ut2 - uf2)[:, None] * np.linspace(-0.2, 1.2, 57)[None, :]).ravel()
     Z2 = np.repeat(zs2, 57)
-    q = flank_frames(g, side, Z2, U2, asm.gear_matrix(np.full(Z2.size, phi2_guess)), asm.gear_origin)
+    q = flank_frames(
+        g, side, Z2, U2, asm.gear_matrix(np.full(Z2.size, phi2_guess)), asm.gear_origin
+    )
     _, nn = cKDTree(q["r"]).query(P)
     x = np.stack([Z2[nn], U2[nn], np.full(Z.size, phi2_guess)], axis=1)
     a2, O2 = asm.gear_axis, asm.gear_origin
@@ -82,7 +86,12 @@ def rigid_first_contact(p, g, asm, side, phi1, phi2_guess, *, n=61, starts=6, zo
     for i in picks:
         z, f, dz, df, val = Z[i], F[i], hz, hf, gg[i]
         for _ in range(zooms):
-            box = (max(p.z_toe, z - 2 * dz), min(p.z_heel, z + 2 * dz), max(0.0, f - 2 * df), min(1.0, f + 2 * df))
+            box = (
+                max(p.z_toe, z - 2 * dz),
+                min(p.z_heel, z + 2 * dz),
+                max(0.0, f - 2 * df),
+                min(1.0, f + 2 * df),
+            )
             Zb, Fb, dz, df = grid(box, n, n)
             a, o = _touch_angles(p, g, asm, side, phi1, Zb, Fb, phi2_guess)
             if not o.any():

@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 import pytest
+from _rigid import rigid_first_contact
 
 from gearbox import load_scene
 from gearbox.geometry import PairSpec, design_pair
@@ -24,8 +25,6 @@ from gearbox.tca import TCASettings, run_tca
 from gearbox.tca.assembly import Assembly, AssemblyErrors
 from gearbox.tca.edge import EDGES, edge_residual, solve_edge_contact
 from gearbox.tca.local import centre_start
-
-from _rigid import rigid_first_contact
 
 #: How much earlier than the brute force's sampled first touch the TCA's may lie
 #: (rad): the zoomed grid (61 x 61, six zooms about six starts) missed a narrow basin by
@@ -82,7 +81,9 @@ def test_the_near_line_pair_meshes_at_its_face_ends_under_a_shaft_angle_error(ne
     assert res.coast.pairs_in_contact.min() >= 1 and (res.coast.edge == "").all()
     # TE grows with the error (0.10 um at 0.005 deg, 0.58 um at 0.02 deg on the LOA)
     te = res.drive.te_peak_to_peak()
-    small = run_tca(near_line, errors=AssemblyErrors(offset=50e-6, shaft_angle=math.radians(-0.005)))
+    small = run_tca(
+        near_line, errors=AssemblyErrors(offset=50e-6, shaft_angle=math.radians(-0.005))
+    )
     assert 0 < small.drive.te_peak_to_peak() < te
 
 
@@ -136,7 +137,7 @@ def test_border_jacobians_match_central_differences(near_line):
     asm = Assembly.from_design(near_line, AssemblyErrors(shaft_angle=math.radians(-0.02)))
     for side in ("R", "L"):
         phi1c, x0 = centre_start(p, g, asm, side, np.asarray(near_line.pitch_point))
-        for edge, member, kind in EDGES:
+        for edge, _member, kind in EDGES:
             s = solve_edge_contact(p, g, asm, side, [phi1c], x0[None, :], edge, max_iter=100)
             if not s.converged[0]:  # a line that does not touch near here
                 assert kind in ("tip", "root"), (side, edge)
@@ -202,7 +203,9 @@ def test_the_tip_and_root_lines_splines_follow_the_exact_lines(near_line):
     for design in (near_line, undercut):
         p, g = blanks_from_design(design)
         for blank, who in ((p, "pinion"), (g, "gear")):
-            z = np.linspace(blank.z_toe - 0.5 * blank.face_width, blank.z_heel + 0.5 * blank.face_width, 57)
+            z = np.linspace(
+                blank.z_toe - 0.5 * blank.face_width, blank.z_heel + 0.5 * blank.face_width, 57
+            )
             for side in ("R", "L"):
                 tip = _border(p, g, side, f"{who} tip").spline(z)
                 root = _border(p, g, side, f"{who} root").spline(z)

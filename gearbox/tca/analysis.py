@@ -64,19 +64,15 @@ def _edge_counts(fc) -> str:
 
 
 def _no_centre_reason(pinion, gear, asm, side, c, centre_iter) -> str:
-    """Why neither the flanks' surfaces nor a face-end edge touch near the pitch point."""
-    why = "with no assembly errors" if asm.errors == AssemblyErrors() else "check the assembly errors"
-    if pinion.cone_angle == 0 == gear.cone_angle and asm.errors.shaft_angle != 0:
-        why = (
-            "the flanks are in line contact (no cone angles) and the shaft-angle error "
-            "moves their point of contact along the line, far beyond the face: the "
-            "unloaded TCA cannot place it there; the loaded TCA carries the "
-            "misalignment (assembly.shaft_angle_error_deg)"
-        )
+    """Why neither the flanks' surfaces nor a border of a flank touch near the pitch point."""
+    why = (
+        "with no assembly errors" if asm.errors == AssemblyErrors() else "check the assembly errors"
+    )
     return (
         f"the contact conditions have no solution near the pitch point within {centre_iter} "
-        f"iterations (residual {c.residual_position[0]:.3g} m), and no face-end edge of either "
-        f"member touches the mate's flank there: {why}"
+        f"iterations (residual {c.residual_position[0]:.3g} m), and no border of either "
+        f"member's real flank (face end, tip or form line) touches the mate's flank there: "
+        f"{why}"
     )
 
 

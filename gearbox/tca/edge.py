@@ -253,7 +253,10 @@ def _limits(pinion, gear, side, x):
     finite = np.all(np.isfinite(x), axis=1)
     xs = np.where(finite[:, None], x, 0.0)
     out = []
-    for blank, z, u, who in ((pinion, xs[:, 0], xs[:, 1], "pinion"), (gear, xs[:, 2], xs[:, 3], "gear")):
+    for blank, z, u, who in (
+        (pinion, xs[:, 0], xs[:, 1], "pinion"),
+        (gear, xs[:, 2], xs[:, 3], "gear"),
+    ):
         radius = flank_points(blank, side, z, u, involute_only=True).radius
         lim, _ = flank_limits(blank, side, z, u, radius, who)
         out.append(np.where(finite, lim, "not finite").astype(str))
@@ -293,7 +296,9 @@ def _first(side: str, g: np.ndarray, valid: np.ndarray, axis: int = -1):
 def _edge_track(pinion, gear, asm, side, phi1c, x_start, edge, max_iter):
     """An edge's contact at phi1c from x_start and its tangent d x / d phi_1 (finite
     difference), or None where the solve fails or leaves the flanks."""
-    s = solve_edge_contact(pinion, gear, asm, side, [phi1c], x_start[None, :], edge, max_iter=max_iter)
+    s = solve_edge_contact(
+        pinion, gear, asm, side, [phi1c], x_start[None, :], edge, max_iter=max_iter
+    )
     if not (s.converged[0] and s.opposed[0]):
         return None
     h = TANGENT_STEP
@@ -346,9 +351,11 @@ def edge_contacts(pinion, gear, asm, side, phi1, pairs, phi1c, xc, tan, settings
             continue
         xe, te = track
         X0 = xe + np.outer(phi_ref - phi1c, te)
-        s = solve_edge_contact(pinion, gear, asm, side, phi_ref, X0, edge, max_iter=settings.max_iter)
+        s = solve_edge_contact(
+            pinion, gear, asm, side, phi_ref, X0, edge, max_iter=settings.max_iter
+        )
         valid, beyond = _classify(pinion, gear, side, s)
-        g_all.append((s.x[:, 4].reshape(k, P) + 2 * np.pi * np.asarray(pairs)[None, :] / N2))
+        g_all.append(s.x[:, 4].reshape(k, P) + 2 * np.pi * np.asarray(pairs)[None, :] / N2)
         v_all.append(valid.reshape(k, P))
         b_all.append(beyond.reshape(k, P))
         pts.append((edge, s.point.reshape(k, P, 3), s.x.reshape(k, P, 5)))

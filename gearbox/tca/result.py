@@ -252,7 +252,9 @@ class TCAResult:
         out["positions_without_contact"] = {
             fc.name: int(np.sum(fc.pairs_in_contact == 0)) for fc in (self.drive, self.coast)
         }
-        out["edge_contact_positions"] = {fc.name: _edge_tally(fc) for fc in (self.drive, self.coast)}
+        out["edge_contact_positions"] = {
+            fc.name: _edge_tally(fc) for fc in (self.drive, self.coast)
+        }
         out["max_iterations"] = {
             fc.name: int(fc.iterations.max()) for fc in (self.drive, self.coast)
         }
