@@ -35,7 +35,9 @@ def plot_contact_path(result, member: str = "pinion", ax=None):
         a = fc.active
         f, p = fl[..., 0][a] * half, fl[..., 1][a]
         order = np.argsort(f)
-        (line,) = ax.plot(f[order], p[order], style, marker=".", ms=3, label=f"{fc.name} ({fc.side})")
+        (line,) = ax.plot(
+            f[order], p[order], style, marker=".", ms=3, label=f"{fc.name} ({fc.side})"
+        )
         efl = fc.edge_pinion_flank if member == "pinion" else fc.edge_gear_flank
         if efl is not None and np.isfinite(efl).all(axis=1).any():
             e = efl[np.isfinite(efl).all(axis=1)]
