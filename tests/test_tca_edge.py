@@ -32,8 +32,9 @@ from gearbox.tca.local import centre_start
 ZOOM_TOL = 3e-7
 
 #: A crossed beveloid pair designed near line contact on its drive flank (FPD angle
-#: 0.755 deg; coast 10.19 deg), drawn by benchmarks/pipeline_random_scenes.py (seed 1,
-#: scene 3), where a shaft-angle error of 0.005 deg had made the TCA fail.
+#: 0.755 deg; coast 10.19 deg), drawn by the first version of
+#: benchmarks/pipeline_random_scenes.py (seed 1, scene 3, before it drew the solver),
+#: where a shaft-angle error of 0.005 deg had made the TCA fail.
 NEAR_LINE = dict(
     pinion={
         "teeth": 29,
@@ -214,8 +215,8 @@ def test_the_tip_and_root_lines_splines_follow_the_exact_lines(near_line):
 
 
 def test_the_loaded_tca_takes_its_touching_phase_from_the_first_border():
-    """A near-line pair (drive FPD 0.77 deg) under the misalignment that scene 5 of
-    benchmarks/pipeline_random_scenes.py (seed 1) drew: its loaded TCA had stopped with
+    """A near-line pair (drive FPD 0.659 deg) under the misalignment that scene 5 of the
+    first benchmarks/pipeline_random_scenes.py (seed 1) drew: its loaded TCA had stopped with
     'the assembly does not mesh' (no surface contact near the pitch point, and the phase
     search found none). Its touching phase now comes from the border that touches
     first, as the TCA's sweep starts (gearbox.tca.edge.edge_start)."""
@@ -235,6 +236,7 @@ def test_the_loaded_tca_takes_its_touching_phase_from_the_first_border():
         load={"torques_Nm": [300.0]},
     )
     design = design_pair(PairSpec.from_scene(sc))
+    assert math.degrees(design.fpd_angle_right) == pytest.approx(0.659, abs=1e-3)
     tca = run_tca(design, sc, settings=TCASettings(positions=11))
     assert set(tca.drive.edge) == {"gear heel"}
     res = beveloid_ltca(design, sc)
