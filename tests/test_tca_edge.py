@@ -242,3 +242,30 @@ def test_the_loaded_tca_takes_its_touching_phase_from_the_first_border():
     res = beveloid_ltca(design, sc)
     k = float(res.flanks["drive"].stiffness[0].mean())
     assert 1e8 < k < 2e9
+
+
+def test_no_border_touches_before_the_surfaces_of_conjugate_flanks():
+    """Borders are taken only where no pair's surfaces touch. That loses nothing on the
+    TCA's flanks, which are conjugate (zero TE under assembly errors, tests/test_tca.py):
+    a border of a pair touches no earlier than its own pair's surfaces would, and those
+    all touch at the one gear angle. Case 03 under assembly errors, every border at every
+    position of both flanks: none comes first (they come 1.2e-7 rad or more later)."""
+    from gearbox.tca.contact import solve_contact, tangent_predictor
+    from gearbox.tca.edge import edge_contacts
+
+    design = design_pair(PairSpec.from_scene(load_scene("models/case03.toml")))
+    err = AssemblyErrors(offset=30e-6, shaft_angle=math.radians(0.02))
+    settings = TCASettings(positions=15)
+    res = run_tca(design, errors=err, settings=settings)
+    p, g = blanks_from_design(design)
+    asm = Assembly.from_design(design, err)
+    for fc in (res.drive, res.coast):
+        assert (fc.pairs_in_contact > 0).all()
+        phi1c, x0 = centre_start(p, g, asm, fc.side, np.asarray(design.pitch_point))
+        c = solve_contact(p, g, asm, fc.side, [phi1c], x0[None, :], max_iter=200)
+        tan = tangent_predictor(p, g, asm, fc.side, [phi1c], c.x)[0]
+        angle, *_ = edge_contacts(
+            p, g, asm, fc.side, fc.pinion_angle, fc.pair, phi1c, c.x[0], tan, settings
+        )
+        later = (angle - fc.gear_angle) * (1 if fc.side == "R" else -1)
+        assert np.isfinite(later).any() and np.nanmin(later) > 0, fc.name
