@@ -269,3 +269,33 @@ def test_no_border_touches_before_the_surfaces_of_conjugate_flanks():
         )
         later = (angle - fc.gear_angle) * (1 if fc.side == "R" else -1)
         assert np.isfinite(later).any() and np.nanmin(later) > 0, fc.name
+
+
+@pytest.mark.slow
+def test_paper_case01_under_a_shaft_angle_error_touches_at_its_toe():
+    """The paper's case 01 (drive FPD angle 1.66 deg) under a shaft-angle error of 0.02
+    deg: the TCA had refused it ("no tooth pair is in contact on the real flanks
+    anywhere"). Its drive flank now touches at borders at every position (toe edges
+    mostly), with TE; positions not flagged as corners against the brute force."""
+    design = design_pair(PairSpec.from_scene(load_scene("models/case01.toml")))
+    err = AssemblyErrors(shaft_angle=math.radians(0.02))
+    res = run_tca(design, errors=err, settings=TCASettings(positions=9))
+    fc = res.drive
+    assert (fc.pairs_in_contact == 0).all() and (fc.edge != "").all()
+    assert fc.te_peak_to_peak() > 0
+    p, g = blanks_from_design(design)
+    asm = Assembly.from_design(design, err)
+    checked = 0
+    for i in np.flatnonzero(~fc.edge_corner)[:3]:
+        k = int(fc.edge_pair[i])
+        firsts = []
+        for j in (k - 1, k, k + 1):
+            phi1 = fc.pinion_angle[i] + 2 * math.pi * j / p.teeth
+            b = rigid_first_contact(
+                p, g, asm, "R", phi1, fc.gear_angle[i] - 2 * math.pi * j / g.teeth
+            )
+            firsts.append(b + 2 * math.pi * j / g.teeth)
+        later = fc.gear_angle[i] - np.nanmin(firsts)
+        assert -ZOOM_TOL < later < 1e-10, (i, fc.edge[i], later)
+        checked += 1
+    assert checked == 3
