@@ -159,13 +159,13 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     edge_name = np.full(n, "", dtype=object)
     edge_point = np.full((n, 3), np.nan)
     edge_x = np.full((n, 5), np.nan)
-    corner = np.zeros(n, dtype=bool)
     need = ~act.any(axis=1)
     if need.any():
         got = edge_contacts(
             pinion, gear, asm, side, phi1_grid[need], pairs, phi1c, xc, tan, settings
         )
-        gear_angle[need], edge_name[need], edge_point[need], edge_x[need], corner[need] = got
+        gear_angle[need], edge_name[need], edge_point[need], edge_x[need] = got
+    corner = np.char.find(np.asarray(edge_name, dtype=str), "/") >= 0
     edge_fl = [np.full((n, 2), np.nan), np.full((n, 2), np.nan)]
     on = np.isfinite(edge_x).all(axis=1)
     edge_pair = np.zeros(n, dtype=int)  # the touching pair's offset j
@@ -306,17 +306,13 @@ def tca_of_blanks(
             status = "edge contact"
             edges = _edge_counts(fc)
             where = (
-                f"; a border of a real flank touches the mate's flank there ({edges}), and "
-                "sets the gear angle and TE"
+                f"; a border of a real flank (a face end, tip or form line, a corner of "
+                f"two, or one crossing a border of the mate's) touches the mate there "
+                f"({edges}), and sets the gear angle and TE"
                 if edges
                 else ""
             )
-            corners = int(np.sum(fc.edge_corner)) if fc.edge_corner is not None else 0
-            if corners:
-                where += (
-                    f"; at {corners} of them a corner (a face end's tip or root end), which "
-                    "the TCA does not take, may touch first"
-                )
+
             ratio = (
                 f" (contact ratio {fc.contact_ratio:.3f} < 1)"
                 if np.isfinite(fc.contact_ratio) and fc.active.any()

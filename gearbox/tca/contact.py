@@ -194,7 +194,7 @@ def bounded_newton(system, x, lim, max_iter: int):
 
     ``system(act, x[act])`` returns F (k, m) and J (k, m, m) of the active problems
     (``act`` a bool mask over all N); the first three parts of F are positions (m, to
-    ``TOL_POSITION``), the rest unitless (to ``TOL_NORMAL``). ``lim`` (m,): the largest
+    ``TOL_POSITION``), the rest, if any, unitless (to ``TOL_NORMAL``). ``lim`` (m,): the largest
     move of each unknown per iteration. Backtracking on the merit |F|^2 (each part over
     its tolerance): the step from x_prev that made it grow is halved, up to
     ``MAX_HALVINGS`` times, before a new Newton step. Returns (x, converged, iterations).
@@ -213,7 +213,7 @@ def bounded_newton(system, x, lim, max_iter: int):
             break
         F, J = system(act, x[act])
         ok_pos = np.max(np.abs(F[:, :3]), axis=1) <= TOL_POSITION
-        ok_n = np.max(np.abs(F[:, 3:]), axis=1) <= TOL_NORMAL
+        ok_n = np.max(np.abs(F[:, 3:]), axis=1, initial=0.0) <= TOL_NORMAL
         conv = ok_pos & ok_n
         idx = np.flatnonzero(act)
         done[idx[conv]] = True

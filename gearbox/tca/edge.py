@@ -42,6 +42,9 @@ from .assembly import Assembly
 from .contact import MAX_ITER, MAX_STEP_ANGLE, MAX_STEP_LENGTH, bounded_newton, flank_frames
 
 __all__ = [
+    "CANDIDATES",
+    "CORNERS",
+    "CROSSINGS",
     "EDGES",
     "LINE_NODES",
     "EdgeSolution",
@@ -49,6 +52,8 @@ __all__ = [
     "edge_residual",
     "edge_start",
     "on_flanks",
+    "solve_corner_contact",
+    "solve_crossing_contact",
     "solve_edge_contact",
 ]
 
@@ -63,6 +68,15 @@ EDGES = (
     ("gear heel", "gear", "heel"),
     ("gear tip", "gear", "tip"),
     ("gear root", "gear", "root"),
+)
+
+#: The corners of the real flanks, where a face end meets the tip or the form line:
+#: (name, member, face end, line).
+CORNERS = tuple(
+    (f"{m} {end}/{line}", m, end, line)
+    for m in ("pinion", "gear")
+    for end in ("toe", "heel")
+    for line in ("tip", "root")
 )
 
 #: Nodes of the cubic spline through a tip or root line ``u = c(z)``, over the face
@@ -239,6 +253,134 @@ def solve_edge_contact(
     return EdgeSolution(edge, x, converged, iters, opposed, f1["r"], n)
 
 
+def _corner(pinion, gear, side, corner: str):
+    for name, member, end, line in CORNERS:
+        if name == corner:
+            blank = pinion if member == "pinion" else gear
+            z = float(blank.z_toe if end == "toe" else blank.z_heel)
+            u = float(_Border(blank, side, member, line).spline(z))
+            return member, z, u
+    raise ValueError(f"corner {corner!r} must be one of {', '.join(c[0] for c in CORNERS)}")
+
+
+def solve_corner_contact(
+    pinion: ToothBlank,
+    gear: ToothBlank,
+    asm: Assembly,
+    side: str,
+    phi1,
+    x0,
+    corner: str,
+    *,
+    max_iter: int = MAX_ITER,
+) -> EdgeSolution:
+    """Touch of the corner ``corner`` (one of :data:`CORNERS`) with the mate's flank for
+    N pinion angles at once: the gear angle at which the mate's flank passes through
+    the corner point, ``r_f1 = r_f2`` in the mate's (z, u) and phi_2 (3 equations).
+    x0 as for :func:`solve_edge_contact`; the corner's member is put on the corner."""
+    member, zc, uc = _corner(pinion, gear, side, corner)
+    phi1 = np.atleast_1d(np.asarray(phi1, dtype=float))
+    x = np.array(x0, dtype=float).reshape(-1, 5).copy()
+    iz, iu = _ZU[member]
+    x[:, iz], x[:, iu] = zc, uc
+    free = [2, 3, 4] if member == "pinion" else [0, 1, 4]
+    a2, O2 = asm.gear_axis, asm.gear_origin
+
+    def frames(ph, xa):
+        f1 = flank_frames(
+            pinion, side, xa[:, 0], xa[:, 1], asm.pinion_matrix(ph), asm.pinion_origin
+        )
+        f2 = flank_frames(gear, side, xa[:, 2], xa[:, 3], asm.gear_matrix(xa[:, 4]), O2)
+        return f1, f2
+
+    def full(y):
+        xa = np.repeat(x[:1], y.shape[0], axis=0)
+        xa[:, free] = y
+        return xa
+
+    def system(act, y):
+        f1, f2 = frames(phi1[act], full(y))
+        J = np.empty(y.shape[:1] + (3, 3))
+        if member == "pinion":
+            J[:, :, 0], J[:, :, 1] = -f2["rz"], -f2["ru"]
+        else:
+            J[:, :, 0], J[:, :, 1] = f1["rz"], f1["ru"]
+        J[:, :, 2] = -np.cross(a2, f2["r"] - O2)
+        return f1["r"] - f2["r"], J
+
+    lim = np.array([MAX_STEP_LENGTH] * 2 + [MAX_STEP_ANGLE])
+    y, done, iters = bounded_newton(system, x[:, free], lim, max_iter)
+    xs = full(y)
+    f1, f2 = frames(phi1, xs)
+    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
+    n = f2["n"] if member == "pinion" else f1["n"]
+    n = n * np.sign(np.einsum("ni,ni->n", n, f1["n"]))[:, None]
+    converged = done & np.all(np.isfinite(xs), axis=1)
+    return EdgeSolution(corner, xs, converged, iters, opposed, f1["r"], n)
+
+
+#: Crossings: a border of the pinion's flank against a border of the gear's (two
+#: curves touching where they cross), named "pinion <border> x gear <border>".
+CROSSINGS = tuple(
+    f"{a} x {b}" for a, ma, _ in EDGES if ma == "pinion" for b, mb, _ in EDGES if mb == "gear"
+)
+
+
+def solve_crossing_contact(
+    pinion: ToothBlank,
+    gear: ToothBlank,
+    asm: Assembly,
+    side: str,
+    phi1,
+    x0,
+    crossing: str,
+    *,
+    max_iter: int = MAX_ITER,
+) -> EdgeSolution:
+    """Touch of a pinion border with a gear border (one of :data:`CROSSINGS`): the gear
+    angle at which the two curves cross, ``r_f1(border_1(s_1)) = r_f2(border_2(s_2))``
+    in (s_1, s_2, phi_2) (3 equations). x0 as for :func:`solve_edge_contact`."""
+    a, b = crossing.split(" x ")
+    b1, b2 = _border(pinion, gear, side, a), _border(pinion, gear, side, b)
+    phi1 = np.atleast_1d(np.asarray(phi1, dtype=float))
+    x0 = np.array(x0, dtype=float).reshape(-1, 5)
+    y = np.stack([b1.reduced(x0)[:, 0], b2.reduced(x0)[:, 2], x0[:, 4]], axis=1)
+    a2, O2 = asm.gear_axis, asm.gear_origin
+
+    def frames(ph, ya):
+        z1, u1, zs1, us1, _, _ = b1.zu(ya[:, 0])
+        z2, u2, zs2, us2, _, _ = b2.zu(ya[:, 1])
+        f1 = flank_frames(pinion, side, z1, u1, asm.pinion_matrix(ph), asm.pinion_origin)
+        f2 = flank_frames(gear, side, z2, u2, asm.gear_matrix(ya[:, 2]), O2)
+        t1 = zs1[:, None] * f1["rz"] + us1[:, None] * f1["ru"]
+        t2 = zs2[:, None] * f2["rz"] + us2[:, None] * f2["ru"]
+        x = np.stack([z1, u1, z2, u2, ya[:, 2]], axis=1)
+        return f1, f2, t1, t2, x
+
+    def system(act, ya):
+        f1, f2, t1, t2, _ = frames(phi1[act], ya)
+        J = np.stack([t1, -t2, -np.cross(a2, f2["r"] - O2)], axis=-1)
+        return f1["r"] - f2["r"], J
+
+    lim = np.array([MAX_STEP_LENGTH] * 2 + [MAX_STEP_ANGLE])
+    y, done, iters = bounded_newton(system, y, lim, max_iter)
+    f1, f2, _, _, xs = frames(phi1, y)
+    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
+    converged = done & np.all(np.isfinite(xs), axis=1)
+    return EdgeSolution(crossing, xs, converged, iters, opposed, f1["r"], f1["n"])
+
+
+def _solve(pinion, gear, asm, side, phi1, x0, name, max_iter):
+    """A border's (:func:`solve_edge_contact`), a corner's or a crossing's touch."""
+    if " x " in name:
+        solver = solve_crossing_contact
+    elif "/" in name:
+        solver = solve_corner_contact
+    else:
+        solver = solve_edge_contact
+    return solver(pinion, gear, asm, side, phi1, x0, name, max_iter=max_iter)
+
+
 #: Pinion-angle step (rad) of the finite difference that gives an edge contact's
 #: tangent along the sweep (a predictor only: Newton corrects it).
 TANGENT_STEP = 1e-4
@@ -271,14 +413,23 @@ def on_flanks(pinion, gear, side, x) -> np.ndarray:
 
 
 def _classify(pinion, gear, side, s: EdgeSolution):
-    """(valid, beyond) per solution of a border: ``valid``, a touch on both real flanks
-    (the border's own point may sit on its own limit); ``beyond``, a touch on the mate's
-    real flank but beyond an end of the border (a corner lies nearer on the border)."""
-    member = _border(pinion, gear, side, s.edge).member
+    """(valid, beyond) per solution of a border or corner: ``valid``, a touch on both
+    real flanks (the border's own point may sit on its own limit, a corner on two);
+    ``beyond``, a touch on the mate's real flank but beyond an end of the border (one of
+    its corners lies nearer)."""
     lim1, lim2 = _limits(pinion, gear, side, s.x)
+    if " x " in s.edge:  # a crossing: each point on its own border
+        a, b = s.edge.split(" x ")
+        ok1, ok2 = (lim1 == "") | (lim1 == a), (lim2 == "") | (lim2 == b)
+        valid = s.converged & s.opposed & ok1 & ok2
+        return valid, np.zeros_like(valid)
+    if "/" in s.edge:  # a corner: on its own flank's closure by construction
+        member = _corner(pinion, gear, side, s.edge)[0]
+    else:
+        member = _border(pinion, gear, side, s.edge).member
     own, mate = (lim1, lim2) if member == "pinion" else (lim2, lim1)
     touch = s.converged & s.opposed & (mate == "")
-    valid = touch & ((own == "") | (own == s.edge))
+    valid = touch & ((own == "") | (own == s.edge) | ("/" in s.edge))
     beyond = touch & ~valid & (own != "not finite")
     return valid, beyond
 
@@ -293,16 +444,18 @@ def _first(side: str, g: np.ndarray, valid: np.ndarray, axis: int = -1):
     return i, valid.any(axis=axis)
 
 
+#: Every candidate of an edge contact: the borders, then the corners.
+CANDIDATES = tuple(e[0] for e in EDGES) + tuple(c[0] for c in CORNERS) + CROSSINGS
+
+
 def _edge_track(pinion, gear, asm, side, phi1c, x_start, edge, max_iter):
-    """An edge's contact at phi1c from x_start and its tangent d x / d phi_1 (finite
-    difference), or None where the solve fails or leaves the flanks."""
-    s = solve_edge_contact(
-        pinion, gear, asm, side, [phi1c], x_start[None, :], edge, max_iter=max_iter
-    )
+    """A border's or corner's touch at phi1c from x_start and its tangent
+    d x / d phi_1 (finite difference), or None where the solve fails."""
+    s = _solve(pinion, gear, asm, side, [phi1c], x_start[None, :], edge, max_iter)
     if not (s.converged[0] and s.opposed[0]):
         return None
     h = TANGENT_STEP
-    s2 = solve_edge_contact(pinion, gear, asm, side, [phi1c + h], s.x, edge, max_iter=max_iter)
+    s2 = _solve(pinion, gear, asm, side, [phi1c + h], s.x, edge, max_iter)
     if not s2.converged[0]:
         return None
     return s.x[0], (s2.x[0] - s.x[0]) / h
@@ -310,13 +463,13 @@ def _edge_track(pinion, gear, asm, side, phi1c, x_start, edge, max_iter):
 
 def edge_start(pinion, gear, asm, side, phi1c, x0, max_iter):
     """Start of the sweep where the surfaces do not touch near the pitch point: the
-    border that touches first at phi1c, as (x (5,), tangent (5,)), or None
-    where no edge touches on the flanks there."""
+    border or corner that touches first at phi1c, as (x (5,), tangent (5,)), or None
+    where none touches on the flanks there."""
     found = []
-    for edge, *_ in EDGES:
+    for edge in CANDIDATES:
         got = _edge_track(pinion, gear, asm, side, phi1c, np.asarray(x0, float), edge, max_iter)
         if got is not None:
-            s = solve_edge_contact(pinion, gear, asm, side, [phi1c], got[0][None, :], edge)
+            s = _solve(pinion, gear, asm, side, [phi1c], got[0][None, :], edge, MAX_ITER)
             if _classify(pinion, gear, side, s)[0][0]:
                 found.append(got)
     if not found:
@@ -327,23 +480,21 @@ def edge_start(pinion, gear, asm, side, phi1c, x0, max_iter):
 
 
 def edge_contacts(pinion, gear, asm, side, phi1, pairs, phi1c, xc, tan, settings):
-    """The first-touching border at each pinion angle ``phi1`` (k,): over the borders
-    :data:`EDGES` and the tooth pairs ``pairs`` (P,), as the surface sweep takes them.
+    """The first-touching border or corner at each pinion angle ``phi1`` (k,): over
+    :data:`CANDIDATES` and the tooth pairs ``pairs`` (P,), as the surface sweep takes
+    them.
 
-    Each border is tracked from the surface contact (or edge start) ``xc`` at ``phi1c``
-    with its predictor ``tan``, solved there, and carried along the sweep by its own
-    tangent. Returns (gear angle (k,) rad, NaN where no edge touches on the flanks;
-    edge name (k,) object, "" there; contact point (k, 3) in Sf; its unknowns (k, 5)
-    (z_1, u_1, z_2, u_2, phi_2 of the touching pair); corner (k,) bool:
-    an edge's touch lies beyond its tip or form circle at an earlier gear angle, so
-    a corner of the face end with the tip or form circle, or a tip's edge, which are
-    not modelled, may touch first there)."""
+    Each candidate is tracked from the surface contact (or edge start) ``xc`` at
+    ``phi1c``, solved there, and carried along the sweep by its own tangent. Returns
+    (gear angle (k,) rad, NaN where nothing touches on the flanks; the candidate's name
+    (k,) object, "" there; contact point (k, 3) in Sf; its unknowns (k, 5) (z_1, u_1,
+    z_2, u_2, phi_2 of the touching pair))."""
     N1, N2 = pinion.teeth, gear.teeth
     phi1 = np.asarray(phi1, float)
     k, P = phi1.size, len(pairs)
     phi_ref = (phi1[:, None] + 2 * np.pi * np.asarray(pairs)[None, :] / N1).ravel()
-    g_all, v_all, b_all, pts = [], [], [], []
-    for edge, *_ in EDGES:
+    g_all, v_all, pts = [], [], []
+    for edge in CANDIDATES:
         track = _edge_track(
             pinion, gear, asm, side, phi1c, np.asarray(xc, float), edge, 2 * settings.max_iter
         )
@@ -351,24 +502,19 @@ def edge_contacts(pinion, gear, asm, side, phi1, pairs, phi1c, xc, tan, settings
             continue
         xe, te = track
         X0 = xe + np.outer(phi_ref - phi1c, te)
-        s = solve_edge_contact(
-            pinion, gear, asm, side, phi_ref, X0, edge, max_iter=settings.max_iter
-        )
-        valid, beyond = _classify(pinion, gear, side, s)
+        s = _solve(pinion, gear, asm, side, phi_ref, X0, edge, settings.max_iter)
+        valid, _ = _classify(pinion, gear, side, s)
         g_all.append(s.x[:, 4].reshape(k, P) + 2 * np.pi * np.asarray(pairs)[None, :] / N2)
         v_all.append(valid.reshape(k, P))
-        b_all.append(beyond.reshape(k, P))
         pts.append((edge, s.point.reshape(k, P, 3), s.x.reshape(k, P, 5)))
     angle = np.full(k, np.nan)
     name = np.full(k, "", dtype=object)
     point = np.full((k, 3), np.nan)
     xs = np.full((k, 5), np.nan)
-    corner = np.zeros(k, dtype=bool)
     if not g_all:
-        return angle, name, point, xs, corner
-    g = np.stack(g_all, axis=1).reshape(k, -1)  # (k, edges x P)
+        return angle, name, point, xs
+    g = np.stack(g_all, axis=1).reshape(k, -1)  # (k, candidates x P)
     v = np.stack(v_all, axis=1).reshape(k, -1)
-    b = np.stack(b_all, axis=1).reshape(k, -1)
     i, has = _first(side, g, v, axis=1)
     rows = np.flatnonzero(has)
     angle[rows] = g[rows, i[rows]]
@@ -377,11 +523,4 @@ def edge_contacts(pinion, gear, asm, side, phi1, pairs, phi1c, xc, tan, settings
         name[r] = pts[e][0]
         point[r] = pts[e][1][r, j]
         xs[r] = pts[e][2][r, j]
-    # a corner may touch before the chosen edge: an edge whose touch lies beyond its
-    # tip or form circle, at an earlier gear angle
-    ib, hb = _first(side, g, b, axis=1)
-    gb = g[np.arange(k), ib]
-    with np.errstate(invalid="ignore"):
-        earlier = gb < angle if side == "R" else gb > angle
-    corner = hb & (~has | earlier)
-    return angle, name, point, xs, corner
+    return angle, name, point, xs

@@ -119,16 +119,16 @@ class FlankContact:
         gear_angle_pairs: (n, P) gear angle of each pair's contact (rad).
         edge: (n,) str, the border of a real flank (:data:`gearbox.tca.edge.EDGES`:
             a face end, the tip or the form circle of either member, e.g. "gear heel")
-            that touches the mate's flank first and sets the gear angle at a position
+            or its corner (``CORNERS``) that touches the mate's flank first and sets the gear angle at a position
             where no pair's surfaces touch on the real flanks; "" elsewhere (surface
             contact, or none).
         edge_point: (n, 3) that edge contact's point in Sf (m), NaN elsewhere.
         edge_pair: (n,) int, its tooth pair's offset j (as ``pair``), 0 elsewhere.
         edge_pinion_flank, edge_gear_flank: (n, 2) its place on each flank as
             ``pinion_flank``, NaN elsewhere.
-        edge_corner: (n,) bool, positions where a border would touch beyond its own
-            ends before the gear angle found: a corner (a face end's tip or root end),
-            which the TCA does not take, may touch first there.
+        edge_corner: (n,) bool, positions where that touch is at a corner (a face
+            end's tip or root end, :data:`gearbox.tca.edge.CORNERS`, e.g.
+            "gear toe/tip").
     """
 
     side: str
