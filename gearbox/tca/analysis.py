@@ -63,7 +63,7 @@ def _edge_counts(fc) -> str:
     )
 
 
-def _no_centre_reason(pinion, gear, asm, side, c, centre_iter) -> str:
+def _no_centre_reason(asm, c, centre_iter) -> str:
     """Why neither the flanks' surfaces nor a border of a flank touch near the pitch point."""
     why = (
         "with no assembly errors" if asm.errors == AssemblyErrors() else "check the assembly errors"
@@ -71,8 +71,8 @@ def _no_centre_reason(pinion, gear, asm, side, c, centre_iter) -> str:
     return (
         f"the contact conditions have no solution near the pitch point within {centre_iter} "
         f"iterations (residual {c.residual_position[0]:.3g} m), and no border of either "
-        f"member's real flank (face end, tip or form line) touches the mate's flank there: "
-        f"{why}"
+        f"member's real flank (face end, tip or form line, their corners and crossings) "
+        f"touches the mate there: {why}"
     )
 
 
@@ -88,14 +88,14 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     if c.converged[0] and c.opposed[0]:
         xc = c.x[0]
         tan = tangent_predictor(pinion, gear, asm, side, [phi1c], c.x)[0]
-    else:  # no surface contact near the pitch point: start from the edge that touches
+    else:  # no surface contact near the pitch point: start from what touches first
         start = edge_start(pinion, gear, asm, side, phi1c, x0, centre_iter)
         if start is None:
             raise InputError(
                 Problem(
                     f"tca[{SIDE_NAMES[side]}]",
                     "pitch-point contact",
-                    _no_centre_reason(pinion, gear, asm, side, c, centre_iter),
+                    _no_centre_reason(asm, c, centre_iter),
                 ),
                 "tooth contact analysis failed",
             )
@@ -154,8 +154,8 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
             gear_angle = np.where(act.any(1), np.nanmin(np.where(act, gp, np.inf), axis=1), np.nan)
         else:
             gear_angle = np.where(act.any(1), np.nanmax(np.where(act, gp, -np.inf), axis=1), np.nan)
-    # positions without a surface contact on the real flanks: the face-end edge that
-    # touches first (gearbox.tca.edge) sets the gear angle
+    # positions without a surface contact on the real flanks: the border, corner or
+    # crossing of borders that touches first (gearbox.tca.edge) sets the gear angle
     edge_name = np.full(n, "", dtype=object)
     edge_point = np.full((n, 3), np.nan)
     edge_x = np.full((n, 5), np.nan)
@@ -312,7 +312,6 @@ def tca_of_blanks(
                 if edges
                 else ""
             )
-
             ratio = (
                 f" (contact ratio {fc.contact_ratio:.3f} < 1)"
                 if np.isfinite(fc.contact_ratio) and fc.active.any()
