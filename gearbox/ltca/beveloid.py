@@ -322,8 +322,8 @@ def _gear_phase(design, asm, pinion, gear, side, zc, uc):
     """Gear angle phi_2,0 at phi_1 = 0 at which the flanks ``side`` of pinion tooth 0
     and gear tooth 0 touch: the unloaded TCA's contact at the pitch point
     (:func:`gearbox.tca.local.centre_start`, :func:`gearbox.tca.contact.solve_contact`),
-    or where the surfaces touch off the real flanks there, the border that touches
-    first (:func:`gearbox.tca.edge.edge_start`), carried back to phi_1 = 0 along the
+    or where the surfaces touch off the real flanks there, the border, corner or
+    crossing that touches first (:func:`gearbox.tca.edge.edge_start`), carried back to phi_1 = 0 along the
     ideal ratio; where both fail, :func:`_gear_phase_search`.
 
     The separation field needs the touching phase: a gear turned by d phi_2 off it
@@ -344,7 +344,7 @@ def _gear_phase(design, asm, pinion, gear, side, zc, uc):
         if c.converged[0] and c.opposed[0]:
             return float(c.x[0, 4]) + ratio * phi1c
         # no surface contact near the pitch point (near line contact under
-        # misalignment): the border of a real flank that touches first there
+        # misalignment): what touches first there (a border, corner or crossing)
         start = edge_start(pinion, gear, asm, side, phi1c, x0, 200)
         if start is not None:
             return float(start[0][4]) + ratio * phi1c

@@ -117,11 +117,12 @@ class FlankContact:
             direction (its axis projected on the tangent plane, towards the heel),
             positive towards the pinion's tip, in (-pi/2, pi/2] (rad).
         gear_angle_pairs: (n, P) gear angle of each pair's contact (rad).
-        edge: (n,) str, the border of a real flank (:data:`gearbox.tca.edge.EDGES`:
-            a face end, the tip or the form circle of either member, e.g. "gear heel")
-            or its corner (``CORNERS``) that touches the mate's flank first and sets the gear angle at a position
-            where no pair's surfaces touch on the real flanks; "" elsewhere (surface
-            contact, or none).
+        edge: (n,) str, what of a real flank touches the mate first and sets the gear
+            angle at a position where no pair's surfaces touch on the real flanks
+            (:data:`gearbox.tca.edge.CANDIDATES`): a border (a face end, the tip or the
+            form line of either member, e.g. "gear heel"), a corner of two ("gear
+            toe/tip") or a pinion border crossing a gear border ("pinion tip x gear
+            heel"); "" elsewhere (surface contact, or none).
         edge_point: (n, 3) that edge contact's point in Sf (m), NaN elsewhere.
         edge_pair: (n,) int, its tooth pair's offset j (as ``pair``), 0 elsewhere.
         edge_pinion_flank, edge_gear_flank: (n, 2) its place on each flank as
@@ -351,7 +352,8 @@ class TCAResult:
 
 
 def _edge_tally(fc) -> dict:
-    """{border: positions} of a side's edge contacts (``FlankContact.edge``)."""
+    """{border, corner or crossing: positions} of a side's edge contacts
+    (``FlankContact.edge``)."""
     if fc.edge is None:
         return {}
     names, counts = np.unique(fc.edge[fc.edge != ""], return_counts=True)
