@@ -314,3 +314,26 @@ def test_tips_that_barely_overlap_touch_at_corners_and_crossings():
     names = {str(e) for fc in (res.drive, res.coast) for e in fc.edge if e}
     assert any(" x " in e for e in names), names
     assert checked >= 6
+
+
+def test_a_surface_contact_off_the_flanks_near_the_pitch_point_is_not_the_start():
+    """A random valid design (drive FPD 0.861 deg) under -53 um, -0.0213 deg and -29 um
+    of pinion axial error (benchmark stress draw): the surfaces' contact near the pitch
+    point converges 0.53 m along the continued flanks. Taken as the sweep's start, the
+    borders tracked from there found nothing and the TCA called the gears separated;
+    the sweep now starts from what touches first on the real flanks."""
+    sc = load_scene("models/case03.toml").replaced(
+        pinion={
+            "teeth": 25,
+            "profile_shift_xt": -0.18532203801750796,
+            "helix_angle_deg": 12.797780984269263,
+            "cone_angle_deg": 3.0524136654569776,
+        },
+        gear={"teeth": 32, "cone_angle_deg": 1.1276500937279677},
+        pair={"offset_mm": 165.41061866853033, "shaft_angle_deg": 16.127095178910984},
+    )
+    design = design_pair(PairSpec.from_scene(sc))
+    assert math.degrees(design.fpd_angle_right) == pytest.approx(0.861, abs=1e-3)
+    err = AssemblyErrors(offset=-53.3e-6, shaft_angle=-3.7138e-4, pinion_axial=-28.6e-6)
+    res = run_tca(design, errors=err, settings=TCASettings(positions=11))
+    assert np.isfinite(res.drive.gear_angle).all() and (res.drive.edge != "").all()

@@ -333,7 +333,7 @@ def _gear_phase(design, asm, pinion, gear, side, zc, uc):
     pinion's phi_1 = 0, away from the mesh, was off).
     """
     from ..tca.contact import solve_contact
-    from ..tca.edge import edge_start
+    from ..tca.edge import edge_start, on_flanks
     from ..tca.local import centre_start
 
     ratio = design.pinion.teeth / design.gear.teeth
@@ -341,7 +341,7 @@ def _gear_phase(design, asm, pinion, gear, side, zc, uc):
         target = np.asarray(design.pitch_point, dtype=float)
         phi1c, x0 = centre_start(pinion, gear, asm, side, target)
         c = solve_contact(pinion, gear, asm, side, [phi1c], x0[None, :], max_iter=200)
-        if c.converged[0] and c.opposed[0]:
+        if c.converged[0] and c.opposed[0] and on_flanks(pinion, gear, side, c.x)[0]:
             return float(c.x[0, 4]) + ratio * phi1c
         # no surface contact near the pitch point (near line contact under
         # misalignment): what touches first there (a border, corner or crossing)

@@ -32,7 +32,7 @@ from ..errors import InputError, Problem
 from ..surface import ToothBlank, flank_points
 from .assembly import Assembly, AssemblyErrors
 from .contact import solve_contact, tangent_predictor
-from .edge import edge_contacts, edge_start
+from .edge import edge_contacts, edge_start, on_flanks
 from .local import centre_start, contact_ellipse, far_outside, flank_limits, refine_path_ends
 from .result import (
     LINE_CONTACT_FPD,
@@ -85,7 +85,9 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     phi1c, x0 = centre_start(pinion, gear, asm, side, target)
     centre_iter = max(settings.max_iter, CENTRE_MAX_ITER)
     c = solve_contact(pinion, gear, asm, side, [phi1c], x0[None, :], max_iter=centre_iter)
-    if c.converged[0] and c.opposed[0]:
+    # the surfaces' contact near the pitch point, where it lies on the real flanks (a
+    # misaligned near-line pair's can lie half a metre along the continued flanks)
+    if c.converged[0] and c.opposed[0] and on_flanks(pinion, gear, side, c.x)[0]:
         xc = c.x[0]
         tan = tangent_predictor(pinion, gear, asm, side, [phi1c], c.x)[0]
     else:  # no surface contact near the pitch point: start from what touches first
