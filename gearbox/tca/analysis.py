@@ -68,11 +68,20 @@ def _no_centre_reason(asm, c, centre_iter) -> str:
     why = (
         "with no assembly errors" if asm.errors == AssemblyErrors() else "check the assembly errors"
     )
+    borders = (
+        "no border of either member's real flank (face end, tip or form line, their corners "
+        "and crossings) touches the mate there"
+    )
+    if c.converged[0] and c.opposed[0]:  # the surfaces touch, but off the real flanks
+        return (
+            f"no tooth pair is in contact on the real flanks near the pitch point: the flanks' "
+            f"surfaces touch only on their continuation (pinion z {c.x[0, 0] * 1e3:.4g} mm, "
+            f"gear z {c.x[0, 2] * 1e3:.4g} mm), and {borders}; the assembly separates the "
+            f"gears or the flanks do not overlap: {why}"
+        )
     return (
         f"the contact conditions have no solution near the pitch point within {centre_iter} "
-        f"iterations (residual {c.residual_position[0]:.3g} m), and no border of either "
-        f"member's real flank (face end, tip or form line, their corners and crossings) "
-        f"touches the mate there: {why}"
+        f"iterations (residual {c.residual_position[0]:.3g} m), and {borders}: {why}"
     )
 
 
