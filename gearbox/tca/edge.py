@@ -456,16 +456,15 @@ CANDIDATES = tuple(e[0] for e in EDGES) + tuple(c[0] for c in CORNERS) + CROSSIN
 
 
 def _edge_track(pinion, gear, asm, side, phi1c, x_start, edge, max_iter):
-    """A border's or corner's touch at phi1c from x_start and its tangent
-    d x / d phi_1 (finite difference), or None where the solve fails."""
-    s = _solve(pinion, gear, asm, side, [phi1c], x_start[None, :], edge, max_iter)
-    if not (s.converged[0] and s.opposed[0]):
-        return None
+    """A border's, corner's or crossing's touch at phi1c from x_start and its tangent
+    d x / d phi_1 (finite difference: the touch at phi1c + TANGENT_STEP solved in the
+    same batch), or None where either solve fails."""
     h = TANGENT_STEP
-    s2 = _solve(pinion, gear, asm, side, [phi1c + h], s.x, edge, max_iter)
-    if not s2.converged[0]:
+    x0 = np.repeat(np.asarray(x_start, float)[None, :], 2, axis=0)
+    s = _solve(pinion, gear, asm, side, [phi1c, phi1c + h], x0, edge, max_iter)
+    if not (s.converged.all() and s.opposed[0]):
         return None
-    return s.x[0], (s2.x[0] - s.x[0]) / h
+    return s.x[0], (s.x[1] - s.x[0]) / h
 
 
 def edge_start(pinion, gear, asm, side, phi1c, x0, max_iter):
