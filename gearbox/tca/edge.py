@@ -41,6 +41,7 @@ tests/test_tca_edge.py.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -123,16 +124,8 @@ class _Border:
         self.face = kind in ("toe", "heel")
         if self.face:
             self.z_e = float(blank.z_toe if kind == "toe" else blank.z_heel)
-        else:  # u = c(z) as a cubic spline through LINE_NODES exact values
-            from scipy.interpolate import CubicSpline
-
-            b = blank.face_width
-            z = np.linspace(blank.z_toe - b, blank.z_heel + b, LINE_NODES)
-            if kind == "tip":
-                c = tip_parameter(blank, side, z)[0]
-            else:
-                c = np.asarray(involute_start(blank, side, z), float)
-            self.spline = CubicSpline(z, c)
+        else:
+            self.spline = _line_spline(blank, side, kind)
 
     def zu(self, s):
         """(z, u, dz/ds, du/ds, d2z/ds2, d2u/ds2), each shape (N,)."""
@@ -162,6 +155,37 @@ class _Border:
         if self.member == "pinion":
             return np.stack([s, x[:, 2], x[:, 3], x[:, 4]], axis=1)
         return np.stack([x[:, 0], x[:, 1], s, x[:, 4]], axis=1)
+
+
+@lru_cache(maxsize=64)
+def _line_spline(blank: ToothBlank, side: str, kind: str):
+    """u = c(z) of a tip or root line as a cubic spline through LINE_NODES exact values
+    (kept per blank: building one takes about 23 ms, and a TCA with edge contact asks
+    for the lines of every candidate several times)."""
+    from scipy.interpolate import CubicSpline
+
+    b = blank.face_width
+    z = np.linspace(blank.z_toe - b, blank.z_heel + b, LINE_NODES)
+    if kind == "tip":
+        c = tip_parameter(blank, side, z)[0]
+    else:
+        c = np.asarray(involute_start(blank, side, z), float)
+    return CubicSpline(z, c)
+
+
+def _solution(name, x, done, iters, f1, f2, touched) -> EdgeSolution:
+    """An :class:`EdgeSolution` from a solve's unknowns x (N, 5) and both flanks' frames
+    there; ``touched``: the frames of the flank whose normal is the contact's (turned
+    along the pinion's outward normal)."""
+    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
+    n = touched["n"] * np.sign(np.einsum("ni,ni->n", touched["n"], f1["n"]))[:, None]
+    converged = done & np.all(np.isfinite(x), axis=1)
+    return EdgeSolution(name, x, converged, iters, opposed, f1["r"], n)
+
+
+def _member(name: str) -> str:
+    """The member a border or corner lies on: its name's first word."""
+    return name.split()[0]
 
 
 def _border(pinion, gear, side, edge: str) -> _Border:
@@ -253,11 +277,7 @@ def solve_edge_contact(
 
     y, done, iters = bounded_newton(system, y, lim, max_iter)
     _, _, x, f1, f2 = _edge_system(pinion, gear, asm, side, phi1, y, b)
-    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
-    n = f2["n"] if b.member == "pinion" else f1["n"]
-    n = n * np.sign(np.einsum("ni,ni->n", n, f1["n"]))[:, None]
-    converged = done & np.all(np.isfinite(x), axis=1)
-    return EdgeSolution(edge, x, converged, iters, opposed, f1["r"], n)
+    return _solution(edge, x, done, iters, f1, f2, f2 if b.member == "pinion" else f1)
 
 
 def _corner(pinion, gear, side, corner: str):
@@ -265,7 +285,7 @@ def _corner(pinion, gear, side, corner: str):
         if name == corner:
             blank = pinion if member == "pinion" else gear
             z = float(blank.z_toe if end == "toe" else blank.z_heel)
-            u = float(_Border(blank, side, member, line).spline(z))
+            u = float(_line_spline(blank, side, line)(z))
             return member, z, u
     raise ValueError(f"corner {corner!r} must be one of {', '.join(c[0] for c in CORNERS)}")
 
@@ -319,11 +339,7 @@ def solve_corner_contact(
     y, done, iters = bounded_newton(system, x[:, free], lim, max_iter)
     xs = full(y)
     f1, f2 = frames(phi1, xs)
-    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
-    n = f2["n"] if member == "pinion" else f1["n"]
-    n = n * np.sign(np.einsum("ni,ni->n", n, f1["n"]))[:, None]
-    converged = done & np.all(np.isfinite(xs), axis=1)
-    return EdgeSolution(corner, xs, converged, iters, opposed, f1["r"], n)
+    return _solution(corner, xs, done, iters, f1, f2, f2 if member == "pinion" else f1)
 
 
 #: Crossings: a border of the pinion's flank against a border of the gear's (two
@@ -372,9 +388,7 @@ def solve_crossing_contact(
     lim = np.array([MAX_STEP_LENGTH] * 2 + [MAX_STEP_ANGLE])
     y, done, iters = bounded_newton(system, y, lim, max_iter)
     f1, f2, _, _, xs = frames(phi1, y)
-    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
-    converged = done & np.all(np.isfinite(xs), axis=1)
-    return EdgeSolution(crossing, xs, converged, iters, opposed, f1["r"], f1["n"])
+    return _solution(crossing, xs, done, iters, f1, f2, f1)
 
 
 def _solve(pinion, gear, asm, side, phi1, x0, name, max_iter):
@@ -430,11 +444,7 @@ def _classify(pinion, gear, side, s: EdgeSolution):
         ok1, ok2 = (lim1 == "") | (lim1 == a), (lim2 == "") | (lim2 == b)
         valid = s.converged & s.opposed & ok1 & ok2
         return valid, np.zeros_like(valid)
-    if "/" in s.edge:  # a corner: on its own flank's closure by construction
-        member = _corner(pinion, gear, side, s.edge)[0]
-    else:
-        member = _border(pinion, gear, side, s.edge).member
-    own, mate = (lim1, lim2) if member == "pinion" else (lim2, lim1)
+    own, mate = (lim1, lim2) if _member(s.edge) == "pinion" else (lim2, lim1)
     touch = s.converged & s.opposed & (mate == "")
     valid = touch & ((own == "") | (own == s.edge) | ("/" in s.edge))
     beyond = touch & ~valid & (own != "not finite")
