@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from gearbox.surface import involute_start, tip_parameter
+from gearbox.surface import flank_points, involute_start, tip_parameter
 from gearbox.tca.contact import flank_frames
 
 
@@ -52,8 +52,6 @@ def _touch_angles(p, g, asm, side, phi1, Z, F, phi2_guess):
         J = np.stack([f2["rz"], f2["ru"], np.cross(a2, f2["r"] - O2)], axis=-1)
         dx = np.linalg.solve(J, -res[..., None])[..., 0]
         x += np.clip(dx, [-5e-3, -5e-3, -0.05], [5e-3, 5e-3, 0.05])
-    from gearbox.surface import flank_points
-
     ok = np.linalg.norm(res, axis=1) < 1e-10
     r2 = flank_points(g, side, x[:, 0], x[:, 1], involute_only=True).radius
     ok &= (x[:, 0] >= g.z_toe - 1e-12) & (x[:, 0] <= g.z_heel + 1e-12)
