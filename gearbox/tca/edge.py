@@ -40,6 +40,7 @@ tests/test_tca_edge.py.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -58,6 +59,7 @@ __all__ = [
     "EdgeSolution",
     "edge_contacts",
     "edge_residual",
+    "edge_unknowns",
     "edge_start",
     "on_flanks",
     "solve_corner_contact",
@@ -92,21 +94,21 @@ CORNERS = tuple(
 #: change; the spline against the exact line in tests/test_tca_edge.py).
 LINE_NODES = 241
 
-#: Index in (z_1, u_1, z_2, u_2, phi_2) of each member's (z, u).
-_ZU = {"pinion": (0, 1), "gear": (2, 3)}
-
 
 @dataclass(frozen=True)
 class EdgeSolution:
-    """Result of :func:`solve_edge_contact` for N problems (SI).
+    """Result of :func:`solve_edge_contact` (and of the corner's and crossing's solves)
+    for N problems (SI).
 
-    ``x``: (N, 5) as the surface contact's unknowns; ``converged``, ``iterations``;
+    ``edge``: the candidate's name, or (N,) names where the rows solve different
+    candidates (:func:`edge_contacts` solves them all in one batch); ``x``: (N, 5) as
+    the surface contact's unknowns; ``converged``, ``iterations``;
     ``opposed``: the flanks' outward normals point against each other; ``point`` (N, 3)
     in Sf; ``normal`` (N, 3): the unit normal of the flank the border touches, turned
     to point along the pinion's outward normal.
     """
 
-    edge: str
+    edge: str | np.ndarray
     x: np.ndarray
     converged: np.ndarray
     iterations: np.ndarray
@@ -136,26 +138,6 @@ class _Border:
         c = self.spline
         return s, c(s), one, c(s, 1), zero, c(s, 2)
 
-    def full(self, y, zu=None):
-        """(N, 5) surface-contact unknowns from the border's four (``zu``: their
-        :meth:`zu`, when computed already)."""
-        y = np.asarray(y, float)
-        if zu is None:
-            zu = self.zu(y[:, 0] if self.member == "pinion" else y[:, 2])
-        z, u = zu[0], zu[1]
-        if self.member == "pinion":
-            return np.stack([z, u, y[:, 1], y[:, 2], y[:, 3]], axis=1)
-        return np.stack([y[:, 0], y[:, 1], z, u, y[:, 3]], axis=1)
-
-    def reduced(self, x):
-        """The border's four unknowns from (N, 5) ones (the border's parameter: u on a
-        face end, z on a line)."""
-        iz, iu = _ZU[self.member]
-        s = x[:, iu] if self.face else x[:, iz]
-        if self.member == "pinion":
-            return np.stack([s, x[:, 2], x[:, 3], x[:, 4]], axis=1)
-        return np.stack([x[:, 0], x[:, 1], s, x[:, 4]], axis=1)
-
 
 @lru_cache(maxsize=64)
 def _line_spline(blank: ToothBlank, side: str, kind: str):
@@ -173,16 +155,6 @@ def _line_spline(blank: ToothBlank, side: str, kind: str):
     return CubicSpline(z, c)
 
 
-def _solution(name, x, done, iters, f1, f2, touched) -> EdgeSolution:
-    """An :class:`EdgeSolution` from a solve's unknowns x (N, 5) and both flanks' frames
-    there; ``touched``: the frames of the flank whose normal is the contact's (turned
-    along the pinion's outward normal)."""
-    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
-    n = touched["n"] * np.sign(np.einsum("ni,ni->n", touched["n"], f1["n"]))[:, None]
-    converged = done & np.all(np.isfinite(x), axis=1)
-    return EdgeSolution(name, x, converged, iters, opposed, f1["r"], n)
-
-
 def _member(name: str) -> str:
     """The member a border or corner lies on: its name's first word."""
     return name.split()[0]
@@ -195,58 +167,251 @@ def _border(pinion, gear, side, edge: str) -> _Border:
     raise ValueError(f"edge {edge!r} must be one of {', '.join(e[0] for e in EDGES)}")
 
 
-def _edge_system(pinion, gear, asm, side, phi1, y, b: _Border):
-    """F (N, 4), J (N, 4, 4) of a border's conditions at its unknowns y (N, 4); and x
-    (N, 5), the frames f1, f2."""
-    zu = b.zu(y[:, 0] if b.member == "pinion" else y[:, 2])
-    x = b.full(y, zu)
-    M1 = asm.pinion_matrix(phi1)
-    M2 = asm.gear_matrix(x[:, 4])
-    a2, O2 = asm.gear_axis, asm.gear_origin
-    f1 = flank_frames(pinion, side, x[:, 0], x[:, 1], M1, asm.pinion_origin)
-    f2 = flank_frames(gear, side, x[:, 2], x[:, 3], M2, O2)
-    dot = lambda a, c: np.einsum("ni,ni->n", a, c)  # noqa: E731
-    _, _, zs, us, zss, uss = zu
-    fe, fm = (f1, f2) if b.member == "pinion" else (f2, f1)
-    col = lambda v: v[:, None]  # noqa: E731
-    # the border's tangent and its derivative along s
-    t = col(zs) * fe["rz"] + col(us) * fe["ru"]
-    dt = (
-        col(zs**2) * fe["rzz"]
-        + col(2 * zs * us) * fe["rzu"]
-        + col(us**2) * fe["ruu"]
-        + col(zss) * fe["rz"]
-        + col(uss) * fe["ru"]
-    )
-    n = fm["n"]
-    J = np.empty(y.shape[:1] + (4, 4))
-    J[:, :3, 3] = -np.cross(a2, f2["r"] - O2)
-    if b.member == "pinion":  # y = (s, z_2, u_2, phi_2)
-        J[:, :3, 0] = t
-        J[:, :3, 1] = -f2["rz"]
-        J[:, :3, 2] = -f2["ru"]
-        J[:, 3, 0] = dot(n, dt)
-        J[:, 3, 1] = dot(f2["nz"], t)
-        J[:, 3, 2] = dot(f2["nu"], t)
-        J[:, 3, 3] = dot(np.cross(a2, n), t)
-    else:  # y = (z_1, u_1, s, phi_2); the gear's tangent turns with it
-        J[:, :3, 0] = f1["rz"]
-        J[:, :3, 1] = f1["ru"]
-        J[:, :3, 2] = -t
-        J[:, 3, 0] = dot(f1["nz"], t)
-        J[:, 3, 1] = dot(f1["nu"], t)
-        J[:, 3, 2] = dot(n, dt)
-        J[:, 3, 3] = dot(n, np.cross(a2, t))
-    F = np.concatenate([f1["r"] - f2["r"], dot(n, t)[:, None]], axis=1)
-    return F, J, x, f1, f2
+def _corner(pinion, gear, side, corner: str):
+    for name, member, end, line in CORNERS:
+        if name == corner:
+            blank = pinion if member == "pinion" else gear
+            z = float(blank.z_toe if end == "toe" else blank.z_heel)
+            u = float(_line_spline(blank, side, line)(z))
+            return member, z, u
+    raise ValueError(f"corner {corner!r} must be one of {', '.join(c[0] for c in CORNERS)}")
+
+
+#: Crossings: a border of the pinion's flank against a border of the gear's (two
+#: curves touching where they cross), named "pinion <border> x gear <border>".
+CROSSINGS = tuple(
+    f"{a} x {b}" for a, ma, _ in EDGES if ma == "pinion" for b, mb, _ in EDGES if mb == "gear"
+)
+
+#: Every candidate of an edge contact: the borders, the corners, the crossings.
+CANDIDATES = tuple(e[0] for e in EDGES) + tuple(c[0] for c in CORNERS) + CROSSINGS
+
+#: The kinds of candidate and their four unknowns y, the gear angle phi_2 always last:
+#: a pinion border touching the gear's surface (s_1, z_2, u_2, phi_2), a gear border
+#: touching the pinion's (z_1, u_1, s_2, phi_2), a pinion corner that the gear's
+#: surface passes through (z_2, u_2, 0, phi_2), a gear corner (z_1, u_1, 0, phi_2) and
+#: a crossing of two borders (s_1, s_2, 0, phi_2). A border adds the tangency
+#: ``n_mate . t = 0`` to the three equations of coincident points; the kinds with three
+#: unknowns hold the third at 0 (their fourth equation is ``y_3 = 0``).
+PINION_BORDER, GEAR_BORDER, PINION_CORNER, GEAR_CORNER, CROSSING = range(5)
+
+
+def _kind(name: str) -> tuple[int, str | None, str | None]:
+    """(kind, the pinion's border, the gear's border) of a candidate's name."""
+    if " x " in name:
+        a, b = name.split(" x ")
+        if _border_kind(a, "pinion") != "pinion" or _border_kind(b, "gear") != "gear":
+            raise ValueError(f"crossing {name!r} must be one of {', '.join(CROSSINGS)}")
+        return CROSSING, a, b
+    if "/" in name:
+        if name not in {c[0] for c in CORNERS}:
+            raise ValueError(f"corner {name!r} must be one of {', '.join(c[0] for c in CORNERS)}")
+        return (
+            (PINION_CORNER, None, None) if _member(name) == "pinion" else (GEAR_CORNER, None, None)
+        )
+    if _border_kind(name, None) == "pinion":
+        return PINION_BORDER, name, None
+    return GEAR_BORDER, None, name
+
+
+def _border_kind(name: str, member: str | None) -> str:
+    """The member of the border ``name`` (checked to be ``member`` where given)."""
+    for e, m, _ in EDGES:
+        if e == name and member in (None, m):
+            return m
+    raise ValueError(f"edge {name!r} must be one of {', '.join(e[0] for e in EDGES)}")
+
+
+class _Candidates:
+    """N rows, each a candidate (a name of :data:`CANDIDATES`), as one system in the
+    four unknowns of :data:`PINION_BORDER` and the others: every candidate at every
+    angle goes through one batched Newton iteration, two surface evaluations per step."""
+
+    def __init__(self, pinion, gear, asm, side, names):
+        self.pinion, self.gear, self.asm, self.side = pinion, gear, asm, side
+        names = np.asarray(names, dtype=object).reshape(-1)
+        uniq, inv = np.unique(names.astype(str), return_inverse=True)
+        parts = [_kind(str(u)) for u in uniq]
+        edge_index = {e[0]: i for i, e in enumerate(EDGES)}
+        self.borders = [_border(pinion, gear, side, e[0]) for e in EDGES]
+        # one more entry (index -1) for rows without a border on that member
+        self.face = np.array([b.face for b in self.borders] + [False])
+        self.kind = np.array([p[0] for p in parts], int)[inv]
+        self.b1 = np.array([edge_index.get(p[1], -1) for p in parts], int)[inv]
+        self.b2 = np.array([edge_index.get(p[2], -1) for p in parts], int)[inv]
+        points = np.zeros((len(uniq), 2))
+        for i, (u, p) in enumerate(zip(uniq, parts, strict=True)):
+            if p[0] in (PINION_CORNER, GEAR_CORNER):
+                points[i] = _corner(pinion, gear, side, str(u))[1:]
+        self.point = points[inv]
+
+    def start(self, x0):
+        """The four unknowns from (N, 5) surface-contact ones: a border's own member is
+        put on the border (its z on a face end, its u on a line), a corner's on it."""
+        x0 = np.asarray(x0, float).reshape(-1, 5)
+        k = self.kind
+        s1 = np.where(self.face[self.b1], x0[:, 1], x0[:, 0])
+        s2 = np.where(self.face[self.b2], x0[:, 3], x0[:, 2])
+        y = np.zeros((x0.shape[0], 4))
+        y[:, 3] = x0[:, 4]
+        for kind, cols in (
+            (PINION_BORDER, (s1, x0[:, 2], x0[:, 3])),
+            (GEAR_BORDER, (x0[:, 0], x0[:, 1], s2)),
+            (PINION_CORNER, (x0[:, 2], x0[:, 3])),
+            (GEAR_CORNER, (x0[:, 0], x0[:, 1])),
+            (CROSSING, (s1, s2)),
+        ):
+            m = k == kind
+            for j, c in enumerate(cols):
+                y[m, j] = c[m]
+        return y
+
+    def _zu(self, y, rows, member):
+        """(z, u, dz/ds, du/ds, d2z/ds2, d2u/ds2) of ``member`` at ``rows`` (index array)
+        from their unknowns y: the free surface's (z, u), a border's at its parameter or a
+        corner's point (derivatives in s 0 where there is no border)."""
+        k = self.kind[rows]
+        out = np.zeros((6, len(rows)))
+        if member == "pinion":
+            surf = {GEAR_BORDER: (0, 1), GEAR_CORNER: (0, 1)}
+            on_border, s, bid, corner = (
+                (k == PINION_BORDER) | (k == CROSSING),
+                y[:, 0],
+                self.b1,
+                PINION_CORNER,
+            )
+        else:
+            surf = {PINION_BORDER: (1, 2), PINION_CORNER: (0, 1)}
+            on_border = (k == GEAR_BORDER) | (k == CROSSING)
+            s, bid, corner = np.where(k == GEAR_BORDER, y[:, 2], y[:, 1]), self.b2, GEAR_CORNER
+        for kind, (cz, cu) in surf.items():
+            m = k == kind
+            out[0, m], out[1, m] = y[m, cz], y[m, cu]
+        m = k == corner
+        out[0, m], out[1, m] = self.point[rows[m], 0], self.point[rows[m], 1]
+        bid = bid[rows]
+        for b in np.unique(bid[on_border]):
+            m = on_border & (bid == b)
+            out[:, m] = np.stack(self.borders[b].zu(s[m]))
+        return out
+
+    def system(self, phi1, y, rows):
+        """F (n, 4), J (n, 4, 4) at the unknowns y (n, 4) of ``rows``; and x (n, 5), the
+        pinion's and the gear's frames there."""
+        asm = self.asm
+        a2, O2 = asm.gear_axis, asm.gear_origin
+        z1, u1, z1s, u1s, z1ss, u1ss = self._zu(y, rows, "pinion")
+        z2, u2, z2s, u2s, z2ss, u2ss = self._zu(y, rows, "gear")
+        f1 = flank_frames(
+            self.pinion, self.side, z1, u1, asm.pinion_matrix(phi1), asm.pinion_origin
+        )
+        f2 = flank_frames(self.gear, self.side, z2, u2, asm.gear_matrix(y[:, 3]), O2)
+        col = lambda v: v[:, None]  # noqa: E731
+        dot = lambda a, c: np.einsum("ni,ni->n", a, c)  # noqa: E731
+        # the borders' tangents (0 where a member has none)
+        t1 = col(z1s) * f1["rz"] + col(u1s) * f1["ru"]
+        t2 = col(z2s) * f2["rz"] + col(u2s) * f2["ru"]
+        k = self.kind[rows]
+        pb, gb, pc, gc, cr = (k == kind for kind in range(5))
+        n = y.shape[0]
+        F = np.zeros((n, 4))
+        J = np.zeros((n, 4, 4))
+        F[:, :3] = f1["r"] - f2["r"]
+        J[:, :3, 3] = -np.cross(a2, f2["r"] - O2)
+        # the pinion's point: its surface's (z_1, u_1) or its border's s_1
+        s = gb | gc
+        J[s, :3, 0], J[s, :3, 1] = f1["rz"][s], f1["ru"][s]
+        s = pb | cr
+        J[s, :3, 0] = t1[s]
+        # the gear's
+        J[pb, :3, 1], J[pb, :3, 2] = -f2["rz"][pb], -f2["ru"][pb]
+        J[pc, :3, 0], J[pc, :3, 1] = -f2["rz"][pc], -f2["ru"][pc]
+        J[gb, :3, 2] = -t2[gb]
+        J[cr, :3, 1] = -t2[cr]
+
+        def bend(f, zs, us, zss, uss, m):
+            """The derivative of a border's tangent along s at rows m."""
+            zs, us, zss, uss = col(zs[m]), col(us[m]), col(zss[m]), col(uss[m])
+            return (
+                zs**2 * f["rzz"][m]
+                + 2 * zs * us * f["rzu"][m]
+                + us**2 * f["ruu"][m]
+                + zss * f["rz"][m]
+                + uss * f["ru"][m]
+            )
+
+        if pb.any():  # y = (s_1, z_2, u_2, phi_2): the pinion's tangent in the gear's plane
+            t, nm = t1[pb], f2["n"][pb]
+            F[pb, 3] = dot(nm, t)
+            J[pb, 3, 0] = dot(nm, bend(f1, z1s, u1s, z1ss, u1ss, pb))
+            J[pb, 3, 1] = dot(f2["nz"][pb], t)
+            J[pb, 3, 2] = dot(f2["nu"][pb], t)
+            J[pb, 3, 3] = dot(np.cross(a2, nm), t)
+        if gb.any():  # y = (z_1, u_1, s_2, phi_2); the gear's tangent turns with it
+            t, nm = t2[gb], f1["n"][gb]
+            F[gb, 3] = dot(nm, t)
+            J[gb, 3, 0] = dot(f1["nz"][gb], t)
+            J[gb, 3, 1] = dot(f1["nu"][gb], t)
+            J[gb, 3, 2] = dot(nm, bend(f2, z2s, u2s, z2ss, u2ss, gb))
+            J[gb, 3, 3] = dot(nm, np.cross(a2, t))
+        three = pc | gc | cr
+        F[three, 3] = y[three, 2]
+        J[three, 3, 2] = 1.0
+        x = np.stack([z1, u1, z2, u2, y[:, 3]], axis=1)
+        return F, J, x, f1, f2
+
+
+def _solve_rows(pinion, gear, asm, side, phi1, x0, names, max_iter) -> EdgeSolution:
+    """The touch of each row's candidate ``names`` (N,) at the pinion angles ``phi1``
+    (N,) from ``x0`` (N, 5), all in one batched bounded Newton iteration
+    (:func:`gearbox.tca.contact.bounded_newton`); each row iterates on its own."""
+    c = _Candidates(pinion, gear, asm, side, names)
+    x0 = np.asarray(x0, float).reshape(-1, 5)
+    phi1 = np.broadcast_to(np.asarray(phi1, float).reshape(-1), (x0.shape[0],))
+    lim = np.array([MAX_STEP_LENGTH] * 3 + [MAX_STEP_ANGLE])
+
+    def system(act, ya):
+        F, J, *_ = c.system(phi1[act], ya, np.flatnonzero(act))
+        return F, J
+
+    y, done, iters = bounded_newton(system, c.start(x0), lim, max_iter)
+    _, _, x, f1, f2 = c.system(phi1, y, np.arange(x0.shape[0]))
+    opposed = np.einsum("ni,ni->n", f1["n"], f2["n"]) < 0
+    # the contact's normal: that of the flank a border or corner touches (the pinion's
+    # for a gear's border or corner and for a crossing), along the pinion's outward one
+    mate = (c.kind == PINION_BORDER) | (c.kind == PINION_CORNER)
+    touched = np.where(mate[:, None], f2["n"], f1["n"])
+    normal = touched * np.sign(np.einsum("ni,ni->n", touched, f1["n"]))[:, None]
+    converged = done & np.all(np.isfinite(x), axis=1)
+    edge = np.asarray(names, dtype=object).reshape(-1)
+    return EdgeSolution(edge, x, converged, iters, opposed, f1["r"], normal)
+
+
+def _solve_one(pinion, gear, asm, side, phi1, x0, name, max_iter) -> EdgeSolution:
+    """:func:`_solve_rows` with one candidate for every row; ``edge`` its name."""
+    phi1 = np.atleast_1d(np.asarray(phi1, dtype=float))
+    names = np.full(phi1.size, name, dtype=object)
+    s = _solve_rows(pinion, gear, asm, side, phi1, x0, names, max_iter)
+    return dataclasses.replace(s, edge=name)
 
 
 def edge_residual(pinion, gear, asm, side, phi1, y, edge: str):
-    """F(y) and dF/dy of one border's conditions, shapes (N, 4) and (N, 4, 4); y (N, 4)
-    as in the module doc."""
-    b = _border(pinion, gear, side, edge)
-    F, J, *_ = _edge_system(pinion, gear, asm, side, np.atleast_1d(phi1), np.atleast_2d(y), b)
+    """F(y) and dF/dy of one candidate's conditions, shapes (N, 4) and (N, 4, 4); y
+    (N, 4) its unknowns (:data:`PINION_BORDER` and the others: for a border as in the
+    module doc)."""
+    y = np.atleast_2d(np.asarray(y, float))
+    c = _Candidates(pinion, gear, asm, side, np.full(y.shape[0], edge, dtype=object))
+    phi1 = np.broadcast_to(np.atleast_1d(np.asarray(phi1, float)), (y.shape[0],))
+    F, J, *_ = c.system(phi1, y, np.arange(y.shape[0]))
     return F, J
+
+
+def edge_unknowns(pinion, gear, asm, side, x, edge: str) -> np.ndarray:
+    """The four unknowns y (N, 4) of the candidate ``edge`` (one of :data:`CANDIDATES`)
+    at (N, 5) surface-contact unknowns x, as :func:`edge_residual` takes them."""
+    x = np.atleast_2d(np.asarray(x, float))
+    names = np.full(x.shape[0], edge, dtype=object)
+    return _Candidates(pinion, gear, asm, side, names).start(x)
 
 
 def solve_edge_contact(
@@ -266,28 +431,8 @@ def solve_edge_contact(
     x0: starting values (N, 5) as for :func:`gearbox.tca.contact.solve_contact`; the
     border's own member is put on the border (its z on a face end, its u on a line).
     """
-    b = _border(pinion, gear, side, edge)
-    phi1 = np.atleast_1d(np.asarray(phi1, dtype=float))
-    y = b.reduced(np.array(x0, dtype=float).reshape(-1, 5))
-    lim = np.array([MAX_STEP_LENGTH] * 3 + [MAX_STEP_ANGLE])
-
-    def system(act, ya):
-        F, J, *_ = _edge_system(pinion, gear, asm, side, phi1[act], ya, b)
-        return F, J
-
-    y, done, iters = bounded_newton(system, y, lim, max_iter)
-    _, _, x, f1, f2 = _edge_system(pinion, gear, asm, side, phi1, y, b)
-    return _solution(edge, x, done, iters, f1, f2, f2 if b.member == "pinion" else f1)
-
-
-def _corner(pinion, gear, side, corner: str):
-    for name, member, end, line in CORNERS:
-        if name == corner:
-            blank = pinion if member == "pinion" else gear
-            z = float(blank.z_toe if end == "toe" else blank.z_heel)
-            u = float(_line_spline(blank, side, line)(z))
-            return member, z, u
-    raise ValueError(f"corner {corner!r} must be one of {', '.join(c[0] for c in CORNERS)}")
+    _border_kind(edge, None)
+    return _solve_one(pinion, gear, asm, side, phi1, x0, edge, max_iter)
 
 
 def solve_corner_contact(
@@ -305,48 +450,8 @@ def solve_corner_contact(
     N pinion angles at once: the gear angle at which the mate's flank passes through
     the corner point, ``r_f1 = r_f2`` in the mate's (z, u) and phi_2 (3 equations).
     x0 as for :func:`solve_edge_contact`; the corner's member is put on the corner."""
-    member, zc, uc = _corner(pinion, gear, side, corner)
-    phi1 = np.atleast_1d(np.asarray(phi1, dtype=float))
-    x = np.array(x0, dtype=float).reshape(-1, 5).copy()
-    iz, iu = _ZU[member]
-    x[:, iz], x[:, iu] = zc, uc
-    free = [2, 3, 4] if member == "pinion" else [0, 1, 4]
-    a2, O2 = asm.gear_axis, asm.gear_origin
-
-    def frames(ph, xa):
-        f1 = flank_frames(
-            pinion, side, xa[:, 0], xa[:, 1], asm.pinion_matrix(ph), asm.pinion_origin
-        )
-        f2 = flank_frames(gear, side, xa[:, 2], xa[:, 3], asm.gear_matrix(xa[:, 4]), O2)
-        return f1, f2
-
-    def full(y):
-        xa = np.repeat(x[:1], y.shape[0], axis=0)
-        xa[:, free] = y
-        return xa
-
-    def system(act, y):
-        f1, f2 = frames(phi1[act], full(y))
-        J = np.empty(y.shape[:1] + (3, 3))
-        if member == "pinion":
-            J[:, :, 0], J[:, :, 1] = -f2["rz"], -f2["ru"]
-        else:
-            J[:, :, 0], J[:, :, 1] = f1["rz"], f1["ru"]
-        J[:, :, 2] = -np.cross(a2, f2["r"] - O2)
-        return f1["r"] - f2["r"], J
-
-    lim = np.array([MAX_STEP_LENGTH] * 2 + [MAX_STEP_ANGLE])
-    y, done, iters = bounded_newton(system, x[:, free], lim, max_iter)
-    xs = full(y)
-    f1, f2 = frames(phi1, xs)
-    return _solution(corner, xs, done, iters, f1, f2, f2 if member == "pinion" else f1)
-
-
-#: Crossings: a border of the pinion's flank against a border of the gear's (two
-#: curves touching where they cross), named "pinion <border> x gear <border>".
-CROSSINGS = tuple(
-    f"{a} x {b}" for a, ma, _ in EDGES if ma == "pinion" for b, mb, _ in EDGES if mb == "gear"
-)
+    _corner(pinion, gear, side, corner)
+    return _solve_one(pinion, gear, asm, side, phi1, x0, corner, max_iter)
 
 
 def solve_crossing_contact(
@@ -363,43 +468,9 @@ def solve_crossing_contact(
     """Touch of a pinion border with a gear border (one of :data:`CROSSINGS`): the gear
     angle at which the two curves cross, ``r_f1(border_1(s_1)) = r_f2(border_2(s_2))``
     in (s_1, s_2, phi_2) (3 equations). x0 as for :func:`solve_edge_contact`."""
-    a, b = crossing.split(" x ")
-    b1, b2 = _border(pinion, gear, side, a), _border(pinion, gear, side, b)
-    phi1 = np.atleast_1d(np.asarray(phi1, dtype=float))
-    x0 = np.array(x0, dtype=float).reshape(-1, 5)
-    y = np.stack([b1.reduced(x0)[:, 0], b2.reduced(x0)[:, 2], x0[:, 4]], axis=1)
-    a2, O2 = asm.gear_axis, asm.gear_origin
-
-    def frames(ph, ya):
-        z1, u1, zs1, us1, _, _ = b1.zu(ya[:, 0])
-        z2, u2, zs2, us2, _, _ = b2.zu(ya[:, 1])
-        f1 = flank_frames(pinion, side, z1, u1, asm.pinion_matrix(ph), asm.pinion_origin)
-        f2 = flank_frames(gear, side, z2, u2, asm.gear_matrix(ya[:, 2]), O2)
-        t1 = zs1[:, None] * f1["rz"] + us1[:, None] * f1["ru"]
-        t2 = zs2[:, None] * f2["rz"] + us2[:, None] * f2["ru"]
-        x = np.stack([z1, u1, z2, u2, ya[:, 2]], axis=1)
-        return f1, f2, t1, t2, x
-
-    def system(act, ya):
-        f1, f2, t1, t2, _ = frames(phi1[act], ya)
-        J = np.stack([t1, -t2, -np.cross(a2, f2["r"] - O2)], axis=-1)
-        return f1["r"] - f2["r"], J
-
-    lim = np.array([MAX_STEP_LENGTH] * 2 + [MAX_STEP_ANGLE])
-    y, done, iters = bounded_newton(system, y, lim, max_iter)
-    f1, f2, _, _, xs = frames(phi1, y)
-    return _solution(crossing, xs, done, iters, f1, f2, f1)
-
-
-def _solve(pinion, gear, asm, side, phi1, x0, name, max_iter):
-    """A border's (:func:`solve_edge_contact`), a corner's or a crossing's touch."""
-    if " x " in name:
-        solver = solve_crossing_contact
-    elif "/" in name:
-        solver = solve_corner_contact
-    else:
-        solver = solve_edge_contact
-    return solver(pinion, gear, asm, side, phi1, x0, name, max_iter=max_iter)
+    if crossing not in CROSSINGS:
+        raise ValueError(f"crossing {crossing!r} must be one of {', '.join(CROSSINGS)}")
+    return _solve_one(pinion, gear, asm, side, phi1, x0, crossing, max_iter)
 
 
 #: Pinion-angle step (rad) of the finite difference that gives an edge contact's
@@ -434,20 +505,26 @@ def on_flanks(pinion, gear, side, x) -> np.ndarray:
 
 
 def _classify(pinion, gear, side, s: EdgeSolution):
-    """(valid, beyond) per solution of a border or corner: ``valid``, a touch on both
-    real flanks (the border's own point may sit on its own limit, a corner on two);
-    ``beyond``, a touch on the mate's real flank but beyond an end of the border (one of
-    its corners lies nearer)."""
+    """(valid, beyond) per solution of a candidate: ``valid``, a touch on both real
+    flanks (a border's own point may sit on its own limit, a corner on two, a crossing's
+    points each on its border); ``beyond``, a border's or corner's touch on the mate's
+    real flank but beyond an end of the border (one of its corners lies nearer)."""
     lim1, lim2 = _limits(pinion, gear, side, s.x)
-    if " x " in s.edge:  # a crossing: each point on its own border
-        a, b = s.edge.split(" x ")
-        ok1, ok2 = (lim1 == "") | (lim1 == a), (lim2 == "") | (lim2 == b)
-        valid = s.converged & s.opposed & ok1 & ok2
-        return valid, np.zeros_like(valid)
-    own, mate = (lim1, lim2) if _member(s.edge) == "pinion" else (lim2, lim1)
-    touch = s.converged & s.opposed & (mate == "")
-    valid = touch & ((own == "") | (own == s.edge) | ("/" in s.edge))
-    beyond = touch & ~valid & (own != "not finite")
+    names = np.broadcast_to(np.asarray(s.edge, dtype=object), s.converged.shape)
+    valid = np.zeros(names.shape, bool)
+    beyond = np.zeros(names.shape, bool)
+    for name in set(names):
+        m = names == name
+        if " x " in name:  # a crossing: each point on its own border
+            a, b = name.split(" x ")
+            ok1 = (lim1[m] == "") | (lim1[m] == a)
+            ok2 = (lim2[m] == "") | (lim2[m] == b)
+            valid[m] = s.converged[m] & s.opposed[m] & ok1 & ok2
+            continue
+        own, mate = (lim1[m], lim2[m]) if _member(name) == "pinion" else (lim2[m], lim1[m])
+        touch = s.converged[m] & s.opposed[m] & (mate == "")
+        valid[m] = touch & ((own == "") | (own == name) | ("/" in name))
+        beyond[m] = touch & ~valid[m] & (own != "not finite")
     return valid, beyond
 
 
@@ -461,38 +538,33 @@ def _first(side: str, g: np.ndarray, valid: np.ndarray, axis: int = -1):
     return i, valid.any(axis=axis)
 
 
-#: Every candidate of an edge contact: the borders, then the corners.
-CANDIDATES = tuple(e[0] for e in EDGES) + tuple(c[0] for c in CORNERS) + CROSSINGS
-
-
-def _edge_track(pinion, gear, asm, side, phi1c, x_start, edge, max_iter):
-    """A border's, corner's or crossing's touch at phi1c from x_start and its tangent
-    d x / d phi_1 (finite difference: the touch at phi1c + TANGENT_STEP solved in the
-    same batch), or None where either solve fails."""
+def _tracks(pinion, gear, asm, side, phi1c, x_start, max_iter):
+    """Every candidate's touch at phi1c from x_start and its tangent d x / d phi_1
+    (finite difference: the touch at phi1c + TANGENT_STEP), all in one batched solve.
+    Returns (the solution at phi1c of each of :data:`CANDIDATES`, an EdgeSolution of
+    C rows; tangents (C, 5); ok (C,): both solves converged, the first opposed)."""
     h = TANGENT_STEP
-    x0 = np.repeat(np.asarray(x_start, float)[None, :], 2, axis=0)
-    s = _solve(pinion, gear, asm, side, [phi1c, phi1c + h], x0, edge, max_iter)
-    if not (s.converged.all() and s.opposed[0]):
-        return None
-    return s.x[0], (s.x[1] - s.x[0]) / h
+    C = len(CANDIDATES)
+    names = np.repeat(np.array(CANDIDATES, dtype=object), 2)
+    phi = np.tile([phi1c, phi1c + h], C)
+    x0 = np.repeat(np.asarray(x_start, float)[None, :], 2 * C, axis=0)
+    s = _solve_rows(pinion, gear, asm, side, phi, x0, names, max_iter)
+    ok = s.converged.reshape(C, 2).all(axis=1) & s.opposed[0::2]
+    x = s.x.reshape(C, 2, 5)
+    at = EdgeSolution(*(getattr(s, f.name)[0::2] for f in dataclasses.fields(s)))
+    return at, (x[:, 1] - x[:, 0]) / h, ok
 
 
 def edge_start(pinion, gear, asm, side, phi1c, x0, max_iter):
     """Start of the sweep where the surfaces do not touch near the pitch point: the
-    border or corner that touches first at phi1c, as (x (5,), tangent (5,)), or None
-    where none touches on the flanks there."""
-    found = []
-    for edge in CANDIDATES:
-        got = _edge_track(pinion, gear, asm, side, phi1c, np.asarray(x0, float), edge, max_iter)
-        if got is not None:
-            s = _solve(pinion, gear, asm, side, [phi1c], got[0][None, :], edge, MAX_ITER)
-            if _classify(pinion, gear, side, s)[0][0]:
-                found.append(got)
-    if not found:
+    border, corner or crossing that touches first at phi1c, as (x (5,), tangent (5,)),
+    or None where none touches on the flanks there."""
+    at, tangent, ok = _tracks(pinion, gear, asm, side, phi1c, x0, max_iter)
+    found = ok & _classify(pinion, gear, side, at)[0]
+    if not found.any():
         return None
-    g = np.array([x[4] for x, _ in found])
-    i, _ = _first(side, g, np.ones(len(found), bool))
-    return found[int(i)]
+    i, _ = _first(side, at.x[:, 4], found)
+    return at.x[int(i)], tangent[int(i)]
 
 
 def edge_contacts(pinion, gear, asm, side, phi1, pairs, phi1c, xc, tan, settings):
@@ -509,34 +581,33 @@ def edge_contacts(pinion, gear, asm, side, phi1, pairs, phi1c, xc, tan, settings
     phi1 = np.asarray(phi1, float)
     k, P = phi1.size, len(pairs)
     phi_ref = (phi1[:, None] + 2 * np.pi * np.asarray(pairs)[None, :] / N1).ravel()
-    g_all, v_all, pts = [], [], []
-    for edge in CANDIDATES:
-        track = _edge_track(
-            pinion, gear, asm, side, phi1c, np.asarray(xc, float), edge, 2 * settings.max_iter
-        )
-        if track is None:
-            continue
-        xe, te = track
-        X0 = xe + np.outer(phi_ref - phi1c, te)
-        s = _solve(pinion, gear, asm, side, phi_ref, X0, edge, settings.max_iter)
-        valid, _ = _classify(pinion, gear, side, s)
-        g_all.append(s.x[:, 4].reshape(k, P) + 2 * np.pi * np.asarray(pairs)[None, :] / N2)
-        v_all.append(valid.reshape(k, P))
-        pts.append((edge, s.point.reshape(k, P, 3), s.x.reshape(k, P, 5)))
+    at, tangent, ok = _tracks(
+        pinion, gear, asm, side, phi1c, np.asarray(xc, float), 2 * settings.max_iter
+    )
     angle = np.full(k, np.nan)
     name = np.full(k, "", dtype=object)
     point = np.full((k, 3), np.nan)
     xs = np.full((k, 5), np.nan)
-    if not g_all:
+    cands = np.flatnonzero(ok)  # the candidates carried along the sweep
+    C = cands.size
+    if not C:
         return angle, name, point, xs
-    g = np.stack(g_all, axis=1).reshape(k, -1)  # (k, candidates x P)
-    v = np.stack(v_all, axis=1).reshape(k, -1)
+    X0 = at.x[cands][:, None, :] + (phi_ref - phi1c)[None, :, None] * tangent[cands][:, None, :]
+    names = np.repeat(np.array(CANDIDATES, dtype=object)[cands], k * P)
+    phi = np.tile(phi_ref, C)
+    s = _solve_rows(pinion, gear, asm, side, phi, X0.reshape(-1, 5), names, settings.max_iter)
+    valid, _ = _classify(pinion, gear, side, s)
+    # (k, C x P): per position, every candidate at every pair
+    gear_angles = s.x[:, 4].reshape(C, k, P) + 2 * np.pi * np.asarray(pairs)[None, None, :] / N2
+    g = gear_angles.transpose(1, 0, 2).reshape(k, -1)
+    v = valid.reshape(C, k, P).transpose(1, 0, 2).reshape(k, -1)
     i, has = _first(side, g, v, axis=1)
     rows = np.flatnonzero(has)
     angle[rows] = g[rows, i[rows]]
+    flat = np.arange(C * k * P).reshape(C, k, P).transpose(1, 0, 2).reshape(k, -1)
     for r in rows:
-        e, j = divmod(int(i[r]), P)
-        name[r] = pts[e][0]
-        point[r] = pts[e][1][r, j]
-        xs[r] = pts[e][2][r, j]
+        j = flat[r, i[r]]
+        name[r] = s.edge[j]
+        point[r] = s.point[j]
+        xs[r] = s.x[j]
     return angle, name, point, xs
