@@ -326,3 +326,29 @@ def test_contact_loss_hands_the_run_to_adaptive_steps(base):
     # on one machine, 0 on another), far below the 28 % of fixed steps
     k = "mesh_force_mesh_order_amplitude_N"
     assert sw.metrics[k][0] == pytest.approx(a[k], rel=1e-4)
+
+
+def test_a_run_in_segments_is_the_one_scan_and_shares_its_compilation(base, monkeypatch):
+    # The backend runs every fixed-step run through one chunked program in segments of
+    # SEGMENT steps (the state carried over): the same steps as one scan over the whole
+    # plan, so the same states to the bit; and a run of another length adds no
+    # compilation. SEGMENT taken small here so that the run spans several segments.
+    import gearbox.drivetrain.diffrax_backend as db
+
+    monkeypatch.setattr(db, "SEGMENT", 4 * fs.CHUNK)
+    _, _, m = base
+    p = m.params()
+    solver = DiffraxSolver()
+    ts = np.concatenate([[0.0], np.arange(1, 641) / (32 * m.mesh_frequency)])
+    plan = fs.plan_steps(m, ts, solver)
+    assert plan.n_steps > 2 * db.SEGMENT and plan.n_steps % db.SEGMENT  # a partial last one
+    fn = fs.fixed_solve_fn(solver.solver, solver.table_cells, terms=fs.excitation_terms(p))
+    y0 = periodic_start_state(m)
+    zs, lost = fn(p, y0 / p["scale"], plan.t, plan.h, plan.out)
+    _, Y, info = db._integrate_fixed(m, y0, ts[1:], solver)
+    assert np.array_equal(Y, np.asarray(zs) * p["scale"])
+    assert info["steps"] == plan.n_steps and info["contact_loss_steps"] == int(lost) == 0
+    n = len(db._COMPILED)
+    _, Y2, _ = db._integrate_fixed(m, y0, ts[1:400], solver)  # another number of steps
+    assert len(db._COMPILED) == n
+    assert np.array_equal(Y2, Y[:399])
