@@ -35,7 +35,10 @@ parameters and phi_2). Where the tips barely overlap (case 03 on axes 12 mm furt
 apart) the borders alone had missed first touches at crossings by up to 3.7e-3 rad.
 :func:`edge_contacts` takes, per position, the candidate that touches first on both
 real flanks; checked against the rigid first touch by brute force in
-tests/test_tca_edge.py.
+tests/test_tca_edge.py. All candidates at all angles and tooth pairs go through one
+batched Newton iteration (:class:`_Candidates`: four unknowns for every kind, the
+three-unknown kinds holding the fourth at 0), so that a step evaluates both flanks once
+for all of them; each row iterates on its own, as in a solve of its candidate alone.
 """
 
 from __future__ import annotations
