@@ -338,7 +338,8 @@ def _fixed_plan(model: DrivetrainModel, ts: np.ndarray, solver: DiffraxSolver, t
 #: only its own chunks. The default scene's operating point (29,133 steps) and its
 #: slowest waterfall speed (58,636 steps) each had a compilation of their own (1.1 to
 #: 1.3 s on the 2-core development machine), and came out the same to the bit in
-#: segments, as fast (0.065 against 0.079 s and 0.136 against 0.130 s).
+#: segments, as fast (0.065 against 0.079 s and 0.136 against 0.130 s;
+#: benchmarks/bench_fixed_segments.py).
 SEGMENT = 16384
 
 
