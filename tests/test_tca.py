@@ -338,8 +338,10 @@ def test_iteration_bound_is_reported_not_hidden(des03, monkeypatch):
 
 def test_pitch_point_solve_that_fails_says_so(des03, monkeypatch):
     import gearbox.tca.analysis as analysis
+    import gearbox.tca.edge as edge
 
     monkeypatch.setattr(analysis, "CENTRE_MAX_ITER", 1)
+    monkeypatch.setattr(edge, "START_MAX_ITER", 1)  # no border found there either
     with pytest.raises(InputError, match=r"within 1 iterations .*with no assembly errors"):
         run_tca(des03, settings=TCASettings(max_iter=1))
     err = AssemblyErrors(offset=30e-6)

@@ -345,7 +345,7 @@ def _gear_phase(design, asm, pinion, gear, side, zc, uc):
             return float(c.x[0, 4]) + ratio * phi1c
         # no surface contact near the pitch point (near line contact under
         # misalignment): what touches first there (a border, corner or crossing)
-        start = edge_start(pinion, gear, asm, side, phi1c, x0, 200)
+        start = edge_start(pinion, gear, asm, side, phi1c, x0)
         if start is not None:
             return float(start[0][4]) + ratio * phi1c
     except (ValueError, FloatingPointError, np.linalg.LinAlgError):

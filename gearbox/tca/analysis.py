@@ -100,7 +100,7 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
         xc = c.x[0]
         tan = tangent_predictor(pinion, gear, asm, side, [phi1c], c.x)[0]
     else:  # no surface contact near the pitch point: start from what touches first
-        start = edge_start(pinion, gear, asm, side, phi1c, x0, centre_iter)
+        start = edge_start(pinion, gear, asm, side, phi1c, x0)
         if start is None:
             raise InputError(
                 Problem(
