@@ -187,6 +187,31 @@ def test_campbell_labels_do_not_overlap_and_stay_inside(log):
     assert all(names.count(m) == 1 for m in cd.mode_names), names
 
 
+def test_a_mode_label_keeps_clear_of_the_order_lines():
+    """The mesh mode (1700 Hz at 1000 rpm) is crossed by the third mesh order at 1172
+    rpm, so a label at its left end would lie on that line: it goes to the right end,
+    where none runs."""
+    cd = campbell({"shaft": 51.0, "mesh mode": lambda n: 1600 + 0.1 * n}, EX, (1000, 3500))
+    fig = Figure(figsize=(6.4, 3.6))
+    ax = fig.add_subplot()
+    plot_campbell(cd, ax)
+    at = {t.get_text(): t for t in ax.texts}
+    assert at["mesh mode"].xy[0] == 3500 and at["mesh mode"].get_ha() == "right"
+    # the label drawn: no order line passes through its box (renderer's extent)
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    box = at["mesh mode"].get_window_extent(renderer)
+    for e in EX:
+        n = np.linspace(1000, 3500, 2001)
+        pts = ax.transData.transform(np.column_stack([n, e.frequency_hz(n)]))
+        inside = (
+            (pts[:, 0] > box.x0)
+            & (pts[:, 0] < box.x1)
+            & (pts[:, 1] > box.y0)
+            & (pts[:, 1] < box.y1)
+        )
+        assert not inside.any(), e.label
+
+
 def test_spectrum_package_does_not_import_matplotlib():
     # matplotlib only in gearbox.spectrum.plotting (a fresh interpreter: this test
     # module has imported matplotlib itself).

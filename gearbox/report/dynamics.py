@@ -645,6 +645,7 @@ def render_campbell(cd, run) -> Section:
     low = [f for f in np.atleast_2d(cd.mode_frequencies_hz).max(axis=1) if f < 500]
     if low:
         plot_campbell(cd, ax[0, 1], max_frequency_hz=1.3 * max(low))
+        ax[0, 1].get_legend().remove()  # the left panel's says the same
         ax[0, 1].set_title("shaft modes", fontsize=9)
     with_resp = any(c.response for c in cd.crossings)
     thr = cd.response_threshold

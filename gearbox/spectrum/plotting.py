@@ -273,16 +273,19 @@ def plot_campbell(
             *cd.operating_range_rpm, color="tab:red", alpha=0.08, lw=0, label="operating range"
         )
     ends: list[tuple[float, float, str]] = []
+    lines = []  # the order lines, for the mode labels to keep clear of
     for e in cd.excitations:
         f = e.frequency_hz(n)
         ax.plot(n, f, lw=0.8, **_SOURCE_STYLE.get(e.source, {"color": "k"}))
+        lines.append(f)
         if label_orders:
             inside = np.flatnonzero(f <= top)
             if inside.size:
                 i = inside[-1]
                 ends.append((float(n[i]), float(f[i]), e.label))
-    # Label each mode at its left (else right) end, then each order line at its end,
-    # inside the axes, skipping labels that would overlap one already placed.
+    # Label each mode at its left (else right) end, where no order line runs through the
+    # label if either end is clear, then each order line at its end, inside the axes,
+    # skipping labels that would overlap one already placed.
     span = (float(n[0]), float(n[-1]))
     positive = cd.mode_frequencies_hz[cd.mode_frequencies_hz > 0]
     bottom = 0.5 * float(positive.min()) if log and positive.size else 1.0
@@ -294,14 +297,17 @@ def plot_campbell(
     for j, name in enumerate(cd.mode_names):
         f = cd.mode_frequencies_hz[j]
         ax.plot(n, f, lw=1.6, color="k")
+        free = []
         for x, y, ha in ((n[0], f[0], "left"), (n[-1], f[-1], "right")):
             if not 0 < y <= top:
                 continue
             box = _text_box(ax, name, 7, (float(x), float(y)), span, frac, ha, "bottom")
             if box[3] <= 1.0 and not any(_overlap(box, b) for b in boxes):
-                ax.annotate(name, (x, y), fontsize=7, ha=ha, va="bottom")
-                boxes.append(box)
-                break
+                free.append((_crossed(box, n, lines, span, frac), x, y, ha, box))
+        if free:
+            _, x, y, ha, box = min(free, key=lambda c: c[0])  # the left one on a tie
+            ax.annotate(name, (x, y), fontsize=7, ha=ha, va="bottom")
+            boxes.append(box)
     for x_end, y_end, label in ends:
         at_top = y_end >= 0.97 * top
         va = "top" if at_top else "bottom"
@@ -330,7 +336,9 @@ def plot_campbell(
         ax.set_ylim(0.0, top)
     ax.set_xlabel("pinion (engine) speed (rpm)")
     ax.set_ylabel("frequency (Hz)")
-    ax.legend(loc="best", fontsize=7)
+    # above the axes, clear of the curves and their labels (inside, "best" had put it
+    # over a mode's label at the top right)
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=2, fontsize=7, frameon=False)
     return ax
 
 
@@ -399,6 +407,18 @@ def _text_box(ax, text, fontsize, xy, span, frac, ha, va):
     x0 = x - w if ha == "right" else x
     y0 = frac(xy[1]) - h if va == "top" else frac(xy[1])
     return (x0, y0, x0 + w, y0 + h)
+
+
+def _crossed(box, n, lines, span, frac) -> int:
+    """How many of the ``lines`` (frequencies over the speeds ``n``) run through ``box``
+    (axes fractions, as :func:`_text_box` gives it)."""
+    x = np.linspace(max(box[0], 0.0), min(box[2], 1.0), 24)
+    speeds = span[0] + x * (span[1] - span[0])
+    count = 0
+    for f in lines:
+        y = np.array([frac(v) for v in np.interp(speeds, n, f)])
+        count += bool(np.any((y >= box[1]) & (y <= box[3])))
+    return count
 
 
 def _overlap(a, b) -> bool:
