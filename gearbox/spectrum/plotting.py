@@ -258,8 +258,10 @@ def plot_campbell(
     """Campbell diagram: mode frequencies and order lines against speed.
 
     Crossings are marked with circles, those inside the operating range (the
-    shaded band) filled red; the order lines are labelled at their right end.
-    ``log`` gives a log frequency axis (modes from tens of Hz to kHz on one plot).
+    shaded band) filled red; the order lines are labelled at their right end, each
+    mode at the end where fewer order lines run through its label; the legend sits
+    above the axes. ``log`` gives a log frequency axis (modes from tens of Hz to kHz
+    on one plot).
     """
     ax = ax if ax is not None else _new_ax()
     n = cd.speeds_rpm
