@@ -132,7 +132,7 @@ def main(argv=None) -> dict:
 
     fig, ax = plt.subplots(figsize=(6.5, 4))
     plot_modification_map(
-        results[f"topography {csv.name}"].modification_maps["pinion"],
+        results[f"topography {csv.name}"].modification_maps["pinion, drive flank"],
         ax,
         title=f"pinion, drive flank: {csv.name}",
     )

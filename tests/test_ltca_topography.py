@@ -403,9 +403,11 @@ def test_both_paths_take_an_uneven_topography_alike(beta_deg):
 
 def test_the_result_carries_a_map_of_each_modified_gear_and_the_report_draws_it(case03):
     """Case 03 with a pinion topography and a gear profile slope and twist: the loaded
-    TCA keeps per modified gear the removal over its drive flank (form circle to tip at
-    each face position), which equals the modification's own removal there; the
-    report's loaded-TCA section draws one panel per gear, its layout checked."""
+    TCA keeps per modified gear and analysed flank the removal over that flank (form
+    circle to tip at each face position, with the flank's own base and form radii:
+    the beveloid's drive and coast flanks differ), which equals the modification's own
+    removal there; the report's loaded-TCA section draws one panel per gear and flank,
+    its layout checked."""
     from gearbox.ltca.beveloid import _form_radius, modification_maps, modifications_from_scene
     from gearbox.ltca.table import scene_ltca
     from gearbox.report import html
@@ -420,34 +422,43 @@ def test_the_result_carries_a_map_of_each_modified_gear_and_the_report_draws_it(
         ltca=keys | {"positions": 6, "flanks": ["drive"]}, load={"torques_Nm": [300.0]}
     )
     mods = modifications_from_scene(design, s)
-    maps = modification_maps(design, mods)
-    assert set(maps) == {"pinion", "gear"}
+    maps = modification_maps(design, mods, flanks=("drive", "coast"))
+    assert list(maps) == [
+        "pinion, drive flank",
+        "gear, drive flank",
+        "pinion, coast flank",
+        "gear, coast flank",
+    ]
     blanks = blanks_from_design(design)
-    for k, (name, gd) in enumerate((("pinion", design.pinion), ("gear", design.gear))):
-        m, blank = maps[name], blanks[k]
-        z = m["face_m"] + 0.5 * (blank.z_toe + blank.z_heel)
-        rb = gd.base_radius[0]
-        roll = m["roll_m"] + math.sqrt(gd.reference_pitch_radius**2 - rb**2)
-        r = np.sqrt(rb**2 + roll**2)
-        # from the form circle to the tip circle of each section
-        np.testing.assert_allclose(r[:, 0], _form_radius(blank, gd, z)[0], rtol=1e-12)
-        np.testing.assert_allclose(r[:, -1], blank.tip_radius(z), rtol=1e-12)
-        want = mods[k].removal(
-            r,
-            np.broadcast_to(m["face_m"][:, None], r.shape),
-            tip_radius=blank.tip_radius(z)[:, None],
-            base_radius=rb,
-            face_width=blank.face_width,
-            form_radius=_form_radius(blank, gd, z)[0][:, None],
-            reference_radius=gd.reference_pitch_radius,
-        )
-        np.testing.assert_allclose(m["removal_m"], want, rtol=0, atol=1e-18)
+    for flank, side in (("drive", 0), ("coast", 1)):
+        for k, (name, gd) in enumerate((("pinion", design.pinion), ("gear", design.gear))):
+            m, blank = maps[f"{name}, {flank} flank"], blanks[k]
+            z = m["face_m"] + 0.5 * (blank.z_toe + blank.z_heel)
+            rb = gd.base_radius[side]
+            roll = m["roll_m"] + math.sqrt(gd.reference_pitch_radius**2 - rb**2)
+            r = np.sqrt(rb**2 + roll**2)
+            # from the form circle to the tip circle of each section
+            np.testing.assert_allclose(r[:, 0], _form_radius(blank, gd, z)[side], rtol=1e-12)
+            np.testing.assert_allclose(r[:, -1], blank.tip_radius(z), rtol=1e-12)
+            want = mods[k].removal(
+                r,
+                np.broadcast_to(m["face_m"][:, None], r.shape),
+                tip_radius=blank.tip_radius(z)[:, None],
+                base_radius=rb,
+                face_width=blank.face_width,
+                form_radius=_form_radius(blank, gd, z)[side][:, None],
+                reference_radius=gd.reference_pitch_radius,
+            )
+            np.testing.assert_allclose(m["removal_m"], want, rtol=0, atol=1e-18)
+    # the flanks' form circles differ on this pair, so do the maps' roll ranges
+    d, c = maps["pinion, drive flank"]["roll_m"], maps["pinion, coast flank"]["roll_m"]
+    assert abs(d[:, 0] - c[:, 0]).max() > 1e-5
     # the gear's profile slope and twist: -/+ (f + S w / b) / 2 at the form circle / tip
-    g = maps["gear"]
+    g = maps["gear, drive flank"]
     slope = 4e-6 + 5e-6 * g["face_m"] / blanks[1].face_width
     np.testing.assert_allclose(g["removal_m"][:, -1] - g["removal_m"][:, 0], slope, atol=1e-18)
     res = scene_ltca(design, s)
-    assert set(res.modification_maps) == {"pinion", "gear"}
+    assert set(res.modification_maps) == {"pinion, drive flank", "gear, drive flank"}
 
     class Run:
         scene = s
@@ -456,10 +467,14 @@ def test_the_result_carries_a_map_of_each_modified_gear_and_the_report_draws_it(
     html.CHECK_LAYOUT = True  # every figure's texts inside the canvas, no overlaps
     try:
         section = render_ltca(res, Run())
+        both = scene_ltca(design, s.replaced(ltca={"flanks": ["drive", "coast"]}))
+        assert len(both.modification_maps) == 4
+        two_rows = render_ltca(both, Run())
     finally:
         html.CHECK_LAYOUT = old
-    assert "Flank modifications: material removed normal to the drive flank" in section.body
+    assert "Flank modifications: material removed normal to the flank" in section.body
     assert section.body.count("<img") == 3
+    assert two_rows.body.count("<img") == 3  # the four maps in one figure
     plain = scene_ltca(design, scene.replaced(ltca={"positions": 6, "flanks": ["drive"]}))
     assert plain.modification_maps == {}
     assert render_ltca(plain, Run()).body.count("<img") == 2

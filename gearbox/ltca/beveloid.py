@@ -1080,33 +1080,37 @@ def beveloid_ltca(
         table=table,
         attrs=attrs,
         notes=notes,
-        modification_maps=modification_maps(design, relief),
+        modification_maps=modification_maps(design, relief, flanks=lt["flanks"]),
     )
 
 
-def modification_maps(design, relief, n_face: int = 21) -> dict:
-    """Per modified gear the removal over its drive (R) flank from the form circle to
-    the tip at ``n_face`` axial positions (:func:`removal_map`), for the report."""
+def modification_maps(design, relief, n_face: int = 21, flanks=("drive",)) -> dict:
+    """Per modified gear and analysed flank (``flanks``: ``"drive"`` R, ``"coast"`` L)
+    the removal over that flank from its form circle to the tip at ``n_face`` axial
+    positions (:func:`removal_map`, with the flank's own base and form radii), for the
+    report; keys ``"<gear>, <flank> flank"``."""
     from ..surface import blanks_from_design
 
     maps = {}
     blanks = blanks_from_design(design)
-    for name, rel, blank, gd in zip(
-        ("pinion", "gear"), relief, blanks, (design.pinion, design.gear), strict=True
-    ):
-        mod = as_modification(rel)
-        if not mod.active:
-            continue
-        z = np.linspace(blank.z_toe, blank.z_heel, n_face)
-        maps[name] = removal_map(
-            mod,
-            z - 0.5 * (blank.z_toe + blank.z_heel),
-            form_radius=_form_radius(blank, gd, z)[0],
-            tip_radius=blank.tip_radius(z),
-            base_radius=gd.base_radius[0],
-            reference_radius=gd.reference_pitch_radius,
-            face_width=blank.face_width,
-        )
+    for flank in flanks:
+        k = _SIDE_INDEX[_FLANK_SIDE[flank]]
+        for name, rel, blank, gd in zip(
+            ("pinion", "gear"), relief, blanks, (design.pinion, design.gear), strict=True
+        ):
+            mod = as_modification(rel)
+            if not mod.active:
+                continue
+            z = np.linspace(blank.z_toe, blank.z_heel, n_face)
+            maps[f"{name}, {flank} flank"] = removal_map(
+                mod,
+                z - 0.5 * (blank.z_toe + blank.z_heel),
+                form_radius=_form_radius(blank, gd, z)[k],
+                tip_radius=blank.tip_radius(z),
+                base_radius=gd.base_radius[k],
+                reference_radius=gd.reference_pitch_radius,
+                face_width=blank.face_width,
+            )
     return maps
 
 

@@ -123,8 +123,9 @@ def plot_root_stress_face(results, t: int = 0, ax=None):
 
 def save_figures(results, out_dir, t: int = 0, modification_maps=None) -> list:
     """Write the figures of ``results`` (label -> CycleResult) as PNG files; return paths.
-    ``modification_maps`` (``LTCAResult.modification_maps``, gear -> map): where it
-    holds any, ``flank_modifications.png`` with one map per modified gear."""
+    ``modification_maps`` (``LTCAResult.modification_maps``, "<gear>, <flank> flank" ->
+    map): where it holds any, ``flank_modifications.png`` with one map per modified gear
+    (columns) and flank (rows)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -161,12 +162,15 @@ def save_figures(results, out_dir, t: int = 0, modification_maps=None) -> list:
     plot_root_stress_profile(results, t, ax=axs[0])
     plot_root_stress_face(results, t, ax=axs[1])
     save(fig, "root_stress.png")
-    if modification_maps:
+    if modification_maps:  # one row per flank, one column per modified gear
+        rows = list(dict.fromkeys(k.split(", ")[1] for k in modification_maps))
+        cols = list(dict.fromkeys(k.split(", ")[0] for k in modification_maps))
         fig, axs = plt.subplots(
-            1, len(modification_maps), figsize=(6 * len(modification_maps), 4), squeeze=False
+            len(rows), len(cols), figsize=(6 * len(cols), 4 * len(rows)), squeeze=False
         )
-        for ax, (name, m) in zip(axs[0], modification_maps.items(), strict=True):
-            plot_modification_map(m, ax=ax, title=f"{name}, drive flank")
+        for name, m in modification_maps.items():
+            gear, flank = name.split(", ")
+            plot_modification_map(m, ax=axs[rows.index(flank), cols.index(gear)], title=name)
         save(fig, "flank_modifications.png")
     return paths
 

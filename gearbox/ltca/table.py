@@ -54,7 +54,8 @@ class LTCAResult:
     provenance (scene, method, fidelity, gearbox version, frame); notes: where the pair
     lies outside the range the fast level was checked on, one line per quantity naming
     the gears (:func:`gearbox.ltca.validity.fast_level_notes`; empty inside it and at
-    the FE level); modification_maps: per modified gear (``"pinion"``, ``"gear"``) the
+    the FE level); modification_maps: per modified gear and flank (``"pinion, drive
+    flank"``, ...) the
     removal over its drive flank (:func:`gearbox.ltca.modification.removal_map`), for
     the report's map; empty without flank modifications.
     """
@@ -502,7 +503,8 @@ def parallel_ltca(
         mod = as_modification(rel)
         if mod.active:
             b = pair.face_width
-            maps[name] = removal_map(
+            # a parallel pair's flanks are alike: the coast flank's map is the drive's
+            maps[f"{name}, drive flank"] = removal_map(
                 mod,
                 np.linspace(-0.5 * b, 0.5 * b, 21),
                 form_radius=pair.form_radius(i),

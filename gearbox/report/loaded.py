@@ -146,14 +146,20 @@ def render_ltca(lt, run) -> Section:
     parts.append(figure(fig, "Mesh stiffness, loaded transmission error and root stress"))
     maps = getattr(lt, "modification_maps", None) or {}
     if maps:
-        fig, ax = new_figure(1, len(maps), size=(6.0 * len(maps), 3.6), wgap=1.6, right=1.0)
-        for i, (name, m) in enumerate(maps.items()):
-            plot_modification_map(m, ax[0, i], title=f"{name}, drive flank")
+        # one row per flank, one column per modified gear
+        rows = list(dict.fromkeys(k.split(", ")[1] for k in maps))
+        cols = list(dict.fromkeys(k.split(", ")[0] for k in maps))
+        fig, ax = new_figure(
+            len(rows), len(cols), size=(6.0 * len(cols), 3.6 * len(rows)), wgap=1.6, right=1.0
+        )
+        for name, m in maps.items():
+            gear, flank = name.split(", ")
+            plot_modification_map(m, ax[rows.index(flank), cols.index(gear)], title=name)
         parts.append(
             figure(
                 fig,
-                "Flank modifications: material removed normal to the drive flank (um), from "
-                "the form circle to the tip, against the axial position",
+                "Flank modifications: material removed normal to the flank (um), from the "
+                "form circle to the tip, against the axial position",
             )
         )
     return Section("Loaded tooth contact analysis", "".join(parts), tuple(warnings), anchor="ltca")
