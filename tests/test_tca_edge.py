@@ -23,7 +23,7 @@ from gearbox.geometry import PairSpec, design_pair
 from gearbox.surface import blanks_from_design
 from gearbox.tca import TCASettings, run_tca
 from gearbox.tca.assembly import Assembly, AssemblyErrors
-from gearbox.tca.edge import CANDIDATES, EDGES, _solve_one, edge_residual, edge_unknowns
+from gearbox.tca.edge import CANDIDATES, EDGES, edge_residual, edge_unknowns, solve_candidate
 from gearbox.tca.local import centre_start
 
 #: How much earlier than the brute force's sampled first touch the TCA's may lie
@@ -142,7 +142,7 @@ def test_candidate_jacobians_match_central_differences(near_line):
     for side in ("R", "L"):
         phi1c, x0 = centre_start(p, g, asm, side, np.asarray(near_line.pitch_point))
         for edge in CANDIDATES:
-            s = _solve_one(p, g, asm, side, [phi1c], x0[None, :], edge, 100)
+            s = solve_candidate(p, g, asm, side, [phi1c], x0[None, :], edge, max_iter=100)
             if not s.converged[0]:  # a line that does not touch near here
                 assert kinds.get(edge, "tip") in ("tip", "root"), (side, edge)
                 continue
@@ -161,6 +161,9 @@ def test_candidate_jacobians_match_central_differences(near_line):
             assert np.max(np.abs(J - Jn)) < 1e-5 * np.max(np.abs(J)), (side, edge)
             checked += 1
     assert checked >= 40  # 46 of the 64 touch near the pitch point on this pair
+    for bad in ("pinion tip x pinion heel", "gear toe/middle", "gear flank"):
+        with pytest.raises(ValueError, match="must be one of"):
+            solve_candidate(p, g, asm, "R", [phi1c], x0[None, :], bad)
 
 
 def test_pairs_in_surface_contact_have_no_edge_entries():
@@ -253,7 +256,7 @@ def test_no_border_touches_before_the_surfaces_of_conjugate_flanks():
     a border of a pair touches no earlier than its own pair's surfaces would, and those
     all touch at the one gear angle. Case 03 under assembly errors, every border at every
     position of both flanks: none comes first (they come 2.5e-7 rad or more later)."""
-    from gearbox.tca.contact import solve_contact, tangent_predictor
+    from gearbox.tca.contact import solve_contact
     from gearbox.tca.edge import edge_contacts
 
     design = design_pair(PairSpec.from_scene(load_scene("models/case03.toml")))
@@ -266,9 +269,8 @@ def test_no_border_touches_before_the_surfaces_of_conjugate_flanks():
         assert (fc.pairs_in_contact > 0).all()
         phi1c, x0 = centre_start(p, g, asm, fc.side, np.asarray(design.pitch_point))
         c = solve_contact(p, g, asm, fc.side, [phi1c], x0[None, :], max_iter=200)
-        tan = tangent_predictor(p, g, asm, fc.side, [phi1c], c.x)[0]
         angle, *_ = edge_contacts(
-            p, g, asm, fc.side, fc.pinion_angle, fc.pair, phi1c, c.x[0], tan, settings
+            p, g, asm, fc.side, fc.pinion_angle, fc.pair, phi1c, c.x[0], settings
         )
         later = (angle - fc.gear_angle) * (1 if fc.side == "R" else -1)
         assert np.isfinite(later).any() and np.nanmin(later) > 0, fc.name

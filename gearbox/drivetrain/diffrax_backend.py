@@ -336,7 +336,7 @@ def _fixed_plan(model: DrivetrainModel, ts: np.ndarray, solver: DiffraxSolver, t
 #: next, so every run of a method, table size and set of excitation orders shares one
 #: compilation (and one entry of the pipeline's executable store); the last segment runs
 #: only its own chunks. The default scene's operating point (29,133 steps) and its
-#: slowest waterfall speed (58,636 steps) each had a compilation of their own (1.1 to
+#: slowest waterfall speed (58,636 steps) each had a compilation of their own (1.0 to
 #: 1.3 s on the 2-core development machine), and came out the same to the bit in
 #: segments, as fast (0.065 against 0.079 s and 0.136 against 0.130 s;
 #: benchmarks/bench_fixed_segments.py).

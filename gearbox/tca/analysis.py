@@ -172,9 +172,7 @@ def _side(pinion, gear, asm, side, phi1_grid, settings, target):
     edge_x = np.full((n, 5), np.nan)
     need = ~act.any(axis=1)
     if need.any():
-        got = edge_contacts(
-            pinion, gear, asm, side, phi1_grid[need], pairs, phi1c, xc, tan, settings
-        )
+        got = edge_contacts(pinion, gear, asm, side, phi1_grid[need], pairs, phi1c, xc, settings)
         gear_angle[need], edge_name[need], edge_point[need], edge_x[need] = got
     corner = np.char.find(np.asarray(edge_name, dtype=str), "/") >= 0
     edge_fl = [np.full((n, 2), np.nan), np.full((n, 2), np.nan)]

@@ -28,9 +28,9 @@ five unknowns ``(z_1, u_1, z_2, u_2, phi_2)``.
 
 Two more kinds of touch complete the candidates (:data:`CANDIDATES`): a **corner**
 (:data:`CORNERS`, where a face end meets the tip or root line) is a point that the
-mate's flank passes through (:func:`solve_corner_contact`: ``r_f1 = r_f2`` in the
+mate's flank passes through (``r_f1 = r_f2`` in the
 mate's (z, u) and phi_2); a **crossing** (:data:`CROSSINGS`, a pinion border against a
-gear border) is where two curves meet (:func:`solve_crossing_contact`: in both border
+gear border) is where two curves meet (in both border
 parameters and phi_2). Where the tips barely overlap (case 03 on axes 12 mm further
 apart) the borders alone had missed first touches at crossings by up to 3.7e-3 rad.
 :func:`edge_contacts` takes, per position, the candidate that touches first on both
@@ -65,9 +65,7 @@ __all__ = [
     "edge_unknowns",
     "edge_start",
     "on_flanks",
-    "solve_corner_contact",
-    "solve_crossing_contact",
-    "solve_edge_contact",
+    "solve_candidate",
 ]
 
 #: The borders of the real flanks: (name, member, kind). Names are the flank limits'
@@ -100,8 +98,7 @@ LINE_NODES = 241
 
 @dataclass(frozen=True)
 class EdgeSolution:
-    """Result of :func:`solve_edge_contact` (and of the corner's and crossing's solves)
-    for N problems (SI).
+    """Result of :func:`solve_candidate` for N problems (SI).
 
     ``edge``: the candidate's name, or (N,) names where the rows solve different
     candidates (:func:`edge_contacts` solves them all in one batch); ``x``: (N, 5) as
@@ -203,12 +200,10 @@ def _kind(name: str) -> tuple[int, str | None, str | None]:
     """(kind, the pinion's border, the gear's border) of a candidate's name."""
     if " x " in name:
         a, b = name.split(" x ")
-        if _border_kind(a, "pinion") != "pinion" or _border_kind(b, "gear") != "gear":
-            raise ValueError(f"crossing {name!r} must be one of {', '.join(CROSSINGS)}")
+        _border_kind(a, "pinion")  # each part a border of its member, else ValueError
+        _border_kind(b, "gear")
         return CROSSING, a, b
-    if "/" in name:
-        if name not in {c[0] for c in CORNERS}:
-            raise ValueError(f"corner {name!r} must be one of {', '.join(c[0] for c in CORNERS)}")
+    if "/" in name:  # checked against CORNERS where its point is taken (_corner)
         return (
             (PINION_CORNER, None, None) if _member(name) == "pinion" else (GEAR_CORNER, None, None)
         )
@@ -390,8 +385,22 @@ def _solve_rows(pinion, gear, asm, side, phi1, x0, names, max_iter) -> EdgeSolut
     return EdgeSolution(edge, x, converged, iters, opposed, f1["r"], normal)
 
 
-def _solve_one(pinion, gear, asm, side, phi1, x0, name, max_iter) -> EdgeSolution:
-    """:func:`_solve_rows` with one candidate for every row; ``edge`` its name."""
+def solve_candidate(
+    pinion: ToothBlank,
+    gear: ToothBlank,
+    asm: Assembly,
+    side: str,
+    phi1,
+    x0,
+    name: str,
+    *,
+    max_iter: int = MAX_ITER,
+) -> EdgeSolution:
+    """Touch of the candidate ``name`` (one of :data:`CANDIDATES`: a border, a corner or
+    a crossing) for N pinion angles ``phi1`` at once, from ``x0`` (N, 5) as for
+    :func:`gearbox.tca.contact.solve_contact`; the candidate's own member is put on it
+    (a border's z on a face end, its u on a line; a corner's point). ``edge``: the name.
+    Raises ValueError for a name that is no candidate."""
     phi1 = np.atleast_1d(np.asarray(phi1, dtype=float))
     names = np.full(phi1.size, name, dtype=object)
     s = _solve_rows(pinion, gear, asm, side, phi1, x0, names, max_iter)
@@ -415,65 +424,6 @@ def edge_unknowns(pinion, gear, asm, side, x, edge: str) -> np.ndarray:
     x = np.atleast_2d(np.asarray(x, float))
     names = np.full(x.shape[0], edge, dtype=object)
     return _Candidates(pinion, gear, asm, side, names).start(x)
-
-
-def solve_edge_contact(
-    pinion: ToothBlank,
-    gear: ToothBlank,
-    asm: Assembly,
-    side: str,
-    phi1,
-    x0,
-    edge: str,
-    *,
-    max_iter: int = MAX_ITER,
-) -> EdgeSolution:
-    """Touch of the border ``edge`` (one of :data:`EDGES`) with the mate's flank for N
-    pinion angles at once.
-
-    x0: starting values (N, 5) as for :func:`gearbox.tca.contact.solve_contact`; the
-    border's own member is put on the border (its z on a face end, its u on a line).
-    """
-    _border_kind(edge, None)
-    return _solve_one(pinion, gear, asm, side, phi1, x0, edge, max_iter)
-
-
-def solve_corner_contact(
-    pinion: ToothBlank,
-    gear: ToothBlank,
-    asm: Assembly,
-    side: str,
-    phi1,
-    x0,
-    corner: str,
-    *,
-    max_iter: int = MAX_ITER,
-) -> EdgeSolution:
-    """Touch of the corner ``corner`` (one of :data:`CORNERS`) with the mate's flank for
-    N pinion angles at once: the gear angle at which the mate's flank passes through
-    the corner point, ``r_f1 = r_f2`` in the mate's (z, u) and phi_2 (3 equations).
-    x0 as for :func:`solve_edge_contact`; the corner's member is put on the corner."""
-    _corner(pinion, gear, side, corner)
-    return _solve_one(pinion, gear, asm, side, phi1, x0, corner, max_iter)
-
-
-def solve_crossing_contact(
-    pinion: ToothBlank,
-    gear: ToothBlank,
-    asm: Assembly,
-    side: str,
-    phi1,
-    x0,
-    crossing: str,
-    *,
-    max_iter: int = MAX_ITER,
-) -> EdgeSolution:
-    """Touch of a pinion border with a gear border (one of :data:`CROSSINGS`): the gear
-    angle at which the two curves cross, ``r_f1(border_1(s_1)) = r_f2(border_2(s_2))``
-    in (s_1, s_2, phi_2) (3 equations). x0 as for :func:`solve_edge_contact`."""
-    if crossing not in CROSSINGS:
-        raise ValueError(f"crossing {crossing!r} must be one of {', '.join(CROSSINGS)}")
-    return _solve_one(pinion, gear, asm, side, phi1, x0, crossing, max_iter)
 
 
 #: Pinion-angle step (rad) of the finite difference that gives an edge contact's
@@ -582,8 +532,8 @@ def edge_start(pinion, gear, asm, side, phi1c, x0, max_iter: int | None = None):
     return at.x[int(i)], tangent[int(i)]
 
 
-def edge_contacts(pinion, gear, asm, side, phi1, pairs, phi1c, xc, tan, settings):
-    """The first-touching border or corner at each pinion angle ``phi1`` (k,): over
+def edge_contacts(pinion, gear, asm, side, phi1, pairs, phi1c, xc, settings):
+    """The first-touching border, corner or crossing at each pinion angle ``phi1`` (k,): over
     :data:`CANDIDATES` and the tooth pairs ``pairs`` (P,), as the surface sweep takes
     them.
 
