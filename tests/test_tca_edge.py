@@ -198,7 +198,7 @@ def test_the_tip_and_root_lines_splines_follow_the_exact_lines(near_line):
     profile (measured; the form line meets the fillet tangentially, no material edge
     moves)."""
     from gearbox.surface import involute_start, tip_parameter
-    from gearbox.tca.edge import _border
+    from gearbox.tca.edge import _line_spline
 
     undercut = design_pair(
         PairSpec.from_scene(
@@ -208,14 +208,13 @@ def test_the_tip_and_root_lines_splines_follow_the_exact_lines(near_line):
         )
     )
     for design in (near_line, undercut):
-        p, g = blanks_from_design(design)
-        for blank, who in ((p, "pinion"), (g, "gear")):
+        for blank in blanks_from_design(design):
             z = np.linspace(
                 blank.z_toe - 0.5 * blank.face_width, blank.z_heel + 0.5 * blank.face_width, 57
             )
             for side in ("R", "L"):
-                tip = _border(p, g, side, f"{who} tip").spline(z)
-                root = _border(p, g, side, f"{who} root").spline(z)
+                tip = _line_spline(blank, side, "tip")(z)
+                root = _line_spline(blank, side, "root")(z)
                 assert np.max(np.abs(tip - tip_parameter(blank, side, z)[0])) < 1e-9
                 assert np.max(np.abs(root - involute_start(blank, side, z))) < 1e-6
 

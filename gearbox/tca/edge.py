@@ -121,8 +121,7 @@ class _Border:
     """One border of one member's flank: its parameter s, the member's (z, u) of it and
     their first and second derivatives in s."""
 
-    def __init__(self, blank: ToothBlank, side: str, member: str, kind: str):
-        self.blank, self.side, self.member, self.kind = blank, side, member, kind
+    def __init__(self, blank: ToothBlank, side: str, kind: str):
         self.face = kind in ("toe", "heel")
         if self.face:
             self.z_e = float(blank.z_toe if kind == "toe" else blank.z_heel)
@@ -158,13 +157,6 @@ def _line_spline(blank: ToothBlank, side: str, kind: str):
 def _member(name: str) -> str:
     """The member a border or corner lies on: its name's first word."""
     return name.split()[0]
-
-
-def _border(pinion, gear, side, edge: str) -> _Border:
-    for name, member, kind in EDGES:
-        if name == edge:
-            return _Border(pinion if member == "pinion" else gear, side, member, kind)
-    raise ValueError(f"edge {edge!r} must be one of {', '.join(e[0] for e in EDGES)}")
 
 
 def _corner(pinion, gear, side, corner: str):
@@ -231,7 +223,9 @@ class _Candidates:
         uniq, inv = np.unique(names.astype(str), return_inverse=True)
         parts = [_kind(str(u)) for u in uniq]
         edge_index = {e[0]: i for i, e in enumerate(EDGES)}
-        self.borders = [_border(pinion, gear, side, e[0]) for e in EDGES]
+        self.borders = [
+            _Border(pinion if m == "pinion" else gear, side, kind) for _, m, kind in EDGES
+        ]
         # one more entry (index -1) for rows without a border on that member
         self.face = np.array([b.face for b in self.borders] + [False])
         self.kind = np.array([p[0] for p in parts], int)[inv]
