@@ -218,10 +218,26 @@ class CycleResult:
         return cls(**out)
 
 
-def _pattern(raster, profile_range, face_range, prof, face, half, width, pressure):
-    """Mark the cells of the raster (U, V) covered by the rectangles
-    [prof +- half] x [face +- width/2] (at least the cell of the point itself) with
-    the largest pressure met."""
+def _pattern(raster, profile_range, face_range, samples, step):
+    """Mark the raster's cells (U profile x V face) with the largest Hertz pressure met
+    as the teeth sweep over them.
+
+    ``samples``: arrays ``age`` (mesh cycles since the tooth's engagement began:
+    position + tooth pair, so that one tooth's samples in a slice are ``step`` apart),
+    ``profile``, ``face``, ``half`` (Hertz half-width across the contact line, in the
+    profile coordinate), ``width`` (slice width), ``pressure``, ``loaded``, ``edge``
+    (a point on a flank border) and ``slot``. Each loaded sample covers its rectangle
+    [profile +- half] x [face +- width / 2] (at least its own cell). Between two
+    positions a tooth's contact in a slice sweeps the cells between its two profile
+    heights, the pressure interpolated linearly, when both samples are loaded and both
+    on the flank or both on a border (a contact that moves from a border onto the flank
+    jumps). Where a contact begins or ends between two positions it reaches half the
+    step towards the other side (the unloaded sample there, or the step before
+    extrapolated when the tooth leaves the flank or jumps), plus its half-width. At 24
+    positions this reads the pattern of 96 positions within a few cells, where the
+    samples' rectangles alone left ragged rows and holes along the pattern's edges
+    (docs/ltca.md, "Contact pattern").
+    """
     U, V = raster.shape
     p0, p1 = profile_range
     f0, f1 = face_range
@@ -229,15 +245,62 @@ def _pattern(raster, profile_range, face_range, prof, face, half, width, pressur
     dv = (f1 - f0) / V
     uc = p0 + du * (np.arange(U) + 0.5)
     vc = f0 + dv * (np.arange(V) + 0.5)
-    for j in range(prof.size):
-        su = np.abs(uc - prof[j]) <= half[j]
-        if not su.any():
-            su[np.clip(int((prof[j] - p0) / du), 0, U - 1)] = True
-        sv = np.abs(vc - face[j]) <= 0.5 * width[j]
-        if not sv.any():
-            sv[np.clip(int((face[j] - f0) / dv), 0, V - 1)] = True
-        block = raster[np.ix_(su, sv)]
-        raster[np.ix_(su, sv)] = np.maximum(block, pressure[j])
+    age, prof, face = samples["age"], samples["profile"], samples["face"]
+    half, width, pres = samples["half"], samples["width"], samples["pressure"]
+    loaded, edge, slot = samples["loaded"], samples["edge"], samples["slot"]
+    n = prof.size
+    # one tooth's consecutive samples in one slice: a -> b, one position apart, on the
+    # same kind of point (flank or border)
+    order = np.lexsort((age, slot))
+    a, b = order[:-1], order[1:]
+    keep = (slot[a] == slot[b]) & np.isclose(age[b] - age[a], step, rtol=1e-6, atol=0.0)
+    keep &= edge[a] == edge[b]
+    a, b = a[keep], b[keep]
+    nxt = np.full(n, -1)
+    prv = np.full(n, -1)
+    nxt[a] = b
+    prv[b] = a
+    # segments along the profile (from u0 to u1, pressures q0 to q1) of sample ``who``
+    on = np.flatnonzero(loaded)
+    u0, u1 = [prof[on] - half[on]], [prof[on] + half[on]]
+    q0, q1, who = [pres[on]], [pres[on]], [on]
+    both = loaded[a] & loaded[b]
+    u0 += [prof[a[both]]]
+    u1 += [prof[b[both]]]
+    q0 += [pres[a[both]]]
+    q1 += [pres[b[both]]]
+    who += [a[both]]
+    # where the contact begins or ends: half the step beyond, plus the half-width
+    for ahead, behind in ((nxt, prv), (prv, nxt)):
+        i = on[(ahead[on] < 0) | ~loaded[np.maximum(ahead[on], 0)]]
+        j, k = ahead[i], behind[i]
+        there = j >= 0  # an unloaded sample on the other side
+        step_u = np.where(there, prof[np.maximum(j, 0)] - prof[i], prof[i] - prof[np.maximum(k, 0)])
+        ok = there | (k >= 0)
+        i, step_u = i[ok], step_u[ok]
+        u0 += [prof[i]]
+        u1 += [prof[i] + 0.5 * step_u + np.sign(step_u) * half[i]]
+        q0 += [pres[i]]
+        q1 += [pres[i]]
+        who += [i]
+    u0, u1, q0, q1, who = (np.concatenate(v) for v in (u0, u1, q0, q1, who))
+    rows = (uc[None, :] >= np.minimum(u0, u1)[:, None]) & (
+        uc[None, :] <= np.maximum(u0, u1)[:, None]
+    )
+    own = np.clip(((prof[who] - p0) / du).astype(int), 0, U - 1)
+    rows[np.arange(who.size), own] = True
+    span = u1 - u0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.clip((uc[None, :] - u0[:, None]) / span[:, None], 0.0, 1.0)
+    t = np.where(np.abs(span)[:, None] > 0, t, 0.0)
+    value = np.where(rows, q0[:, None] + (q1 - q0)[:, None] * t, 0.0)
+    lo, hi = face[who] - 0.5 * width[who], face[who] + 0.5 * width[who]
+    cols = (vc[None, :] >= lo[:, None]) & (vc[None, :] <= hi[:, None])
+    cols[np.arange(who.size), np.clip(((face[who] - f0) / dv).astype(int), 0, V - 1)] = True
+    for v in range(V):
+        hit = cols[:, v]
+        if hit.any():
+            raster[:, v] = np.maximum(raster[:, v], value[hit].max(axis=0))
 
 
 def root_stress_method(compliance) -> str:
@@ -355,7 +418,7 @@ def ltca_cycle(
     loa = np.zeros((T, P, 3))
     rs_face1 = np.zeros((T, S))
     rs_face2 = np.zeros((T, S))
-    samples = [[] for _ in range(T)]  # (profile, face, load>0, a_profile, p0, slot)
+    samples = [[] for _ in range(T)]  # per position: see _pattern's names below
 
     bar = None
     if options.progress:
@@ -446,39 +509,23 @@ def ltca_cycle(
                 sliding[t, j] = float(vs[F > 0].max())
                 friction_arm[t, j] = (F @ arms) / Fn
             a = hertz_half_width(q, grid.curvature_radius, E, nu) / grid.transverse_projection
-            samples[t].append((grid.profile, grid.face, F > 0, a, p0, grid.slot, grid.width))
+            samples[t].append(
+                (fractions[j] + grid.pair, grid.profile, grid.face, a, grid.width, p0, F > 0)
+                + (grid.edge, grid.slot)
+            )
             if bar is not None:
                 bar.update(1)
     if bar is not None:
         bar.close()
 
-    # contact pattern: per torque, per face slot, loaded profile samples over the cycle
+    # contact pattern: per torque, the teeth's loaded samples swept over the cycle
     pattern = np.zeros((T, U, V))
     area = np.zeros(T)
+    names = ("age", "profile", "face", "half", "width", "pressure", "loaded", "edge", "slot")
     for t in range(T):
-        prof = np.concatenate([s[0] for s in samples[t]])
-        face = np.concatenate([s[1] for s in samples[t]])
-        loaded = np.concatenate([s[2] for s in samples[t]])
-        a = np.concatenate([s[3] for s in samples[t]])
-        p0 = np.concatenate([s[4] for s in samples[t]])
-        slot = np.concatenate([s[5] for s in samples[t]])
-        width = np.concatenate([s[6] for s in samples[t]])
-        half = a.copy()
-        for sl in np.unique(slot):
-            m = slot == sl
-            u = np.sort(prof[m])
-            step = float(np.median(np.diff(u))) if u.size > 1 else 0.0
-            half[m] = np.maximum(a[m], 0.5 * step)
-        _pattern(
-            pattern[t],
-            profile_range,
-            face_range,
-            prof[loaded],
-            face[loaded],
-            half[loaded],
-            width[loaded],
-            p0[loaded],
-        )
+        cols = zip(*samples[t], strict=True)
+        arrays = {n: np.concatenate(c) for n, c in zip(names, cols, strict=True)}
+        _pattern(pattern[t], profile_range, face_range, arrays, 1.0 / P)
         area[t] = float(np.mean(pattern[t] > 0))
     return CycleResult(
         torque=torques,
