@@ -240,6 +240,19 @@ SCHEMA: dict[str, dict[str, Field]] = {
             "faces narrower than about 5 m_n; the paper's cases are as near the FE level "
             "without it. The FE level has the face ends in its mesh.",
         ),
+        "edge_borders": Field(
+            "bool",
+            False,
+            "Crossed (surface-path) pairs: put each edge point, a contact that would go on "
+            "beyond a flank border, on the border itself (the pinion's form or tip line, "
+            "or where the mate's tip or form line or face end crosses the pinion's "
+            "profile), its separation projected there, instead of on the last profile "
+            "sample inside it. The loaded TE then needs no finer profile grid: case 03 "
+            "drive at 300 N m reads 1.60 um peak-to-peak with the default grid, the 2.09 "
+            "um of the sampled border falls to 1.61 only at 320 profile points "
+            "(docs/ltca.md 'Edge points on the flank borders'). Off by default until the "
+            "FE level's reference runs are remade on these grids.",
+        ),
         "positions": _i(24, "Pinion positions per mesh cycle in the mesh tables.", 4, 10000),
         "grid_profile": _i(20, "Contact grid points along the profile.", 3, 2000),
         "grid_face": _i(40, "Contact grid points along the face width.", 3, 4000),
