@@ -3,7 +3,8 @@ edge points on their last profile sample (the default) and on the border itself
 (``ltca.edge_borders = true``).
 
     python3 benchmarks/ltca_edge_borders.py [--samples 20 40 80 160] [--torque 300]
-        [--scene models/case03.toml] [--parallel]
+        [--scene models/case03.toml] [--fidelity fast|fe] [--flanks drive coast]
+        [--parallel]
 
 For each number of profile points (``ltca.grid_profile``) and both settings, prints per
 flank the mean mesh stiffness, the loaded TE peak-to-peak, the largest contact pressure
@@ -43,17 +44,20 @@ def main(argv=None):
     ap.add_argument("--scene", default=str(ROOT / "models" / "case03.toml"))
     ap.add_argument("--samples", type=int, nargs="+", default=[20, 40, 80, 160])
     ap.add_argument("--torque", type=float, default=300.0, help="pinion torque (N m)")
+    ap.add_argument("--fidelity", choices=("fast", "fe"), default="fast")
+    ap.add_argument("--flanks", nargs="+", choices=("drive", "coast"), default=["drive", "coast"])
     ap.add_argument("--parallel", action="store_true")
     args = ap.parse_args(argv)
 
     scene = load_scene(args.scene).replaced(load={"torques_Nm": [args.torque]})
     design = design_pair(PairSpec.from_scene(scene))
     head = f"{'points':>6} {'edge points':<12} {'flank':<6} {'k MN/m':>8} {'LTE pp um':>9}"
-    print(f"{args.scene}, {args.torque:g} N m, 24 positions")
+    print(f"{args.scene}, {args.torque:g} N m, 24 positions, {args.fidelity} level")
     print(head + f" {'p_max MPa':>9} {'edge %':>6} {'s':>5}")
     for n in args.samples:
         for on in (False, True):
-            s = scene.replaced(ltca={"grid_profile": n, "edge_borders": on})
+            lt = {"grid_profile": n, "edge_borders": on, "fidelity": args.fidelity}
+            s = scene.replaced(ltca=lt | {"flanks": args.flanks})
             t0 = time.perf_counter()
             res = beveloid_ltca(design, s)
             dt = time.perf_counter() - t0
