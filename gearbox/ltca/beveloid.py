@@ -1164,6 +1164,7 @@ def beveloid_ltca(
         "gearbox_version": __version__,
         "frame": "Sf of gearbox.tca.assembly (paper Fig. 11); drive = R flank, coast = L flank",
         "field_newton_iterations": int(sum(fields.values())),
+        "edge_points": "flank border" if lt["edge_borders"] else "last profile sample",
         "flank_modifications": describe_pair(relief),
         "pinion_reference_pitch_radius_m": float(design.pinion.reference_pitch_radius),
         "gear_reference_pitch_radius_m": float(design.gear.reference_pitch_radius),
