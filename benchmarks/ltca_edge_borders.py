@@ -4,7 +4,7 @@ edge points on their last profile sample (the default) and on the border itself
 
     python3 benchmarks/ltca_edge_borders.py [--samples 20 40 80 160] [--torque 300]
         [--scene models/case03.toml] [--fidelity fast|fe] [--flanks drive coast]
-        [--parallel]
+        [--edge-points sample border] [--parallel] [--json out.json]
 
 For each number of profile points (``ltca.grid_profile``) and both settings, prints per
 flank the mean mesh stiffness, the loaded TE peak-to-peak, the largest contact pressure
@@ -13,12 +13,14 @@ the scene's face grid, one torque). A result that needs no finer grid is the sam
 every row. ``--parallel`` adds the parallel helical pair of
 ``tests/data/ltca_parallel_helical.toml`` (12 positions, 20 face points, drive flank),
 whose surface path is compared with the closed form of the plane of action (which has
-no contact beyond the path of contact: no edge points).
+no contact beyond the path of contact: no edge points). ``--json`` writes the rows
+(tests/data/fe_edge_borders_paper_cases.json holds the FE level's on the borders).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import time
 from pathlib import Path
 
@@ -46,8 +48,13 @@ def main(argv=None):
     ap.add_argument("--torque", type=float, default=300.0, help="pinion torque (N m)")
     ap.add_argument("--fidelity", choices=("fast", "fe"), default="fast")
     ap.add_argument("--flanks", nargs="+", choices=("drive", "coast"), default=["drive", "coast"])
+    ap.add_argument(
+        "--edge-points", nargs="+", choices=("sample", "border"), default=["sample", "border"]
+    )
     ap.add_argument("--parallel", action="store_true")
+    ap.add_argument("--json", type=Path, help="write the rows here")
     args = ap.parse_args(argv)
+    rows = []
 
     scene = load_scene(args.scene).replaced(load={"torques_Nm": [args.torque]})
     design = design_pair(PairSpec.from_scene(scene))
@@ -55,15 +62,30 @@ def main(argv=None):
     print(f"{args.scene}, {args.torque:g} N m, 24 positions, {args.fidelity} level")
     print(head + f" {'p_max MPa':>9} {'edge %':>6} {'s':>5}")
     for n in args.samples:
-        for on in (False, True):
-            lt = {"grid_profile": n, "edge_borders": on, "fidelity": args.fidelity}
+        for where in args.edge_points:
+            lt = {"grid_profile": n, "edge_borders": where == "border", "fidelity": args.fidelity}
             s = scene.replaced(ltca=lt | {"flanks": args.flanks})
             t0 = time.perf_counter()
             res = beveloid_ltca(design, s)
             dt = time.perf_counter() - t0
             for flank, r in res.flanks.items():
-                where = "border" if on else "last sample"
                 print(f"{n:>6} {where:<12} {flank:<6} {_row(r)} {dt:5.1f}")
+                rows.append(
+                    {
+                        "scene": Path(args.scene).name,
+                        "fidelity": args.fidelity,
+                        "edge_points": where,
+                        "grid_profile": n,
+                        "flank": flank,
+                        "torque_Nm": args.torque,
+                        "mean_stiffness_N_per_m": float(r.stiffness[0].mean()),
+                        "lte_peak_to_peak_m": float(np.ptp(r.lte[0])),
+                        "max_pressure_Pa": float(r.max_pressure[0].max()),
+                        "seconds": dt,
+                    }
+                )
+    if args.json:
+        args.json.write_text(json.dumps(rows, indent=1))
     if not args.parallel:
         return
     par = load_scene(ROOT / "tests" / "data" / "ltca_parallel_helical.toml")
