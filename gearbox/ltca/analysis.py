@@ -234,9 +234,9 @@ def _pattern(raster, profile_range, face_range, samples, step):
     jumps). Where a contact begins or ends between two positions it reaches half the
     step towards the other side (the unloaded sample there, or the step before
     extrapolated when the tooth leaves the flank or jumps), plus its half-width. At 24
-    positions this reads the pattern of 96 positions within a few cells, where the
-    samples' rectangles alone left ragged rows and holes along the pattern's edges
-    (docs/ltca.md, "Contact pattern").
+    positions case 03's drive pattern at 300 N m is within 31 of its 1600 cells of the
+    pattern of 192 positions, where the samples' rectangles alone missed 52, with ragged
+    rows and holes along the pattern's edges (docs/ltca.md, "Contact pattern").
     """
     U, V = raster.shape
     p0, p1 = profile_range
@@ -245,9 +245,9 @@ def _pattern(raster, profile_range, face_range, samples, step):
     dv = (f1 - f0) / V
     uc = p0 + du * (np.arange(U) + 0.5)
     vc = f0 + dv * (np.arange(V) + 0.5)
-    age, prof, face = samples["age"], samples["profile"], samples["face"]
-    half, width, pres = samples["half"], samples["width"], samples["pressure"]
-    loaded, edge, slot = samples["loaded"], samples["edge"], samples["slot"]
+    age, prof, half = samples["age"], samples["profile"], samples["half"]
+    pres, loaded = samples["pressure"], samples["loaded"]
+    edge, slot = samples["edge"], samples["slot"]
     n = prof.size
     # one tooth's consecutive samples in one slice: a -> b, one position apart, on the
     # same kind of point (flank or border)
@@ -284,6 +284,24 @@ def _pattern(raster, profile_range, face_range, samples, step):
         q1 += [pres[i]]
         who += [i]
     u0, u1, q0, q1, who = (np.concatenate(v) for v in (u0, u1, q0, q1, who))
+    for c in range(0, who.size, _PATTERN_CHUNK):  # (segments x cells) blocks of bounded size
+        cut = slice(c, c + _PATTERN_CHUNK)
+        _mark(
+            raster, uc, vc, (p0, du, f0, dv), u0[cut], u1[cut], q0[cut], q1[cut], who[cut], samples
+        )
+
+
+#: Segments per block of :func:`_pattern` (its arrays are segments x raster cells).
+_PATTERN_CHUNK = 20000
+
+
+def _mark(raster, uc, vc, origin, u0, u1, q0, q1, who, samples):
+    """Raise the raster's cells to the pressure of each profile segment (u0 -> u1,
+    pressure q0 -> q1) of sample ``who`` over the face cells of its slice (at least its
+    own cell along both)."""
+    U, V = raster.shape
+    p0, du, f0, dv = origin
+    prof, face, width = samples["profile"], samples["face"], samples["width"]
     rows = (uc[None, :] >= np.minimum(u0, u1)[:, None]) & (
         uc[None, :] <= np.maximum(u0, u1)[:, None]
     )
