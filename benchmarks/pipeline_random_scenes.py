@@ -2,7 +2,7 @@
 -> dynamics, spectra, waterfall, Campbell diagram -> report.
 
     python3 benchmarks/pipeline_random_scenes.py [--seed 1] [--scenes 20]
-        [--positions 12] [--cache DIR] [--keep DIR] [--json out.json]
+        [--positions 12] [--cache DIR] [--keep DIR] [--edge-borders] [--json out.json]
 
 Each scene starts from models/marine_drive.toml and draws, uniformly:
 
@@ -213,10 +213,18 @@ def run_scene(draw, scene, cache: Path, out: Path) -> Outcome:
     return Outcome(draw, "odd" if odd else "ok", seconds, "; ".join(odd), rows=metrics)
 
 
-def run(seed: int, scenes: int, positions: int, cache: Path, keep: Path | None):
+def run(
+    seed: int,
+    scenes: int,
+    positions: int,
+    cache: Path,
+    keep: Path | None,
+    edge_borders: bool = False,
+):
     from gearbox import load_scene
 
-    base = load_scene(ROOT / "models" / "marine_drive.toml").replaced(ltca={"positions": positions})
+    base = load_scene(ROOT / "models" / "marine_drive.toml")
+    base = base.replaced(ltca={"positions": positions, "edge_borders": edge_borders})
     rng = np.random.default_rng(seed)
     outcomes = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -246,12 +254,15 @@ def main(argv=None) -> None:
     ap.add_argument("--positions", type=int, default=12)
     ap.add_argument("--cache", type=Path, help="cache folder (default: a new temporary one)")
     ap.add_argument("--keep", type=Path, help="keep each scene's outputs under this folder")
+    ap.add_argument(
+        "--edge-borders", action="store_true", help="every scene with ltca.edge_borders = true"
+    )
     ap.add_argument("--json", type=Path)
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         cache = args.cache or Path(tmp)
-        outcomes = run(args.seed, args.scenes, args.positions, cache, args.keep)
+        outcomes = run(args.seed, args.scenes, args.positions, cache, args.keep, args.edge_borders)
     count = {s: sum(o.status == s for o in outcomes) for s in ("ok", "odd", "refused", "failed")}
     secs = [o.seconds for o in outcomes if o.status in ("ok", "odd")]
     print(
