@@ -313,7 +313,7 @@ def test_default_scene_end_to_end_through_the_cli(tmp_path, capsys):
     # (one line per flank, its torque levels listed)
     assert warn.count("drive flank: edge contact at ") == 1 and "a lower bound" in warn
     # and, with the edge points on the last profile samples (the default), what that reads
-    assert "ltca.edge_borders = true puts them on the border" in warn
+    assert warn.count("ltca.edge_borders = true puts them on the border") == 1
     # the sweep's table says how far each speed's force range reaches along the loaded
     # TCA's stiffness (tests/test_drivetrain_loaded_law.py checks the numbers)
     assert "loaded TCA stiffness at least / largest force (%)" in html

@@ -735,7 +735,7 @@ def _edge_borders(out, edge, idx, first, u, sep_ext, xs, geo, mods):
     from ..surface import involute_start, tip_parameter
 
     pinion, gear, asm, side, phase, ratio, phi1, z = geo
-    M, S, U = sep_ext.shape
+    U = sep_ext.shape[2]
     ii, ss = np.nonzero(edge)
     if ii.size == 0:
         return

@@ -75,17 +75,7 @@ def render_ltca(lt, run) -> Section:
                 )
     # where the pair lies outside the range the fast level was checked on
     warnings += [ReportWarning("ltca", note) for note in getattr(lt, "notes", ())]
-    # one warning per flank with edge contact, its torque levels in one line; where the
-    # edge points sit on the last profile sample (ltca.edge_borders off), what that reads
-    sampled = getattr(lt, "attrs", {}).get("edge_points") == "last profile sample"
-    grid = (
-        "; the edge points sit on the last profile sample inside the border, which reads "
-        "the loaded TE high on a coarse profile grid (case 03 drive at 300 N m: 2.09 "
-        "against 1.60 um converged at ltca.grid_profile = 20): ltca.edge_borders = true "
-        "puts them on the border (docs/ltca.md)"
-        if sampled
-        else ""
-    )
+    # one warning per flank with edge contact, its torque levels in one line
     for flank, hits in edges.items():
         torques = _listed([f"{tq:g}" for tq, _ in hits])
         shares = _listed([f"{100 * f:.1f}" for _, f in hits])
@@ -95,7 +85,18 @@ def render_ltca(lt, run) -> Section:
                 "ltca",
                 f"{flank} flank: edge contact at {torques} N m (up to {shares} % of the load "
                 f"on an edge{order}; the pressure there is Hertz's with the flank's curvature, "
-                f"a lower bound: an edge concentrates it further, a relief removes it{grid})",
+                "a lower bound: an edge concentrates it further, a relief removes it)",
+            )
+        )
+    # once, where edges were found on the last profile samples (ltca.edge_borders off)
+    if edges and getattr(lt, "attrs", {}).get("edge_points") == "last profile sample":
+        warnings.append(
+            ReportWarning(
+                "ltca",
+                "the edge points sit on the last profile sample inside the flank border, "
+                "which reads the loaded TE high on a coarse profile grid (case 03 drive at "
+                "300 N m: 2.09 um at the default ltca.grid_profile = 20 against 1.58 um "
+                "converged): ltca.edge_borders = true puts them on the border (docs/ltca.md)",
             )
         )
     head = [
