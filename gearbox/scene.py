@@ -242,7 +242,7 @@ SCHEMA: dict[str, dict[str, Field]] = {
         ),
         "edge_borders": Field(
             "bool",
-            False,
+            True,
             "Crossed (surface-path) pairs: put each edge point, a contact that would go on "
             "beyond a flank border, on the border itself (the pinion's form or tip line, "
             "or where the mate's tip or form line or face end crosses the pinion's "

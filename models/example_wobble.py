@@ -20,10 +20,10 @@ What it does, step by step:
 
 Measured (default scene, 24 positions, A = 6 um): the largest lines the wobble adds
 are the sidebands one gear order either side of the mesh order (orders 28.36 and
-29.64: 0.156 and 0.135 um), then those about twice mesh (0.060 and 0.062 um); the
+29.64: 0.128 and 0.102 um), then those about twice mesh (0.065 and 0.060 um); the
 first gear order carries 0.032 um. ``--exact`` (45 distinct samples per position, the
-pattern repeats every gear revolution) agrees on the four largest within 2.1 %. The
-largest pinion root stress goes from 112.3 to 120.2 MPa.
+pattern repeats every gear revolution) agrees on the four largest within 2.3 %. The
+largest pinion root stress goes from 103.1 to 110.9 MPa.
 Run it from the repository root::
 
     python models/example_wobble.py

@@ -81,16 +81,16 @@ def test_the_law_passes_through_every_level_with_its_tangent(tables, flank):
 
 @pytest.mark.parametrize(
     ("flank", "low", "high"),
-    [("drive", 1.2e-2, 1.5e-3), ("coast", 2.5e-2, 6e-3)],
+    [("drive", 1.8e-2, 1.5e-3), ("coast", 2.5e-2, 3e-3)],
 )
 def test_the_law_meets_loaded_tca_solves_between_its_levels(tables, flank, low, high):
     """At 100 to 750 N m, which the table does not hold, the law's deflection under the
     torque's mesh force against the loaded TCA solved at that torque: within `low` of
-    its largest LTE below 300 N m (measured up to 0.89 % drive, 1.90 % coast, where the
-    law bends most between 50 and 300 N m) and within `high` above (0.09 / 0.38 %).
-    The table interpolated linearly in torque is 2.4 to 15 times further off at every
-    torque (up to 8.5 / 10.2 %; 2.4 on the coast flank at 750 N m, 0.16 against
-    0.38 %, the others 5 or more)."""
+    its largest LTE below 300 N m (measured up to 1.40 % drive, 1.95 % coast, at 100 N m
+    where the law bends most between 50 and 300 N m) and within `high` above (0.08 /
+    0.11 %). The table interpolated linearly in torque is 5.2 to 14.5 times further off
+    at every torque (up to 9.7 / 10.2 %). (With the edge points on the last profile
+    samples: 0.89 / 1.90 % below, 0.09 / 0.38 % above, 2.4 to 15 times.)"""
     table, more = tables
     (rows, forces), lam = law(table, flank)
     i, im = table.flank_index(flank), more.flank_index(flank)
@@ -103,7 +103,7 @@ def test_the_law_meets_loaded_tca_solves_between_its_levels(tables, flank, low, 
         err = np.abs(x - ref).max() / ref.max()
         linear = np.abs(table.values_at("lte", flank, torque) - ref).max() / ref.max()
         assert err < (low if torque < 300 else high), (torque, err)
-        assert 2 * err < linear, (torque, err, linear)
+        assert 4 * err < linear, (torque, err, linear)
 
 
 def test_the_models_linearisation_is_the_laws_tangent(tables):
@@ -138,9 +138,11 @@ def test_the_models_linearisation_is_the_laws_tangent(tables):
 def test_the_tangent_law_interpolates_in_torque_through_the_law(tables):
     """Between the levels the tangent law takes the loaded law's tangent (tangent_at):
     at the table's levels it is the table's samples; at 150 N m its stiffness meets the
-    loaded TCA solved there within 0.5 % in the cycle mean (measured -0.13 %) and 3 % at
-    every position (1.8 %: the solves' tangent stiffnesses are finite differences),
-    where the table linear in torque is more than 5 % low (-7.8 %). A table whose LTE
+    loaded TCA solved there within 0.5 % in the cycle mean (measured -0.13 %) and 5 % at
+    every position (4.0 %, at the position where an edge point on a flank border comes
+    into contact between the levels 50 and 300 N m; 1.8 % with the edge points on the
+    last profile samples: the solves' tangent stiffnesses are finite differences), where
+    the table linear in torque is more than 5 % low (-7.6 %). A table whose LTE
     does not grow with the torque at some position is taken linearly in torque, and the
     report's mesh-tables section warns of it."""
     from gearbox.drivetrain.model import tangent_at
@@ -158,7 +160,7 @@ def test_the_tangent_law_interpolates_in_torque_through_the_law(tables):
     (k, _), _ = tangent_at(table, "drive", lam, 150.0)
     ref = more.tangent_stiffness[im, MORE.index(150.0)]
     assert abs(k.mean() / ref.mean() - 1.0) < 5e-3
-    assert np.abs(k / ref - 1.0).max() < 3e-2
+    assert np.abs(k / ref - 1.0).max() < 5e-2
     assert table.values_at("tangent_stiffness", "drive", 150.0).mean() / ref.mean() - 1 < -0.05
     lte = np.array(table.lte)
     lte[:, 2, 0] = lte[:, 1, 0]  # 600 N m as 300 N m at the first position

@@ -81,13 +81,14 @@ def test_approach_is_the_records_change_at_a_level(traced, cache):
     torque, the pitch deviations' from the table's pair weights): to 1e-11 of its
     range (measured 1.8e-13). Between levels the approach interpolates the turns
     linearly in torque as it does the pair weights, while the record takes the
-    tangent at the torque itself: at 802 N m (levels 600 and 900) within 1 % of the
-    range (measured 0.24 %)."""
+    tangent at the torque itself: at 802 N m (levels 600 and 900) within 2 % of the
+    range (measured 1.09 %; 0.24 % with the edge points on the last profile samples,
+    whose edge loads change less between the levels)."""
     table, pr, turns = traced
     assert turns is not None
     assert turns.pinion.shape == (4, 12, 3, Z1) and turns.gear.shape == (4, 12, 3, Z2)
     at600 = run_pipeline(scene({"torque_Nm": 600.0}), ["pitch"], cache=cache)["pitch"]
-    for p, tol in ((at600, 1e-11), (pr, 1e-2)):
+    for p, tol in ((at600, 1e-11), (pr, 2e-2)):
         dev = p.deviations
         tq = p.record.torque
         approach = PitchApproach.from_table(table, dev.pinion, dev.gear, tq, dev.form, turns)

@@ -29,14 +29,19 @@ def _run(scene, **ltca):
 
 def test_surface_path_reproduces_the_closed_form_parallel_pair():
     # the parallel helical scene through the generated flanks and the separation
-    # field must give the plane-of-action result: measured 0.05 % apart on mean
-    # stiffness and LTE with 40 profile points (1.2 % with 20), hence 1 %
+    # field must give the plane-of-action result. Measured with 40 profile points:
+    # mean stiffness 1.14 % above, mean LTE 1.18 % below (0.62 / 0.67 % with 20;
+    # converged 1.25 % stiffer at 320, docs/ltca.md 'Edge points on the flank
+    # borders'): the edge points on the flank borders carry the corner contacts that
+    # the closed form's lines, ended in the plane of action, leave out. With the edge
+    # points on the last profile samples: 0.32 / 0.34 % (0.78 / 0.76 % with 20).
+    # Hence 2 %.
     scene = load_scene(DATA / "ltca_parallel_helical.toml")
     b, s = _run(scene, positions=12, grid_profile=40, grid_face=20, flanks=["drive"])
     p = scene_ltca(design_pair(PairSpec.from_scene(s)), s)
     rb, rp = b.flanks["drive"], p.flanks["drive"]
-    assert rb.stiffness[0].mean() == pytest.approx(rp.stiffness[0].mean(), rel=0.01)
-    assert rb.lte[0].mean() == pytest.approx(rp.lte[0].mean(), rel=0.01)
+    assert rb.stiffness[0].mean() == pytest.approx(rp.stiffness[0].mean(), rel=0.02)
+    assert rb.lte[0].mean() == pytest.approx(rp.lte[0].mean(), rel=0.02)
     # perfect involutes: no unloaded transmission error (below 1 nm)
     assert np.ptp(rb.lte_unloaded) < 1e-9
     assert rb.success

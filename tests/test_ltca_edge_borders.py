@@ -2,6 +2,7 @@
 (gearbox.ltca.beveloid._edge_borders) instead of on the last profile sample."""
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -9,6 +10,7 @@ import pytest
 from gearbox import load_scene
 from gearbox.geometry import PairSpec, design_pair
 from gearbox.ltca.beveloid import beveloid_ltca, scene_grids
+from gearbox.report.loaded import render_ltca
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -22,8 +24,13 @@ def case03():
 def _lte_pp(scene, design, n_profile, on):
     s = scene.replaced(ltca={"grid_profile": n_profile, "edge_borders": on, "flanks": ["drive"]})
     res = beveloid_ltca(design, s)
-    # the report's edge-contact warning reads where the edge points sat
+    # the report's edge-contact warning reads where the edge points sat: on the last
+    # samples it adds one warning that names the remedy
     assert res.attrs["edge_points"] == ("flank border" if on else "last profile sample")
+    warned = [w.text for w in render_ltca(res, SimpleNamespace(scene=s)).warnings]
+    assert sum("edge contact at 300 N m" in w for w in warned) == 1
+    remedy = sum("ltca.edge_borders = true puts them on the border" in w for w in warned)
+    assert remedy == (0 if on else 1), warned
     return float(np.ptp(res.flanks["drive"].lte[0]))
 
 

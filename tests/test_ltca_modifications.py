@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from _benchmarks import benchmark
+from _fe_grids import SAMPLE_EDGES
 
 from gearbox import load_scene
 from gearbox.errors import InputError
@@ -306,9 +307,10 @@ def _axial_per_torque_arm(res) -> float:
 def test_misalignment_matches_the_surface_path(beta_deg):
     """A shaft-angle error of 0.03 deg on a parallel pair: the closed-form grid (first
     order) against the generated flanks in the assembly with the same error, both
-    helix hands. Measured (20 / -20 / 0 deg): mean stiffness 0.3 / 1.1 / 0.5 % apart,
-    mean loaded TE 0.1 / 1.4 / 0.4 %, unloaded TE p-p 0.1 % (2.45 um) with the ramps of
-    its sawtooth equal (+0.245 / -0.245 um per position), mesh point z within 0.2 mm
+    helix hands. Measured (20 / -20 / 0 deg): mean stiffness 0.7 / 0.9 / 0.4 % apart,
+    mean loaded TE 0.4 / 1.0 / 0.6 %, unloaded TE p-p 0.1 / 2.3 % (2.45 um; the
+    left-hand pair's tip edge, below) with the ramps of
+    its sawtooth equal (+0.245 / -0.245 um per position), mesh point z within 0.3 mm
     (of -13 mm, the pinion's face coordinate in both), the pinion's thrust per unit
     torque arm equal (-3.93 / +3.93 1/m). (Before, the closed form took the error with the
     other sign, which put the load at the other face end and turned the sawtooth, and
@@ -328,7 +330,14 @@ def test_misalignment_matches_the_surface_path(beta_deg):
     if beta_deg:
         te_s, te_c = np.ptp(surface.lte_unloaded), np.ptp(closed.lte_unloaded)
         assert te_s > 2e-6
-        assert te_c == pytest.approx(te_s, rel=0.01)
+        # the left-hand pair's pinion tip edge meets the gear's flank before the
+        # closed form's (interior, first-order) contact at the tooth change: the
+        # generated flanks' p-p is lower, 2.390 um on the flank borders at 40 and 160
+        # profile points; on the last samples 2.444 / 2.444 / 2.409 / 2.374 at 40 /
+        # 160 / 640 / 1280, still falling. The right-hand pair has no such edge:
+        # 2.448 against 2.446 um.
+        assert te_c == pytest.approx(te_s, rel=0.01 if beta_deg > 0 else 0.03)
+        assert te_s < te_c * 1.001
         ramp = _ramp(surface.lte_unloaded)
         assert abs(ramp) > 0.2e-6 and np.sign(ramp) == np.sign(beta_deg)
         assert _ramp(closed.lte_unloaded) == pytest.approx(ramp, rel=0.02)
@@ -577,8 +586,10 @@ def test_modifications_act_as_in_the_fe_level():
     from gearbox.ltca.beveloid import scene_grids
 
     P = stored["positions"]
+    # the stored FE runs were made on grids with the edge points on the last profile
+    # samples (before ltca.edge_borders became the default): compare on the same grids
     base = load_scene(ROOT / "models" / stored["scene"]).replaced(
-        ltca={"flanks": [stored["flank"]], "positions": P},
+        ltca={"flanks": [stored["flank"]], "positions": P, **SAMPLE_EDGES},
         load={"torques_Nm": [stored["torque_Nm"]]},
     )
     design = design_pair(PairSpec.from_scene(base))

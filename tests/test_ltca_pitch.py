@@ -193,11 +193,12 @@ def test_linear_method_against_the_exact_re_solve(drive):
 @pytest.mark.slow
 def test_tooth_loads_and_root_stress_linear_against_exact(drive):
     """Random single pitch deviations within +-1 um, 802 N m, the whole hunting period
-    at 12 positions: the teeth's largest loads (measured 8694 N nominal, 8914 N exact)
-    within 0.1 % of the exact re-solve's tooth by tooth (measured 6.2 N), the largest
-    root stresses within 0.5 % (measured +2.5 % over the nominal teeth's; the linear
-    method's scaled nominal stresses 0.26 % above the exact method's, which come from
-    each sample's own loads)."""
+    at 12 positions: the teeth's largest loads (measured 7831 N nominal, 8126 N exact)
+    within 0.25 % of the exact re-solve's tooth by tooth (measured 14.0 N, 0.18 %), the
+    largest root stresses within 1 % (measured +3.5 / +3.2 % over the nominal teeth's;
+    the linear method's scaled nominal stresses 0.55 / 0.53 % above the exact method's,
+    which come from each sample's own loads). (With the edge points on the last
+    profile samples: 8694 / 8914 N, 6.2 N apart, root stresses 0.26 % above.)"""
     design, grids, comp, res = drive
     dev = _random_deviations(design, 1e-6)
     z = (design.pinion.teeth, design.gear.teeth)
@@ -205,10 +206,10 @@ def test_tooth_loads_and_root_stress_linear_against_exact(drive):
     ex = hunting_lte(res, dev, 802.0, teeth=z, method="exact", grids=grids, compliance=comp)
     assert lin.tooth_load_nominal == pytest.approx(ex.tooth_load_nominal, rel=1e-6)
     for a, b in zip(lin.tooth_loads(), ex.tooth_loads(), strict=True):
-        np.testing.assert_allclose(a, b, rtol=1e-3)
+        np.testing.assert_allclose(a, b, rtol=2.5e-3)
     assert np.max(ex.tooth_loads()[0]) > 1.01 * ex.tooth_load_nominal
     for a, b, c in zip(lin.root_stress(), ex.root_stress(), ex.root_stress_nominal(), strict=True):
-        assert a == pytest.approx(b, rel=5e-3) and b > 1.01 * c
+        assert a == pytest.approx(b, rel=1e-2) and b > 1.01 * c
 
 
 def test_order_spectrum_of_a_hunting_record():

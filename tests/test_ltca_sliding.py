@@ -88,12 +88,16 @@ def test_crossed_helical_pitch_point_sliding():
     pitch /= math.cos(d.gear.working_helix_angle)
     assert slowest == pytest.approx(pitch, rel=0.01)
     # the gear turns in the sense that keeps the touching points in contact: where the
-    # flanks touch (gap under 1 um at the position's first contact) they do not approach
+    # flanks touch (gap under 1 um at the position's first contact) inside the flanks
+    # they do not approach (measured 5.0e-5 of the pinion's normal speed). An edge point
+    # on a flank border is not conjugate: its contact runs over the border's corner
+    # (measured up to 1.5e-3 there, 9.6e-4 on the last profile sample)
     for g in grids:
         gap = g.separation - np.min(g.separation / g.arm) * g.arm
         near = gap < 1e-6
-        assert near.sum() >= 5
-        assert np.max(np.abs(g.approach_rate()[near])) < 1e-3
+        assert (near & ~g.edge).sum() >= 5
+        assert np.max(np.abs(g.approach_rate()[near & ~g.edge])) < 1e-4
+        assert np.max(np.abs(g.approach_rate()[near])) < 5e-3
 
 
 def _cycle(p, torques, positions=48):
@@ -208,10 +212,12 @@ def test_case03_report_shows_loss_factor_and_sliding_speed():
 
 @pytest.mark.parametrize("side", ["R", "L"])
 def test_case03_flanks_touch_without_approaching(side):
-    # the generated beveloid flanks of the line-contact design are nearly conjugate
-    # where they touch: the points within 1 um of first contact approach at under
-    # 0.5 % of the pinion's normal speed (measured 0.19 % drive, 0.14 % coast; the
-    # four paper cases 0.12 - 0.26 %)
+    # the generated beveloid flanks of the line-contact design are conjugate where they
+    # touch inside the flanks: the points within 1 um of first contact approach at under
+    # 1e-4 of the pinion's normal speed (measured 4.2e-5 drive, 5.9e-5 coast). The edge
+    # points on the flank borders are not conjugate, their contact runs over the
+    # border: under 1 % (measured 0.53 % drive, 0.12 % coast; on the last profile
+    # samples 0.19 % and 0.07 %)
     from gearbox.geometry import PairSpec, design_pair
     from gearbox.ltca.beveloid import scene_grids
     from gearbox.scene import load_scene
@@ -219,11 +225,14 @@ def test_case03_flanks_touch_without_approaching(side):
     s = load_scene(ROOT / "models" / "case03.toml")
     d = design_pair(PairSpec.from_scene(s))
     grids, _, _ = scene_grids(d, s, side, 8)
-    worst = 0.0
+    worst, inner = 0.0, 0.0
     for g in grids:
         near = g.separation - np.min(g.separation / g.arm) * g.arm < 1e-6
-        worst = max(worst, float(np.max(np.abs(g.approach_rate()[near]))))
-    assert 0.0 < worst < 0.005
+        rate = np.abs(g.approach_rate())
+        worst = max(worst, float(np.max(rate[near])))
+        inner = max(inner, float(np.max(rate[near & ~g.edge])))
+    assert 0.0 < inner < 1e-4
+    assert inner < worst < 0.01
 
 
 def test_spur_friction_arms_are_the_textbook_arms():

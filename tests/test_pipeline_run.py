@@ -312,8 +312,9 @@ def test_default_scene_end_to_end_through_the_cli(tmp_path, capsys):
     warn = html[html.index('id="warning-list"') :]
     # (one line per flank, its torque levels listed)
     assert warn.count("drive flank: edge contact at ") == 1 and "a lower bound" in warn
-    # and, with the edge points on the last profile samples (the default), what that reads
-    assert warn.count("ltca.edge_borders = true puts them on the border") == 1
+    # the edge points on the flank borders (the default): no note on the profile grid
+    # (tests/test_ltca_edge_borders.py: one, with the edge points on the last samples)
+    assert "ltca.edge_borders = true puts them on the border" not in warn
     # the sweep's table says how far each speed's force range reaches along the loaded
     # TCA's stiffness (tests/test_drivetrain_loaded_law.py checks the numbers)
     assert "loaded TCA stiffness at least / largest force (%)" in html

@@ -41,8 +41,10 @@ def test_tca_verb_separated_gears_exit_2(tmp_path, capsys):
     """Case 03 on axes 15 mm further apart than designed (the gear's x_t2 kept): the
     tip cylinders no longer overlap. (An offset error of 3 mm had stood for this; the
     flanks' borders still touch there, at the face ends: tests/test_tca_edge.py.)"""
-    text = (MODELS / "case03.toml").read_text().replace(
-        "offset_mm = 229.0", "offset_mm = 244.0\nbacklash_free = false"
+    text = (
+        (MODELS / "case03.toml")
+        .read_text()
+        .replace("offset_mm = 229.0", "offset_mm = 244.0\nbacklash_free = false")
     )
     text = text.replace("[gear]\n", "[gear]\nprofile_shift_xt = 0.2191\n")
     scene = tmp_path / "far.toml"

@@ -443,7 +443,7 @@ def separation_field(
     positions: int,
     pitches: tuple[int, int] = (-3, 3),
     relief: tuple[FlankModification | TipRelief, FlankModification | TipRelief] | None = None,
-    edge_borders: bool = False,
+    edge_borders: bool = True,
 ) -> SeparationField:
     """Separation field of the reference tooth pair on flank ``side`` ("R" or "L")
     at ``positions`` per mesh cycle over ``pitches`` mesh cycles around phi_1 = 0.
@@ -618,7 +618,7 @@ def _refine_lines(
     grad,
     gz,
     mods,
-    edge_borders=False,
+    edge_borders=True,
 ):
     """Contact line of every (angle, slot): see :class:`SeparationField`.
 
