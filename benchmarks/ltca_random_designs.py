@@ -1,7 +1,7 @@
 """Stress test of the design -> loaded TCA chain on random valid beveloid designs.
 
     python3 benchmarks/ltca_random_designs.py [--seed 1] [--designs 100]
-        [--positions 6] [--edge-borders] [--json out.json]
+        [--positions 6] [--last-samples] [--json out.json]
 
 Each design draws, uniformly: pinion teeth 12..35, gear teeth 30..60, pinion profile
 shift x_t1 -0.3..0.8, pinion helix 5..25 deg, cone angles 0..4 deg, shaft angle
@@ -9,8 +9,9 @@ shift x_t1 -0.3..0.8, pinion helix 5..25 deg, cone angles 0..4 deg, shaft angle
 at 13 values from 10 mm below to 20 mm above the sum of the pitch radii, and the first
 one whose design passes every design check but undercut (the gear's profile shift
 from the backlash-free condition) is kept; a draw without one is skipped. The loaded
-TCA (fast level, both flanks, 300 N m) then runs on each design; ``--edge-borders``
-with its edge points on the flank borders (``ltca.edge_borders = true``).
+TCA (fast level, both flanks, 300 N m) then runs on each design, its edge points on
+the flank borders (the default); ``--last-samples`` on the last profile samples
+(``ltca.edge_borders = false``).
 
 ``--parallel``: parallel-axis helical pairs instead (tests/data/ltca_parallel_helical.toml
 with pinion teeth 12..40, gear teeth 20..80, x_1 -0.4..0.8, helix 0..25 deg at the
@@ -187,7 +188,7 @@ def run_parallel(seed: int, designs: int, positions: int) -> list[Outcome]:
     return _collect(draw_parallel, both_paths, base, seed, designs)
 
 
-def run(seed: int, designs: int, positions: int, edge_borders: bool = False) -> list[Outcome]:
+def run(seed: int, designs: int, positions: int, edge_borders: bool = True) -> list[Outcome]:
     from gearbox import load_scene
 
     base = load_scene(ROOT / "models" / "case03.toml").replaced(
@@ -203,7 +204,7 @@ def main(argv=None) -> None:
     ap.add_argument("--positions", type=int, default=6)
     ap.add_argument("--parallel", action="store_true", help="parallel pairs, both paths")
     ap.add_argument(
-        "--edge-borders", action="store_true", help="ltca.edge_borders = true (crossed pairs)"
+        "--last-samples", action="store_true", help="ltca.edge_borders = false (crossed pairs)"
     )
     ap.add_argument("--json", type=Path)
     args = ap.parse_args(argv)
@@ -226,7 +227,7 @@ def main(argv=None) -> None:
         if args.json:
             args.json.write_text(json.dumps([asdict(o) for o in outcomes], indent=1))
         return
-    outcomes = run(args.seed, args.designs, args.positions, args.edge_borders)
+    outcomes = run(args.seed, args.designs, args.positions, not args.last_samples)
     for o in outcomes:
         if o.status != "ok":
             d = o.draw

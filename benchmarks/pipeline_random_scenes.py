@@ -2,7 +2,7 @@
 -> dynamics, spectra, waterfall, Campbell diagram -> report.
 
     python3 benchmarks/pipeline_random_scenes.py [--seed 1] [--scenes 20]
-        [--positions 12] [--cache DIR] [--keep DIR] [--edge-borders] [--json out.json]
+        [--positions 12] [--cache DIR] [--keep DIR] [--last-samples] [--json out.json]
 
 Each scene starts from models/marine_drive.toml and draws, uniformly:
 
@@ -219,7 +219,7 @@ def run(
     positions: int,
     cache: Path,
     keep: Path | None,
-    edge_borders: bool = False,
+    edge_borders: bool = True,
 ):
     from gearbox import load_scene
 
@@ -255,14 +255,16 @@ def main(argv=None) -> None:
     ap.add_argument("--cache", type=Path, help="cache folder (default: a new temporary one)")
     ap.add_argument("--keep", type=Path, help="keep each scene's outputs under this folder")
     ap.add_argument(
-        "--edge-borders", action="store_true", help="every scene with ltca.edge_borders = true"
+        "--last-samples", action="store_true", help="every scene with ltca.edge_borders = false"
     )
     ap.add_argument("--json", type=Path)
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         cache = args.cache or Path(tmp)
-        outcomes = run(args.seed, args.scenes, args.positions, cache, args.keep, args.edge_borders)
+        outcomes = run(
+            args.seed, args.scenes, args.positions, cache, args.keep, not args.last_samples
+        )
     count = {s: sum(o.status == s for o in outcomes) for s in ("ok", "odd", "refused", "failed")}
     secs = [o.seconds for o in outcomes if o.status in ("ok", "odd")]
     print(

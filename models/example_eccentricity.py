@@ -27,11 +27,11 @@ Measured (defaults, loaded-TCA tables, 3500 rpm, the scene's engine and propelle
 orders on): the transmission error's once-per-revolution lines are 18.88 and 14.93 um
 against the eccentricities along the line of action, 18.90 and 14.90 um (the
 quasi-static limit); the mesh force's first sidebands about the mesh order (orders 28,
-30, 28.36, 29.64) are 8.7, 9.6, 3.1 and 4.1 N in time, and the linear analysis reads
-them within +5.0, -2.4, +0.5 and -6.4 %; the order-1 line, where the pinion's
+30, 28.36, 29.64) are 6.4, 6.9, 2.3 and 2.9 N in time, and the linear analysis reads
+them within +5.0, -2.1, +0.7 and -6.0 %; the order-1 line, where the pinion's
 eccentricity meets the engine's half order, within -1.5 %. What is left is second
 order (products of the engine's, the propeller's and the eccentricities' vibrations).
-Against the pinion's own angle the same sidebands are 2.1 to 4.4 N.
+Against the pinion's own angle the same sidebands are 1.5 to 3.3 N.
 
 Run it from the repository root::
 

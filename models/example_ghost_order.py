@@ -32,23 +32,23 @@ What it does, step by step:
 
 Measured (default scene, 24 positions, N = 52, A = 0.5 um): the line at gear order 52
 (pinion order 33.51, named "mesh 1 + gear 7": it lies 7 gear orders above the mesh
-order) is by far the largest the waviness adds, 0.322 um (the contact lines, which
+order) is by far the largest the waviness adds, 0.326 um (the contact lines, which
 cross the waviness, average part of it away); then its sidebands with the mesh orders,
-gear order 7 (0.048 um), "mesh 1 - gear 7" (0.028 um), "mesh 2 + gear 7" (0.020 um):
+gear order 7 (0.038 um), "mesh 1 - gear 7" (0.030 um), "mesh 2 + gear 7" (0.017 um):
 the mesh stiffness varies within the mesh cycle and modulates it. Every added line lies
 at a gear order. ``--exact`` (45 distinct samples per position: the pattern repeats
-every gear revolution) agrees on the ghost within 0.2 %.
+every gear revolution) agrees on the ghost within 0.06 %.
 
 In the drive (``--dynamics --simulate``): the Campbell diagram lists the ghost and
 its sidebands among the excitations; at 52 waves the ghost meets the mesh mode only
 above the speed range (its sideband at gear order 7 crosses a shaft mode at 1141 rpm
 with next to no force), at ``--waves 61`` (pinion order 39.31, "mesh 1 + gear 16") it
-crosses it at 3028 rpm (1984 Hz), flagged as a resonance risk, 1880 N. The ghost's
+crosses it at 3063 rpm (2007 Hz), flagged as a resonance risk, 1946 N. The ghost's
 mesh force grows along the
-propeller law from 28 N at 1000 rpm (558 Hz) to 1865 N at 3500 rpm, where its 1955 Hz
-lie 3 % under the mesh mode (2015 Hz): two thirds of the mesh order's own line (2816
+propeller law from 28 N at 1000 rpm (558 Hz) to 1745 N at 3500 rpm, where its 1955 Hz
+lie 4 % under the mesh mode (2035 Hz): 84 % of the mesh order's own line (2078
 N) from a waviness of half a micrometre. Simulated over the hunting period at 3500 rpm
-it reads 1864.68 N against the harmonic balance's 1864.81 N (the balance +0.007 %, as printed). Run it from
+it reads 1745.32 N against the harmonic balance's 1745.40 N (the balance +0.004 %, as printed). Run it from
 the repository root::
 
     python models/example_ghost_order.py

@@ -20,14 +20,14 @@ What it does, step by step:
 3. take the order spectra of the settled records and compare them line by line.
 
 Measured (defaults: 2000 rpm, 261.9 N m; the full record of 900 mesh cycles, 24 loaded
-TCA positions): the second mesh order (1933 Hz) lies near the mesh mode, 1465 N with
-the tangent law, within 0.14 % of the linearisation's harmonic balance (1467 N, the
-same for both laws), and 1382 N with the loaded one, 6 % below it: a swing of about
+TCA positions): the second mesh order (1933 Hz) lies near the mesh mode, 1467 N with
+the tangent law, within 0.16 % of the linearisation's harmonic balance (1469 N, the
+same for both laws), and 1391 N with the loaded one, 5 % below it: a swing of about
 half the mean force runs along the law's curve, not its tangent. The first mesh order
-181.6 -> 183.2 N. The firing and blade-pass orders swing the load, which with the
+145.6 -> 146.8 N. The firing and blade-pass orders swing the load, which with the
 loaded law modulates the stiffness too: the second mesh order's sidebands at pinion
-orders 56.07 and 59.93 (+- blade pass) read 76 -> 156 N and 11 -> 81 N, at 55 (-
-firing) 23 -> 43 N.
+orders 56.07 and 59.93 (+- blade pass) read 63 -> 150 N and 19 -> 87 N, at 55 (-
+firing) 18 -> 38 N.
 
 Run it from the repository root::
 

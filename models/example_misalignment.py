@@ -30,9 +30,9 @@ On case 01 (drive flank, 21 TCA positions, 24 loaded positions, the default valu
 the unloaded TE p-p is rounding without an error (5e-11 arcsec: conjugate flanks),
 0.008 arcsec at 0.01 deg with 4 of 21 positions touching at a border, 1.05 arcsec at
 0.02 deg with all 21 there, 3.25 arcsec at 0.04 deg. The loaded TE p-p at 150 N m
-grows from 0.70 to 1.19 um at 0.01 deg already (the pressure-weighted centroid of the
+grows from 0.62 to 1.13 um at 0.01 deg already (the pressure-weighted centroid of the
 contact pattern moves from the face middle to 0.37 of the half face towards the toe) and to
-3.01 um at 0.04 deg; the largest contact pressure from 313 to 669 MPa (518 to 872 MPa
+3.08 um at 0.04 deg; the largest contact pressure from 315 to 668 MPa (507 to 862 MPa
 at 450 N m). Ten seconds on a 2-core machine.
 """
 

@@ -27,9 +27,9 @@ What it does, step by step:
 
 Measured (the scene's random deviations, 24 positions, ``--simulate``): the largest
 pitch line of the mesh force follows the mesh mode near 2 kHz, from order 99 at 1000 rpm
-(41 N) to order 34.16 at 3500 rpm (490 N); at 3500 rpm, with the engine and propeller
-orders off, the six largest pitch lines (194 to 490 N, orders 32 to 35) simulated over
-the hunting period and from the harmonic balance agree within 0.06 %.
+(71 N) to order 34.16 at 3500 rpm (504 N); at 3500 rpm, with the engine and propeller
+orders off, the six largest pitch lines (213 to 504 N, orders 32 to 35) simulated over
+the hunting period and from the harmonic balance agree within 0.07 %.
 Run it from the repository root::
 
     python models/example_pitch.py

@@ -23,7 +23,7 @@ Run it from the repository root::
         --length-mm 1.2 --out map.png
 
 On case 03 (drive flank, 24 positions) a long relief (3 mm, half a module) takes the
-first harmonic from 0.66 to 0.04 um at 150 N m with 10 um, and from 0.94 to 0.05 um at
+first harmonic from 0.54 to 0.05 um at 150 N m with 10 um, and from 0.75 to 0.04 um at
 300 N m with 20 um; short reliefs (1.2 mm) raise it at every load there: with this
 pair's total contact ratio some unrelieved part of a contact line touches at every
 position (docs/ltca.md, "Tip relief").

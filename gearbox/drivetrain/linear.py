@@ -889,7 +889,7 @@ def order_responses(
     h N_1|, h = -``sideband_harmonics``..``sideband_harmonics``, about the mesh
     orders (:func:`excitation_harmonic_balance`); with ``mesh_harmonics`` or
     ``sideband_harmonics`` = 0 each alone on the linear model (mean mesh stiffness),
-    as :func:`periodic_start_states`: the order's own line within 0.25 % of the
+    as :func:`periodic_start_states`: the order's own line within 0.03 % of the
     harmonic balance's (default scene, ten speeds 1000-3500 rpm at its torque), no
     sidebands, a third of the time.
     Eccentricities (docs §3b): their once per revolution and its sidebands by
@@ -900,8 +900,8 @@ def order_responses(
     (:func:`pitch_harmonic_balance`), source 'pitch deviations'. Mesh orders: harmonic balance with
     the time-varying mesh stiffness (:func:`mesh_harmonic_balance`, the first
     ``mesh_harmonics`` harmonics), which the mean-stiffness model underestimates near
-    a mesh mode (on the default scene's 2x and 3x mesh crossings by 16 and 68 %
-    against the harmonic balance, which meets the nonlinear simulation within 0.21 %). The excitation amplitudes are those at the
+    a mesh mode (on the default scene's 2x and 3x mesh crossings by 9.3 and 29 %
+    against the nonlinear simulation, which the harmonic balance meets within 0.17 %). The excitation amplitudes are those at the
     model's torque; only the frequencies and the propeller's speed damping follow
     ``speeds``. For a speed on the propeller law, pass the model of that speed and
     torque (:meth:`DrivetrainModel.with_speed` keeps the torque). Speeds that are not

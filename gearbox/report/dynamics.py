@@ -463,7 +463,7 @@ def render_waterfall(sw, run) -> Section:
 
 
 def _response_text(c) -> str:
-    """'; steady response, peak (% of the mean load): mesh force 1646 N (55.8 %), ...'
+    """'; steady response, peak (% of the mean load): mesh force 1544 N (51.3 %), ...'
     of a crossing with a response, else ''; a mesh force swing that reaches the mean
     mesh force is said to be beyond the linear response (the flanks would part)."""
     r = c.response
