@@ -100,11 +100,7 @@ from gearbox.surface import blanks_from_design  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: The stored FE runs these comparisons read (tests/data/fe_*.json) were made with the
-#: edge points on the last profile samples, before ``ltca.edge_borders`` became the
-#: default: both levels run on those grids here. On the default grids, the paper
-#: cases against the FE level: ``benchmarks/ltca_edge_borders.py --fidelity fe``.
-FE_GRIDS = {"edge_borders": False}
+FE_GRIDS = {"edge_borders": False}  # the stored FE runs' grids (see bench_fe.py)
 MESHES = {
     "default": MeshOptions(),
     # the default with elements half as long along the face: a helical tooth's fillet

@@ -38,11 +38,7 @@ from gearbox.ltca.slice_model import normal_section
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: The stored FE runs these comparisons read (tests/data/fe_*.json) were made with the
-#: edge points on the last profile samples, before ``ltca.edge_borders`` became the
-#: default: both levels run on those grids here. On the default grids, the paper
-#: cases against the FE level: ``benchmarks/ltca_edge_borders.py --fidelity fe``.
-FE_GRIDS = {"edge_borders": False}
+FE_GRIDS = {"edge_borders": False}  # the stored FE runs' grids (see bench_fe.py)
 POSITIONS = 24
 
 
